@@ -1,0 +1,104 @@
+"""Vectorised finite-rotation helpers: skew matrices, exponential and logarithm maps, and the
+inverse left Jacobian of SO(3) with its directional derivative (for exact corotational tangents).
+
+Rotations are updated by spatial spins: R <- exp(skew(phi)) R.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+
+def skew(v: np.ndarray) -> np.ndarray:
+    """(..., 3) -> (..., 3, 3) with skew(a) @ b = a x b."""
+    v = np.asarray(v)
+    S = np.zeros(v.shape[:-1] + (3, 3), dtype=v.dtype)
+    S[..., 0, 1], S[..., 0, 2] = -v[..., 2], v[..., 1]
+    S[..., 1, 0], S[..., 1, 2] = v[..., 2], -v[..., 0]
+    S[..., 2, 0], S[..., 2, 1] = -v[..., 1], v[..., 0]
+    return S
+
+
+def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Cross product over the last axis with broadcasting (leaner than np.cross for small stacks)."""
+    a0, a1, a2 = a[..., 0], a[..., 1], a[..., 2]
+    b0, b1, b2 = b[..., 0], b[..., 1], b[..., 2]
+    return np.stack([a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0], axis=-1)
+
+
+def expm_so3(phi: np.ndarray) -> np.ndarray:
+    """Rotation matrices exp(skew(phi)) for (..., 3) rotation vectors (Rodrigues, exact)."""
+    phi = np.asarray(phi, dtype=float)
+    t2 = np.sum(phi * phi, axis=-1)
+    t = np.sqrt(t2)
+    small = t2 < 1e-12
+    ts = np.where(small, 1.0, t)
+    a = np.where(small, 1.0 - t2 / 6.0, np.sin(ts) / ts)
+    b = np.where(small, 0.5 - t2 / 24.0, (1.0 - np.cos(ts)) / np.where(small, 1.0, t2))
+    S = skew(phi)
+    return np.eye(3) + a[..., None, None] * S + b[..., None, None] * (S @ S)
+
+
+def logm_so3(R: np.ndarray) -> np.ndarray:
+    """Rotation vectors (..., 3) of rotation matrices (..., 3, 3), angle in [0, pi]."""
+    R = np.asarray(R, dtype=float)
+    tr = np.trace(R, axis1=-2, axis2=-1)
+    # Quaternion (Shepperd): pick the largest of w, x, y, z for accuracy everywhere.
+    diag = np.stack([tr, R[..., 0, 0], R[..., 1, 1], R[..., 2, 2]], axis=-1)
+    k = np.argmax(diag, axis=-1)
+    q = np.empty(R.shape[:-2] + (4,))
+    r21, r12 = R[..., 2, 1], R[..., 1, 2]
+    r02, r20 = R[..., 0, 2], R[..., 2, 0]
+    r10, r01 = R[..., 1, 0], R[..., 0, 1]
+    with np.errstate(invalid="ignore", divide="ignore"):
+        s0 = 2.0 * np.sqrt(np.maximum(1.0 + tr, 1e-300))
+        s1 = 2.0 * np.sqrt(np.maximum(1.0 + 2 * R[..., 0, 0] - tr, 1e-300))
+        s2 = 2.0 * np.sqrt(np.maximum(1.0 + 2 * R[..., 1, 1] - tr, 1e-300))
+        s3 = 2.0 * np.sqrt(np.maximum(1.0 + 2 * R[..., 2, 2] - tr, 1e-300))
+        cand = np.stack([
+            np.stack([0.25 * s0, (r21 - r12) / s0, (r02 - r20) / s0, (r10 - r01) / s0], -1),
+            np.stack([(r21 - r12) / s1, 0.25 * s1, (r01 + r10) / s1, (r02 + r20) / s1], -1),
+            np.stack([(r02 - r20) / s2, (r01 + r10) / s2, 0.25 * s2, (r12 + r21) / s2], -1),
+            np.stack([(r10 - r01) / s3, (r02 + r20) / s3, (r12 + r21) / s3, 0.25 * s3], -1),
+        ], axis=-2)
+    q = np.take_along_axis(cand, k[..., None, None], axis=-2)[..., 0, :]
+    q = np.where(q[..., :1] < 0, -q, q)
+    w, v = q[..., 0], q[..., 1:]
+    s = np.linalg.norm(v, axis=-1)
+    small = s < 1e-8
+    factor = np.where(small, 2.0 / np.maximum(w, 1e-300) * (1.0 - s * s / (3.0 * w * w)),
+                      2.0 * np.arctan2(s, w) / np.where(small, 1.0, s))
+    return factor[..., None] * v
+
+
+def _c_and_e(t2: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """c(t) = 1/t^2 - cot(t/2)/(2t) and e(t) = c'(t)/t, with series near t = 0."""
+    t = np.sqrt(t2)
+    small = t < 1e-2
+    ts = np.where(small, 1.0, t)
+    half = 0.5 * ts
+    cot = np.cos(half) / np.sin(half)
+    c = np.where(small, 1 / 12 + t2 / 720 + t2 * t2 / 30240, 1 / ts**2 - cot / (2 * ts))
+    dc = -2 / ts**3 + 1 / (4 * ts * np.sin(half) ** 2) + cot / (2 * ts**2)
+    e = np.where(small, 1 / 360 + t2 / 7560 + t2 * t2 / 201600, dc / ts)
+    return c, e
+
+
+def jl_inv(theta: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Inverse left Jacobian Jinv(theta) = I - S/2 + c S^2, (..., 3, 3); also c and e = c'/t."""
+    t2 = np.sum(theta * theta, axis=-1)
+    c, e = _c_and_e(t2)
+    S = skew(theta)
+    return np.eye(3) - 0.5 * S + c[..., None, None] * (S @ S), c, e
+
+
+def jl_inv_derivative_T(theta, c, e, dtheta, m):
+    """(d Jinv[dtheta])^T m for directions dtheta (..., k, 3) and vectors m (..., 3) -> (..., k, 3)."""
+    th = theta[..., None, :]
+    mm = m[..., None, :]
+    tdot = np.sum(th * dtheta, axis=-1, keepdims=True)
+    txm = cross(th, mm)
+    term1 = 0.5 * cross(dtheta, mm)
+    term2 = e[..., None, None] * tdot * cross(th, txm)
+    term3 = c[..., None, None] * (cross(dtheta, txm) + cross(th, cross(dtheta, mm)))
+    return term1 + term2 + term3

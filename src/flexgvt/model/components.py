@@ -1,0 +1,124 @@
+"""Point components: concentrated masses, springs/dampers, suspension cords, rigid links, loads."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..errors import ModelError
+
+
+def as_vector(value, n: int, what: str) -> np.ndarray:
+    """A finite float vector of length n (a scalar is broadcast); clear error otherwise."""
+    arr = np.broadcast_to(np.asarray(value, dtype=float), (n,)).copy() if np.ndim(value) == 0 \
+        else np.asarray(value, dtype=float).reshape(-1)
+    if arr.shape != (n,):
+        raise ModelError(f"{what}: expected {n} values, got {np.shape(value)}")
+    if not np.all(np.isfinite(arr)):
+        raise ModelError(f"{what}: contains NaN or infinity: {arr}")
+    arr.setflags(write=False)
+    return arr
+
+
+@dataclass(frozen=True)
+class ConcentratedMass:
+    """Mass [kg] whose centre sits at ``offset`` [m] (global axes, undeformed) from its node.
+
+    inertia: 3x3 inertia tensor about the mass's own centre [kg m^2], global axes, undeformed.
+    The offset and inertia rotate with the node.
+    """
+
+    node: int
+    mass: float
+    offset: np.ndarray
+    inertia: np.ndarray
+
+
+@dataclass(frozen=True)
+class Spring:
+    """Linear 6-component spring and viscous damper between node_a and node_b (None: ground).
+
+    stiffness [N/m x3, N m/rad x3] and damping [N s/m x3, N m s/rad x3] act on the relative
+    translations and rotation vector of node_b with respect to node_a, in the axes of ``frame``
+    (3x3, columns are the spring axes in global coordinates; identity by default).
+    """
+
+    node_a: int
+    node_b: int | None
+    stiffness: np.ndarray
+    damping: np.ndarray
+    frame: np.ndarray = field(default_factory=lambda: np.eye(3))
+
+    @staticmethod
+    def make(node_a: int, node_b: int | None = None, stiffness=0.0, damping=0.0, frame=None) -> "Spring":
+        k = as_vector(stiffness, 6, f"spring at node {node_a}: stiffness")
+        c = as_vector(damping, 6, f"spring at node {node_a}: damping")
+        if np.any(k < 0) or np.any(c < 0):
+            raise ModelError(f"spring at node {node_a}: stiffness and damping must be >= 0, got {k}, {c}")
+        if frame is None:
+            frame = np.eye(3)
+        frame = np.asarray(frame, dtype=float)
+        if frame.shape != (3, 3) or not np.allclose(frame.T @ frame, np.eye(3), atol=1e-9):
+            raise ModelError(f"spring at node {node_a}: frame must be a 3x3 orthonormal matrix")
+        return Spring(int(node_a), None if node_b is None else int(node_b), k, c, frame)
+
+
+@dataclass(frozen=True)
+class Cord:
+    """Suspension cord from a fixed ``anchor`` point [m] to a structure node.
+
+    stiffness [N/m] and damping [N s/m] act along the cord; ``unstretched_length`` [m] sets the
+    tension T = stiffness * (length - unstretched_length) (a slack cord carries nothing).
+    ``offset`` [m] is the attachment point relative to the node (global axes, undeformed), so the
+    line of action follows the deformed attachment. A taut cord of length L adds the pendulum
+    stiffness T/L sideways.
+    """
+
+    node: int
+    anchor: tuple[float, float, float]
+    stiffness: float
+    unstretched_length: float
+    damping: float = 0.0
+    offset: tuple[float, float, float] = (0.0, 0.0, 0.0)
+
+    def __post_init__(self) -> None:
+        if not np.all(np.isfinite(np.r_[self.anchor, self.offset, self.stiffness, self.damping,
+                                        self.unstretched_length])):
+            raise ModelError(f"cord at node {self.node}: NaN or infinity in its data")
+        if self.stiffness <= 0 or self.damping < 0 or self.unstretched_length <= 0:
+            raise ModelError(f"cord at node {self.node}: stiffness and unstretched_length must be > 0 and "
+                             f"damping >= 0 (got {self.stiffness}, {self.unstretched_length}, {self.damping})")
+
+
+@dataclass(frozen=True)
+class RigidLink:
+    """All 6 DOF of the ``dependents`` follow ``independent`` as a rigid body (RBE2-like)."""
+
+    independent: int
+    dependents: tuple[int, ...]
+
+
+@dataclass(frozen=True)
+class NodalLoad:
+    """Force [N] and moment [N m] at a node, fixed in direction (global axes), scaled by the load factor."""
+
+    node: int
+    force: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    moment: tuple[float, float, float] = (0.0, 0.0, 0.0)
+
+    def __post_init__(self) -> None:
+        if not np.all(np.isfinite(np.r_[self.force, self.moment])):
+            raise ModelError(f"load at node {self.node}: NaN or infinity in force/moment")
+
+
+@dataclass(frozen=True)
+class DistributedLoad:
+    """Load per unit length [N/m] on beam elements, fixed in direction (global axes), not a follower."""
+
+    elements: tuple[int, ...]
+    per_length: tuple[float, float, float]
+
+    def __post_init__(self) -> None:
+        if not np.all(np.isfinite(self.per_length)):
+            raise ModelError("distributed load: NaN or infinity in per_length")

@@ -1,0 +1,72 @@
+"""A test configuration: boundary conditions, suspension and loads of one test, kept apart from the model."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Mapping
+
+import numpy as np
+
+from ..errors import ModelError
+from .components import ConcentratedMass, Cord, DistributedLoad, NodalLoad, Spring
+
+STANDARD_GRAVITY = 9.80665  # m/s^2
+
+
+def parse_dofs(spec, where: str) -> tuple[int, ...]:
+    """'123456'-style component string (or iterable of 1..6) -> sorted 0-based DOF indices."""
+    items = list(str(spec)) if isinstance(spec, (str, int)) else list(spec)
+    try:
+        dofs = sorted({int(c) - 1 for c in items})
+    except ValueError:
+        raise ModelError(f"{where}: DOF components {spec!r} must be digits 1-6 (1-3 translations, 4-6 rotations)")
+    if not dofs or dofs[0] < 0 or dofs[-1] > 5:
+        raise ModelError(f"{where}: DOF components {spec!r} must be digits 1-6")
+    return tuple(dofs)
+
+
+@dataclass(frozen=True)
+class Configuration:
+    """Boundary conditions + suspension + loads of one test.
+
+    fixed: {node id: '123456'-style components held at zero}; suspension: cords; springs:
+    configuration-specific springs (a test-fixture root spring, say); masses: extra masses
+    present only in this test; gravity: load factor on gravity (1.0 = 1 g) acting along
+    ``gravity_direction`` with ``g`` [m/s^2]; forces and distributed loads are fixed in direction
+    and scaled by the same load factor ramp.
+    """
+
+    name: str
+    fixed: Mapping[int, str] = field(default_factory=dict)
+    suspension: tuple[Cord, ...] = ()
+    springs: tuple[Spring, ...] = ()
+    masses: tuple[ConcentratedMass, ...] = ()
+    gravity: float = 0.0
+    gravity_direction: tuple[float, float, float] = (0.0, 0.0, -1.0)
+    g: float = STANDARD_GRAVITY
+    forces: tuple[NodalLoad, ...] = ()
+    distributed: tuple[DistributedLoad, ...] = ()
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "suspension", tuple(self.suspension))
+        object.__setattr__(self, "springs", tuple(self.springs))
+        object.__setattr__(self, "masses", tuple(self.masses))
+        object.__setattr__(self, "forces", tuple(self.forces))
+        object.__setattr__(self, "distributed", tuple(self.distributed))
+        object.__setattr__(self, "fixed", {int(k): str(v) for k, v in dict(self.fixed).items()})
+        for node, spec in self.fixed.items():
+            parse_dofs(spec, f"configuration '{self.name}': fixed[{node}]")
+        direction = np.asarray(self.gravity_direction, dtype=float)
+        if not np.all(np.isfinite(np.r_[direction, self.gravity, self.g])) or np.linalg.norm(direction) == 0:
+            raise ModelError(f"configuration '{self.name}': gravity, g and a non-zero gravity_direction must be finite")
+
+    @property
+    def gravity_vector(self) -> np.ndarray:
+        """Acceleration of gravity at load factor 1 [m/s^2] times the configuration's factor."""
+        d = np.asarray(self.gravity_direction, dtype=float)
+        return self.gravity * self.g * d / np.linalg.norm(d)
+
+    def with_(self, **changes) -> "Configuration":
+        """A copy with some fields changed (the model is never copied)."""
+        from dataclasses import replace
+        return replace(self, **changes)

@@ -1,0 +1,204 @@
+"""The structural model: nodes, beams, masses, springs and rigid links. Plain data, no numerics."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Iterable, Sequence
+
+import numpy as np
+
+from ..errors import ModelError
+from .components import ConcentratedMass, RigidLink, Spring, as_vector
+from .material import Material
+from .section import Section
+
+MASS_FORMULATIONS = ("consistent", "lumped")
+
+
+@dataclass(frozen=True)
+class BeamGroup:
+    """Beam elements sharing a material and section.
+
+    nodes: (n, 2) node ids; orientation: (n, 3) vectors giving the local z axis (the part
+    perpendicular to the beam axis); rotary_inertia: include bending rotary inertia
+    rho*I (torsional inertia rho*Ip is always kept); mass: 'consistent' or 'lumped'.
+    """
+
+    ids: np.ndarray
+    nodes: np.ndarray
+    material: Material
+    section: Section
+    orientation: np.ndarray
+    rotary_inertia: bool
+    mass: str
+    name: str
+
+
+class Model:
+    """A structural model built with ``add_*`` calls. Units: SI.
+
+    Local beam axes: x from the first to the second node, z along the part of ``orientation``
+    perpendicular to x, y = z cross x. A RectangularSection's width lies along y, height along z.
+    """
+
+    def __init__(self, name: str = "model") -> None:
+        self.name = name
+        self._node_ids: list[np.ndarray] = []
+        self._node_xyz: list[np.ndarray] = []
+        self._node_index: dict[int, int] = {}
+        self.beams: list[BeamGroup] = []
+        self.masses: list[ConcentratedMass] = []
+        self.springs: list[Spring] = []
+        self.rigid_links: list[RigidLink] = []
+        self._next_node = 1
+        self._next_element = 1
+        self.revision = 0  # bumped by every change; solvers cache compiled arrays against it
+
+    # ------------------------------------------------------------------ nodes
+    def add_nodes(self, xyz: Sequence[Sequence[float]] | np.ndarray, ids: Iterable[int] | None = None) -> np.ndarray:
+        """Add nodes at ``xyz`` [m], shape (n, 3); returns their integer ids."""
+        xyz = np.atleast_2d(np.asarray(xyz, dtype=float))
+        if xyz.ndim != 2 or xyz.shape[1] != 3:
+            raise ModelError(f"add_nodes: xyz must have shape (n, 3), got {xyz.shape}")
+        bad = ~np.all(np.isfinite(xyz), axis=1)
+        if bad.any():
+            raise ModelError(f"add_nodes: coordinates of node(s) at row(s) {np.flatnonzero(bad)[:10].tolist()} "
+                             "contain NaN or infinity")
+        if ids is None:
+            new_ids = np.arange(self._next_node, self._next_node + len(xyz))
+        else:
+            new_ids = np.asarray(list(ids), dtype=int)
+            if new_ids.shape != (len(xyz),):
+                raise ModelError(f"add_nodes: {len(new_ids)} ids for {len(xyz)} nodes")
+        if len(np.unique(new_ids)) != len(new_ids):
+            raise ModelError("add_nodes: duplicate node ids in the call")
+        taken = [i for i in new_ids.tolist() if i in self._node_index]
+        if taken:
+            raise ModelError(f"add_nodes: node id(s) {taken[:10]} already exist")
+        start = self.n_nodes
+        for k, nid in enumerate(new_ids.tolist()):
+            self._node_index[nid] = start + k
+        self._node_ids.append(new_ids)
+        self._node_xyz.append(xyz.copy())
+        self._next_node = max(self._next_node, int(new_ids.max()) + 1)
+        self.revision += 1
+        return new_ids.copy()
+
+    @property
+    def n_nodes(self) -> int:
+        return len(self._node_index)
+
+    @property
+    def node_ids(self) -> np.ndarray:
+        """(n_nodes,) node ids in storage order."""
+        return np.concatenate(self._node_ids) if self._node_ids else np.zeros(0, dtype=int)
+
+    @property
+    def xyz(self) -> np.ndarray:
+        """(n_nodes, 3) undeformed coordinates [m] in storage order."""
+        return np.concatenate(self._node_xyz) if self._node_xyz else np.zeros((0, 3))
+
+    def index_of(self, node_ids, what: str = "node") -> np.ndarray:
+        """Storage indices of node ids; a ModelError names any unknown id."""
+        arr = np.asarray(node_ids, dtype=int)
+        flat = arr.reshape(-1)
+        try:
+            out = np.fromiter((self._node_index[i] for i in flat.tolist()), dtype=int, count=flat.size)
+        except KeyError as exc:
+            raise ModelError(f"{what}: node {exc.args[0]} does not exist in model '{self.name}'") from None
+        return out.reshape(arr.shape)
+
+    # ------------------------------------------------------------------ elements
+    def add_beams(self, pairs, material: Material | None, section: Section | None,
+                  orientation=(0.0, 0.0, 1.0), rotary_inertia: bool = True, mass: str = "consistent",
+                  name: str = "") -> np.ndarray:
+        """Add beam elements between node id ``pairs`` (n, 2); returns element ids.
+
+        orientation: one vector or (n, 3) vectors fixing local z (see class docstring).
+        rotary_inertia: False drops bending rotary inertia (thin-strip reference solutions do);
+        torsional inertia rho*Ip is always kept. mass: 'consistent' or 'lumped'.
+        name: a region tag that design variables and reports can refer to.
+        """
+        if material is None:
+            raise ModelError(f"add_beams{f' ({name})' if name else ''}: no material given; pass material=Material(...)")
+        if section is None:
+            raise ModelError(f"add_beams{f' ({name})' if name else ''}: no section given; pass section=...")
+        if mass not in MASS_FORMULATIONS:
+            raise ModelError(f"add_beams: mass='{mass}' must be one of {MASS_FORMULATIONS}")
+        pairs = np.atleast_2d(np.asarray(pairs, dtype=int))
+        if pairs.ndim != 2 or pairs.shape[1] != 2:
+            raise ModelError(f"add_beams: pairs must have shape (n, 2), got {pairs.shape}")
+        idx = self.index_of(pairs, "add_beams")
+        xyz = self.xyz
+        axis = xyz[idx[:, 1]] - xyz[idx[:, 0]]
+        length = np.linalg.norm(axis, axis=1)
+        scale = max(float(np.ptp(xyz, axis=0).max()) if len(xyz) else 1.0, 1e-300)
+        short = length <= 1e-9 * scale
+        if short.any():
+            k = int(np.flatnonzero(short)[0])
+            raise ModelError(f"add_beams: element between nodes {pairs[k].tolist()} has zero length; "
+                             "merge the nodes or remove the element")
+        orient = np.broadcast_to(np.asarray(orientation, dtype=float), (len(pairs), 3)).copy()
+        if not np.all(np.isfinite(orient)):
+            raise ModelError("add_beams: orientation contains NaN or infinity")
+        perp = orient - (np.sum(orient * axis, axis=1) / length**2)[:, None] * axis
+        bad = np.linalg.norm(perp, axis=1) <= 1e-6 * np.linalg.norm(orient, axis=1)
+        if bad.any():
+            k = int(np.flatnonzero(bad)[0])
+            raise ModelError(f"add_beams: orientation {orient[k].tolist()} is parallel to the element between nodes "
+                             f"{pairs[k].tolist()}; give a vector perpendicular to the beam axis")
+        ids = np.arange(self._next_element, self._next_element + len(pairs))
+        self._next_element += len(pairs)
+        self.beams.append(BeamGroup(ids, pairs.copy(), material, section, orient, bool(rotary_inertia), mass, name))
+        self.revision += 1
+        return ids
+
+    def add_mass(self, node: int, mass: float, offset=(0.0, 0.0, 0.0), inertia=None) -> ConcentratedMass:
+        """Concentrated mass [kg] at ``offset`` [m] from ``node``; inertia: scalar, (3,) or (3, 3) [kg m^2]."""
+        self.index_of([node], "add_mass")
+        if not np.isfinite(mass) or mass < 0:
+            raise ModelError(f"add_mass at node {node}: mass={mass!r} must be finite and >= 0")
+        J = np.zeros((3, 3)) if inertia is None else np.asarray(inertia, dtype=float)
+        if J.ndim == 0:
+            J = float(J) * np.eye(3)
+        elif J.shape == (3,):
+            J = np.diag(J)
+        if J.shape != (3, 3) or not np.all(np.isfinite(J)) or not np.allclose(J, J.T):
+            raise ModelError(f"add_mass at node {node}: inertia must be a finite symmetric 3x3 tensor")
+        item = ConcentratedMass(int(node), float(mass), as_vector(offset, 3, f"add_mass at node {node}: offset"), J)
+        self.masses.append(item)
+        self.revision += 1
+        return item
+
+    def add_spring(self, node_a: int, node_b: int | None = None, stiffness=0.0, damping=0.0, frame=None) -> Spring:
+        """6-component spring/damper between two nodes, or to ground when node_b is None (see Spring)."""
+        self.index_of([node_a] + ([] if node_b is None else [node_b]), "add_spring")
+        item = Spring.make(node_a, node_b, stiffness, damping, frame)
+        self.springs.append(item)
+        self.revision += 1
+        return item
+
+    def add_rigid_link(self, independent: int, dependents: Iterable[int]) -> RigidLink:
+        """All 6 DOF of ``dependents`` follow ``independent`` rigidly."""
+        deps = tuple(int(d) for d in dependents)
+        self.index_of([independent, *deps], "add_rigid_link")
+        if independent in deps:
+            raise ModelError(f"add_rigid_link: node {independent} cannot depend on itself")
+        taken = {d for link in self.rigid_links for d in link.dependents}
+        clash = [d for d in deps if d in taken or any(d == link.independent for link in self.rigid_links)]
+        if clash:
+            raise ModelError(f"add_rigid_link: node(s) {clash} already belong to another rigid link; merge the links")
+        if any(independent in link.dependents for link in self.rigid_links):
+            raise ModelError(f"add_rigid_link: independent node {independent} is a dependent of another link")
+        item = RigidLink(int(independent), deps)
+        self.rigid_links.append(item)
+        self.revision += 1
+        return item
+
+    @property
+    def n_beams(self) -> int:
+        return sum(len(g.ids) for g in self.beams)
+
+    def __repr__(self) -> str:
+        return (f"Model('{self.name}': {self.n_nodes} nodes, {self.n_beams} beams, {len(self.masses)} masses, "
+                f"{len(self.springs)} springs, {len(self.rigid_links)} rigid links)")

@@ -1,0 +1,108 @@
+"""Beam cross-sections.
+
+Section axes: local y and z of the beam element (see ``Model.add_beams``). ``Iy`` is the second
+moment of area about local y (bending in the local x-z plane), ``Iz`` about local z.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import ModelError
+
+
+def _check_positive(owner: str, **values: float | None) -> None:
+    for name, value in values.items():
+        if value is None:
+            continue
+        if not math.isfinite(value) or value <= 0:
+            raise ModelError(f"{owner}: {name}={value!r} must be a finite positive number")
+
+
+@dataclass(frozen=True)
+class GeneralSection:
+    """Section given by its properties.
+
+    A [m^2], Iy, Iz [m^4] (about local y, z), J torsion constant [m^4], Ay, Az shear areas [m^2]
+    (None: no shear deformation, Euler-Bernoulli), Ip polar moment for torsional inertia
+    [m^4] (default Iy + Iz).
+    """
+
+    A: float
+    Iy: float
+    Iz: float
+    J: float
+    Ay: float | None = None
+    Az: float | None = None
+    Ip: float | None = None
+
+    def __post_init__(self) -> None:
+        _check_positive("GeneralSection", A=self.A, Iy=self.Iy, Iz=self.Iz, J=self.J, Ay=self.Ay, Az=self.Az,
+                        Ip=self.Ip)
+
+    @property
+    def polar(self) -> float:
+        """Polar second moment about the centroid, for torsional inertia [m^4]."""
+        return self.Ip if self.Ip is not None else self.Iy + self.Iz
+
+    def properties(self) -> dict[str, float]:
+        return {"A": self.A, "Iy": self.Iy, "Iz": self.Iz, "J": self.J, "Ip": self.polar,
+                "Ay": self.Ay or 0.0, "Az": self.Az or 0.0}
+
+
+def rectangle_torsion_constant(b: float, t: float, terms: int = 50) -> float:
+    """Saint-Venant torsion constant of a solid b x t rectangle [m^4] (series solution)."""
+    a, c = max(b, t), min(b, t)
+    n = 2 * np.arange(terms) + 1
+    series = np.sum(np.tanh(n * np.pi * a / (2 * c)) / n**5)
+    return float(a * c**3 / 3.0 * (1.0 - 192.0 / np.pi**5 * c / a * series))
+
+
+@dataclass(frozen=True)
+class RectangularSection:
+    """Solid rectangle: ``width`` along local y, ``height`` along local z [m].
+
+    shear=True gives Timoshenko shear areas 5/6 A; False keeps Euler-Bernoulli bending.
+    """
+
+    width: float
+    height: float
+    shear: bool = True
+
+    def __post_init__(self) -> None:
+        _check_positive("RectangularSection", width=self.width, height=self.height)
+
+    def properties(self) -> dict[str, float]:
+        b, h = self.width, self.height
+        A = b * h
+        shear_area = 5.0 / 6.0 * A if self.shear else 0.0
+        return {"A": A, "Iy": b * h**3 / 12.0, "Iz": h * b**3 / 12.0, "J": rectangle_torsion_constant(b, h),
+                "Ip": A * (b * b + h * h) / 12.0, "Ay": shear_area, "Az": shear_area}
+
+
+@dataclass(frozen=True)
+class CircularTubeSection:
+    """Circular tube (or solid rod with inner_radius=0) [m]."""
+
+    outer_radius: float
+    inner_radius: float = 0.0
+    shear: bool = True
+
+    def __post_init__(self) -> None:
+        _check_positive("CircularTubeSection", outer_radius=self.outer_radius)
+        if not (0.0 <= self.inner_radius < self.outer_radius):
+            raise ModelError(f"CircularTubeSection: inner_radius={self.inner_radius!r} must be in [0, outer_radius)")
+
+    def properties(self) -> dict[str, float]:
+        ro, ri = self.outer_radius, self.inner_radius
+        A = math.pi * (ro**2 - ri**2)
+        I = math.pi * (ro**4 - ri**4) / 4.0
+        kappa = 0.9 if ri == 0 else 0.5
+        shear_area = kappa * A if self.shear else 0.0
+        return {"A": A, "Iy": I, "Iz": I, "J": 2 * I, "Ip": 2 * I, "Ay": shear_area, "Az": shear_area}
+
+
+Section = GeneralSection | RectangularSection | CircularTubeSection
