@@ -77,3 +77,51 @@ def beam_forces(x: np.ndarray, R: np.ndarray, data: BeamData, tangent: bool = Tr
     beam_kernel(np.ascontiguousarray(x), np.ascontiguousarray(R), data.nodes, data.E0, data.L0, data.stiffness,
                 tangent, g, K, N)
     return g, (K if tangent else None), N
+
+
+def local_mass_matrices(data: BeamData) -> np.ndarray:
+    """(n, 12, 12) element mass matrices in local axes [u v w rx ry rz] x 2.
+
+    Consistent: Hermitian cubic bending, linear axial and torsion, plus bending rotary inertia
+    where ``inertia_per_length`` has it. Lumped: half the element at each node (translations,
+    torsion and rotary inertia). Torsional inertia is rho*Ip (rotates with the section).
+    """
+    L = data.L0
+    m = data.mass_per_length * L
+    rIp, rIy, rIz = data.inertia_per_length.T
+    n = len(L)
+    M = np.zeros((n, 12, 12))
+    cons = ~data.lumped
+    # axial and torsion
+    for dof, total in ((0, m), (3, rIp * L)):
+        M[:, dof, dof] = M[:, dof + 6, dof + 6] = np.where(cons, total / 3, total / 2)
+        M[:, dof, dof + 6] = M[:, dof + 6, dof] = np.where(cons, total / 6, 0.0)
+    # bending: (v, rz) in x-y plane with sign +1, (w, ry) in x-z plane with sign -1
+    for (t, r, s, rI) in ((1, 5, 1.0, rIz), (2, 4, -1.0, rIy)):
+        idx = [t, r, t + 6, r + 6]
+        Lc = L[:, None, None]
+        trans = (m / 420)[:, None, None] * np.array([[156, 22, 54, -13], [22, 4, 13, -3],
+                                                     [54, 13, 156, -22], [-13, -3, -22, 4]])[None]
+        rot = (rI / (30 * L))[:, None, None] * np.array([[36, 3, -36, 3], [3, 4, -3, -1],
+                                                         [-36, -3, 36, -3], [3, -1, -3, 4]])[None]
+        scale = np.ones((n, 4, 4))
+        for a, pa in enumerate((0, 1, 0, 1)):
+            for b, pb in enumerate((0, 1, 0, 1)):
+                scale[:, a, b] = (s * Lc[:, 0, 0]) ** (pa + pb)
+        block = (trans + rot) * scale
+        lumped = np.zeros((n, 4, 4))
+        lumped[:, 0, 0] = lumped[:, 2, 2] = m / 2
+        lumped[:, 1, 1] = lumped[:, 3, 3] = rI * L / 2
+        block = np.where(cons[:, None, None], block, lumped)
+        M[:, np.array(idx)[:, None], np.array(idx)[None, :]] = block
+    return M
+
+
+def beam_mass_matrices(x: np.ndarray, R: np.ndarray, data: BeamData, local: np.ndarray) -> np.ndarray:
+    """(n, 12, 12) global mass matrices about the current state: local matrices in the corotated frame."""
+    n1, n2 = data.nodes[:, 0], data.nodes[:, 1]
+    Rr = corotated_frames(x[n1], x[n2], R[n1], R[n2], data.E0)[0]
+    E = np.zeros((len(Rr), 12, 12))
+    for b in range(4):
+        E[:, 3 * b:3 * b + 3, 3 * b:3 * b + 3] = Rr
+    return E @ local @ np.swapaxes(E, 1, 2)

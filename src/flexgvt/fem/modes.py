@@ -1,0 +1,177 @@
+"""Modal analysis about any state: real modes with the tangent stiffness (stress stiffening and load
+stiffness included), sparse shift-invert, rigid-body modes, and complex modes with viscous damping.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+import scipy.linalg as sla
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+
+from ..errors import SolverError
+from .static import State
+
+DENSE_LIMIT = 400  # reduced DOFs below which dense eigensolvers are used
+
+
+@dataclass(frozen=True)
+class Modes:
+    """Modes of a structure about a state.
+
+    frequencies_hz (n_modes,): undamped natural frequencies (negative: unstable, the tangent is
+    not positive definite there); damping_ratio (n_modes,): zero for real modes;
+    damped_frequencies_hz (n_modes,); shapes (n_modes, n_nodes, 6): mass-normalised
+    (phi^T M phi = 1) real modes, or the real part of complex modes normalised the same way;
+    complex_shapes: (n_modes, n_nodes, 6) complex or None; node_ids (n_nodes,).
+    """
+
+    frequencies_hz: np.ndarray
+    damping_ratio: np.ndarray
+    damped_frequencies_hz: np.ndarray
+    shapes: np.ndarray
+    node_ids: np.ndarray
+    labels: tuple[str, ...] = ()
+    complex_shapes: np.ndarray | None = None
+    eigenvalues: np.ndarray | None = None  # lambda = omega^2 [rad^2/s^2] (real) or s [rad/s] (complex)
+    state: State | None = field(default=None, repr=False, compare=False)
+
+    def matrix(self, dofs: str = "all") -> np.ndarray:
+        """(n_dof, n_modes) matrix of the shapes (node-major, 6 DOF per node; 'translations' for 3)."""
+        s = self.shapes if dofs == "all" else self.shapes[:, :, :3]
+        return s.reshape(len(s), -1).T
+
+    @property
+    def n_modes(self) -> int:
+        return len(self.frequencies_hz)
+
+    def table(self) -> list[dict]:
+        return [{"mode": i + 1, "frequency_hz": float(f), "damping_ratio": float(z),
+                 "label": self.labels[i] if self.labels else ""}
+                for i, (f, z) in enumerate(zip(self.frequencies_hz, self.damping_ratio))]
+
+
+def _frequency_hz(lam: np.ndarray, scale: float) -> np.ndarray:
+    lam = np.where(np.abs(lam) < 1e-10 * scale, 0.0, lam)
+    return np.sign(lam) * np.sqrt(np.abs(lam)) / (2 * np.pi)
+
+
+def real_modes(K: sp.spmatrix, M: sp.spmatrix, n_modes: int, shift: float | None = None):
+    """Lowest n_modes of K phi = lam M phi (K symmetric, possibly singular or indefinite)."""
+    n = K.shape[0]
+    k = min(n_modes, n)
+    dk = np.abs(K.diagonal())
+    dm = np.abs(M.diagonal())
+    ratio = np.median(dk[dm > 0] / dm[dm > 0]) if np.any(dm > 0) else 1.0
+    sigma = -1e-6 * ratio if shift is None else shift
+    if n <= DENSE_LIMIT or k >= n - 1:
+        A = K.toarray()
+        B = M.toarray()
+        try:
+            lam, phi = sla.eigh(A - sigma * B, B) if np.all(np.linalg.eigvalsh(B) > 1e-14 * max(dm.max(), 1e-300)) \
+                else (None, None)
+            if lam is not None:
+                lam = lam + sigma
+        except np.linalg.LinAlgError:
+            lam = None
+        if lam is None:
+            w, v = sla.eig(A, B)
+            ok = np.isfinite(w)
+            lam, phi = w[ok].real, v[:, ok].real
+        order = np.argsort(lam)[:k]
+        lam, phi = lam[order], phi[:, order]
+    else:
+        try:
+            lam, phi = spla.eigsh(K.tocsc(), k=k, M=M.tocsc(), sigma=sigma, which="LM", mode="normal")
+        except RuntimeError as exc:
+            raise SolverError(f"eigensolver failed ({exc}); the model may have a mechanism with no mass") from exc
+        order = np.argsort(lam)
+        lam, phi = lam[order], phi[:, order]
+    mm = np.einsum("ij,ij->j", phi, M @ phi)
+    bad = mm <= 0
+    if np.any(bad):
+        raise SolverError("a mode has zero or negative modal mass: some DOFs carry stiffness but no mass and no "
+                          "stiffness-free mass; check rotary inertia, lumped masses and constraints")
+    phi = phi / np.sqrt(mm)
+    return lam, phi, ratio
+
+
+def complex_modes(K, C, M, n_modes: int):
+    """Lowest n_modes complex eigenpairs of (s^2 M + s C + K) phi = 0 (state-space, dense or sparse)."""
+    n = K.shape[0]
+    if n <= 2 * DENSE_LIMIT:
+        Kd, Cd, Md = K.toarray(), C.toarray(), M.toarray()
+        A = np.block([[np.zeros((n, n)), np.eye(n)], [-Kd, -Cd]])
+        B = np.block([[np.eye(n), np.zeros((n, n))], [np.zeros((n, n)), Md]])
+        s, v = sla.eig(A, B)
+        ok = np.isfinite(s)
+        s, v = s[ok], v[:n, ok]
+    else:
+        # Shift-invert on the linearised pencil with sigma near zero through a complex LU of K + sigma C + sigma^2 M.
+        sigma = 1e-3
+        Q = (K + sigma * C + sigma**2 * M).tocsc().astype(complex)
+        lu = spla.splu(Q)
+
+        def op(z):
+            x1, x2 = z[:n], z[n:]
+            # (A - sigma B)^{-1} B z for A = [[0, I], [-K, -C]], B = diag(I, M)
+            rhs = -(M @ x2) - (C + sigma * M) @ x1
+            y1 = -lu.solve(rhs.astype(complex))
+            y2 = sigma * y1 + x1
+            return np.concatenate([y1, y2])
+
+        L = spla.LinearOperator((2 * n, 2 * n), matvec=op, dtype=complex)
+        nu, v = spla.eigs(L, k=min(2 * n_modes + 4, 2 * n - 2), which="LM")
+        s = sigma + 1.0 / nu
+        v = v[:n]
+    keep = s.imag >= -1e-9 * np.maximum(np.abs(s), 1.0)  # one of each conjugate pair (and overdamped roots)
+    s, v = s[keep], v[:, keep]
+    order = np.argsort(np.abs(s))[:n_modes]
+    s, v = s[order], v[:, order]
+    # Normalise each mode so that its largest component is real and phi^H M phi = 1.
+    big = v[np.argmax(np.abs(v), axis=0), np.arange(v.shape[1])]
+    v = v * (np.abs(big) / np.where(big == 0, 1, big))
+    mm = np.real(np.einsum("ij,ij->j", v.conj(), M @ v))
+    v = v / np.sqrt(np.where(mm > 0, mm, 1.0))
+    return s, v
+
+
+def solve_modes(state: State, n_modes: int = 15, *, damped: bool | None = None, shift: float | None = None,
+                label: bool = True) -> Modes:
+    """Modes about ``state`` with its tangent stiffness (symmetric part: stress and load stiffness included).
+
+    damped: complex modes with the viscous dampers of springs and cords (default: when present).
+    shift: eigenvalue shift [rad^2/s^2] (default: slightly negative, so rigid-body modes are found).
+    Rigid-body modes of free structures come out at 0 Hz.
+    """
+    system = state.system
+    x, R = state.positions, state.rotations
+    ev = system.evaluate(x, R, state.load_factor)
+    K = (0.5 * (ev.tangent + ev.tangent.T)).tocsc()
+    M = system.mass_matrix(x, R)
+    lam, phi, scale = real_modes(K, M, n_modes, shift)
+    T = system.transformation(x) if system.has_links else None
+    n = system.n_nodes
+    use_damping = system.has_damping if damped is None else damped
+    if use_damping:
+        C = system.damping_matrix(x, R)
+        s, v = complex_modes(K, C, M, n_modes)
+        wn = np.abs(s)
+        freq = np.where(np.abs(s) < 1e-8 * np.sqrt(scale), 0.0, wn / (2 * np.pi))
+        zeta = np.where(wn > 0, -s.real / np.where(wn > 0, wn, 1), 0.0)
+        wd = np.abs(s.imag) / (2 * np.pi)
+        cshapes = system.expand(v, T).T.reshape(len(s), n, 6)
+        real = np.real(cshapes)
+        mm = np.real(np.einsum("ij,ij->j", v.real, M @ v.real))
+        real = real / np.sqrt(np.where(mm > 0, mm, 1.0))[:, None, None]
+        modes = Modes(freq, zeta, wd, real, system.cm.node_ids, (), cshapes, s, state)
+    else:
+        shapes = system.expand(phi, T).T.reshape(len(lam), n, 6)
+        f = _frequency_hz(lam, scale)
+        modes = Modes(f, np.zeros(len(f)), f.copy(), shapes, system.cm.node_ids, (), None, lam, state)
+    if label:
+        from .labels import label_modes
+        modes = label_modes(modes)
+    return modes

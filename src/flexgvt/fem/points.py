@@ -1,0 +1,114 @@
+"""Point components: concentrated masses (gravity potential, inertia), suspension cords and 6-component
+springs, with internal forces and exact consistent tangents conjugate to (dx, spin) per node.
+
+Tangents follow the beam convention K[a, b] = d g_a / d p_b; arrays are vectorised over items.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .rotations import cross, jl_inv, jl_inv_derivative_T, logm_so3, skew
+
+
+def mass_gravity(R: np.ndarray, offset0: np.ndarray, weight: np.ndarray):
+    """Potential -W.(x + R o0) of masses with fixed force W = m a [N] at rotating offsets.
+
+    Returns g (n, 6) and K (n, 6, 6).
+    """
+    r = (R @ offset0[:, :, None])[:, :, 0]
+    g = np.concatenate([-weight, -cross(r, weight)], axis=1)
+    K = np.zeros((len(r), 6, 6))
+    K[:, 3:, 3:] = -skew(weight) @ skew(r)
+    return g, K
+
+
+def mass_matrix(R: np.ndarray, offset0: np.ndarray, mass: np.ndarray, inertia0: np.ndarray) -> np.ndarray:
+    """(n, 6, 6) mass matrices of offset point masses about the current rotation, at their node."""
+    r = (R @ offset0[:, :, None])[:, :, 0]
+    S = skew(r)
+    M = np.zeros((len(r), 6, 6))
+    M[:, :3, :3] = mass[:, None, None] * np.eye(3)
+    M[:, :3, 3:] = -mass[:, None, None] * S
+    M[:, 3:, :3] = mass[:, None, None] * S
+    M[:, 3:, 3:] = -mass[:, None, None] * (S @ S) + R @ inertia0 @ np.swapaxes(R, 1, 2)
+    return M
+
+
+def cord_forces(x: np.ndarray, R: np.ndarray, offset0: np.ndarray, anchor: np.ndarray, k: np.ndarray,
+                l0: np.ndarray):
+    """Cords from fixed anchors to rotating attachments: g (n, 6), K (n, 6, 6), tension (n,), length (n,)."""
+    r = (R @ offset0[:, :, None])[:, :, 0]
+    d = x + r - anchor
+    length = np.linalg.norm(d, axis=1)
+    nvec = d / length[:, None]
+    T = k * np.maximum(length - l0, 0.0)
+    taut = (length > l0).astype(float)
+    gP = T[:, None] * nvec
+    g = np.concatenate([gP, cross(r, gP)], axis=1)
+    nn = nvec[:, :, None] * nvec[:, None, :]
+    KPP = (k * taut)[:, None, None] * nn + (T / length)[:, None, None] * (np.eye(3) - nn)
+    Sr = skew(r)
+    K = np.empty((len(r), 6, 6))
+    K[:, :3, :3] = KPP
+    K[:, :3, 3:] = -KPP @ Sr
+    K[:, 3:, :3] = Sr @ KPP
+    K[:, 3:, 3:] = skew(gP) @ Sr - Sr @ KPP @ Sr
+    return g, K, T, length
+
+
+def cord_damping(x, R, offset0, anchor, c) -> np.ndarray:
+    """(n, 6, 6) viscous damping of cords along their current line of action."""
+    r = (R @ offset0[:, :, None])[:, :, 0]
+    d = x + r - anchor
+    nvec = d / np.linalg.norm(d, axis=1, keepdims=True)
+    TP = np.concatenate([np.broadcast_to(np.eye(3), (len(r), 3, 3)), -skew(r)], axis=2)  # dP = TP [dx, w]
+    CPP = c[:, None, None] * nvec[:, :, None] * nvec[:, None, :]
+    return np.swapaxes(TP, 1, 2) @ CPP @ TP
+
+
+def spring_forces(xa, Xa, Ra, xb, Xb, Rb, frame, k):
+    """6-component springs on relative translation and rotation vector of b w.r.t. a (fixed frame axes).
+
+    Returns g (n, 12) and K (n, 12, 12) over [dx_a, w_a, dx_b, w_b].
+    """
+    n = len(k)
+    Rab = Rb @ np.swapaxes(Ra, 1, 2)
+    theta = logm_so3(Rab)
+    Ji, c, e = jl_inv(theta)
+    FT = np.swapaxes(frame, 1, 2)
+    Kt = frame @ (k[:, :3, None] * FT)
+    Kr = frame @ (k[:, 3:, None] * FT)
+    dt = (xb - Xb) - (xa - Xa)
+    ft = (Kt @ dt[:, :, None])[:, :, 0]
+    m = (Kr @ theta[:, :, None])[:, :, 0]
+    mu = (np.swapaxes(Ji, 1, 2) @ m[:, :, None])[:, :, 0]
+    Omega = np.concatenate([-Rab, np.broadcast_to(np.eye(3), (n, 3, 3))], axis=2)  # omega = Omega [w_a, w_b]
+    g = np.concatenate([-ft, -(np.swapaxes(Rab, 1, 2) @ mu[:, :, None])[:, :, 0], ft, mu], axis=1)
+    K = np.zeros((n, 12, 12))
+    for (i, si), (j, sj) in (((0, -1), (0, -1)), ((0, -1), (6, 1)), ((6, 1), (0, -1)), ((6, 1), (6, 1))):
+        K[:, i:i + 3, j:j + 3] = si * sj * Kt
+    JO = Ji @ Omega  # d theta / d [w_a, w_b]   (n, 3, 6)
+    dth = np.swapaxes(JO, 1, 2)  # (n, 6, 3) directions
+    nu = np.swapaxes(jl_inv_derivative_T(theta, c, e, dth, m), 1, 2)  # (n, 3, 6)
+    Kww = np.swapaxes(JO, 1, 2) @ Kr @ JO + np.swapaxes(Omega, 1, 2) @ nu
+    Kww[:, :3, :] += -np.swapaxes(Rab, 1, 2) @ skew(mu) @ Omega
+    rot = np.r_[3:6, 9:12]
+    K[:, rot[:, None], rot[None, :]] = Kww
+    return g, K
+
+
+def spring_damping(Ra, Rb, frame, c) -> np.ndarray:
+    """(n, 12, 12) linearised viscous damping of springs over [dx_a, w_a, dx_b, w_b]."""
+    n = len(c)
+    Rab = Rb @ np.swapaxes(Ra, 1, 2)
+    FT = np.swapaxes(frame, 1, 2)
+    Ct = frame @ (c[:, :3, None] * FT)
+    Cr = frame @ (c[:, 3:, None] * FT)
+    Omega = np.concatenate([-Rab, np.broadcast_to(np.eye(3), (n, 3, 3))], axis=2)
+    C = np.zeros((n, 12, 12))
+    for (i, si), (j, sj) in (((0, -1), (0, -1)), ((0, -1), (6, 1)), ((6, 1), (0, -1)), ((6, 1), (6, 1))):
+        C[:, i:i + 3, j:j + 3] = si * sj * Ct
+    rot = np.r_[3:6, 9:12]
+    C[:, rot[:, None], rot[None, :]] = np.swapaxes(Omega, 1, 2) @ Cr @ Omega
+    return C

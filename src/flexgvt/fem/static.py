@@ -1,0 +1,291 @@
+"""Geometrically nonlinear static solution: Newton-Raphson with load increments, automatic step
+cutting, a stabilising stiffness for mechanisms that vanishes at convergence, and warm starts.
+
+All loads of a configuration (gravity, forces, distributed loads) and the pre-tension of the
+suspension cords are ramped together by the load factor lambda from 0 to 1.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+from typing import Callable
+
+import numpy as np
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+
+from ..errors import ConvergenceError, ModelError, SingularModelError
+from ..model import Configuration, Model
+from .rotations import logm_so3
+from .system import System
+
+
+@dataclass(frozen=True)
+class IterationRecord:
+    """One Newton iteration: load step, load factor, iteration, residual and energy norms."""
+
+    step: int
+    load_factor: float
+    iteration: int
+    residual: float  # ||r|| / reference force
+    energy: float  # |du . r| / reference energy
+    stabilisation: float  # relative stabilising stiffness used in this iteration (0: none)
+
+
+@dataclass(frozen=True)
+class State:
+    """An equilibrium state of a model in a configuration.
+
+    positions (n_nodes, 3) [m]; rotations (n_nodes, 3, 3) from the undeformed orientation;
+    displacements (n_nodes, 6): translations [m] and rotation vectors [rad]; node order node_ids.
+    """
+
+    model: Model
+    configuration: Configuration
+    node_ids: np.ndarray
+    positions: np.ndarray
+    rotations: np.ndarray
+    load_factor: float
+    history: tuple[IterationRecord, ...]
+    axial_forces: np.ndarray  # (n_beams,) [N], tension positive
+    cord_tension: np.ndarray  # (n_cords,) [N]
+    cord_length: np.ndarray  # (n_cords,) [m]
+    stabilised_mechanism: bool = False
+    solve_time_s: float = 0.0
+    system: System | None = field(default=None, repr=False, compare=False)
+
+    @property
+    def displacements(self) -> np.ndarray:
+        u = self.positions - self.system.cm.xyz
+        return np.concatenate([u, logm_so3(self.rotations)], axis=1)
+
+    @property
+    def converged_steps(self) -> int:
+        return len({r.step for r in self.history})
+
+    def node(self, node_id: int) -> int:
+        """Row of a node id in the state's arrays."""
+        return int(self.model.index_of([node_id], "state.node")[0])
+
+    def summary(self) -> str:
+        u = self.displacements
+        k = int(np.argmax(np.linalg.norm(u[:, :3], axis=1)))
+        return (f"'{self.configuration.name}': load factor {self.load_factor:g}, {self.converged_steps} steps, "
+                f"{len(self.history)} iterations, max displacement {np.linalg.norm(u[k, :3]):.4g} m at node "
+                f"{self.node_ids[k]}")
+
+
+@dataclass(frozen=True)
+class StaticSettings:
+    """Settings of the nonlinear static solver.
+
+    increments: initial number of equal load increments; max_iterations per increment;
+    tolerance: residual norm relative to the applied-load norm; min_increment: smallest load
+    increment before giving up; max_increment_growth: growth of an increment after an easy step.
+    """
+
+    increments: int = 20
+    max_iterations: int = 25
+    tolerance: float = 1e-8
+    energy_tolerance: float = 1e-14
+    min_increment: float = 1e-5
+    max_increment_growth: float = 1.5
+
+
+class _Factor:
+    """LU of a sparse matrix with a stabilising diagonal added when it is singular."""
+
+    def __init__(self, K: sp.csc_matrix, reference: float):
+        self.stabilisation = 0.0
+        diag = np.abs(K.diagonal())
+        scale = np.where(diag > 0, diag, reference)
+        for alpha in (0.0, 1e-10, 1e-8, 1e-6, 1e-4, 1e-2):
+            A = K if alpha == 0 else (K + sp.diags(alpha * scale)).tocsc()
+            try:
+                lu = spla.splu(A, permc_spec="COLAMD", options={"SymmetricMode": True})
+            except RuntimeError:
+                continue
+            piv = np.abs(lu.U.diagonal())
+            if alpha == 0 and piv.min() <= 1e-13 * piv.max():
+                continue
+            self.lu, self.stabilisation = lu, alpha
+            return
+        raise SingularModelError("the tangent stiffness is singular even with a stabilising stiffness; "
+                                 "the model has an unrestrained mechanism")
+
+    def solve(self, b: np.ndarray) -> np.ndarray:
+        return self.lu.solve(b)
+
+
+def _rigid_body_check(system: System, K: sp.csc_matrix, f_red: np.ndarray, x: np.ndarray) -> None:
+    """Raise a clear error if the loads push along a rigid-body motion that nothing restrains."""
+    n = system.n_nodes
+    c = x.mean(axis=0)
+    modes = np.zeros((n, 6, 6))
+    names = ["translation along x", "translation along y", "translation along z",
+             "rotation about x", "rotation about y", "rotation about z"]
+    for a in range(3):
+        e = np.zeros(3)
+        e[a] = 1.0
+        modes[:, a, a] = 1.0
+        modes[:, :3, 3 + a] = np.cross(e, x - c)
+        modes[:, 3 + a, 3 + a] = 1.0
+    modes = modes.reshape(6 * n, 6)
+    fixed_rows = modes[system.fixed]
+    if len(fixed_rows):
+        _, sv, vt = np.linalg.svd(fixed_rows, full_matrices=True)
+        rank = int(np.sum(sv > 1e-9 * max(sv.max(), 1e-300)))
+        basis = vt[rank:].T
+    else:
+        basis = np.eye(6)
+    if basis.shape[1] == 0:
+        return
+    T = system.transformation(x) if system.has_links else None
+    full = modes @ basis
+    phi = np.stack([system.reduce_vector(full[:, j], T) for j in range(full.shape[1])], axis=1)
+    phi /= np.linalg.norm(phi, axis=0)
+    Ksym = 0.5 * (K + K.T)
+    w, v = np.linalg.eigh(phi.T @ (Ksym @ phi))
+    scale = max(abs(Ksym.diagonal()).max(), 1e-300)
+    load_norm = np.linalg.norm(f_red)
+    for j in range(len(w)):
+        if w[j] > 1e-9 * scale:
+            continue
+        if abs((phi @ v[:, j]) @ f_red) > 1e-8 * max(load_norm, 1e-300):
+            coeffs = basis @ v[:, j]
+            dominant = names[int(np.argmax(np.abs(coeffs)))]
+            raise SingularModelError(
+                f"configuration '{system.config.name}': the model is under-constrained: the loads push it along "
+                f"{dominant} (among others) and nothing restrains that motion. Fix DOFs "
+                "(fixed={node: '123456'}), add springs or suspension cords, or remove the load.")
+
+
+def solve_static(model: Model, configuration: Configuration, *, settings: StaticSettings | None = None,
+                 start: State | None = None, load_factors: np.ndarray | None = None,
+                 progress: Callable[[float], None] | None = None, keep_steps: bool = False):
+    """Geometrically nonlinear static equilibrium of ``model`` in ``configuration``.
+
+    start: a previous State to warm-start from (same model, e.g. another design point); the full
+    load is tried first, then the load ramp. load_factors: extra load levels to return states at
+    (with keep_steps=True the function returns (final_state, [states at those levels])).
+    progress: called with the converged load factor after each increment.
+    Raises ConvergenceError (with .state = last converged state, .history) if the load cannot
+    be reached, SingularModelError for under-constrained models.
+    """
+    t0 = time.perf_counter()
+    settings = settings or StaticSettings()
+    system = start.system if (start is not None and start.system is not None and start.model is model
+                              and start.configuration == configuration) else System(model, configuration)
+    x, R = system.undeformed
+    history: list[IterationRecord] = []
+    ev0 = system.evaluate(x, R, 1.0)
+    load_ref = max(np.linalg.norm(ev0.external), np.linalg.norm(ev0.internal), 1e-12)
+    _rigid_body_check(system, ev0.tangent, ev0.external - ev0.internal, x)
+    levels = sorted(set(np.round(np.asarray(load_factors, float), 12))) if load_factors is not None else []
+    saved: list[State] = []
+
+    def make_state(x, R, lam, ev, stabilised):
+        return State(model, configuration, system.cm.node_ids, x.copy(), R.copy(), lam, tuple(history),
+                     ev.axial_forces, ev.cord_tension, ev.cord_length, stabilised,
+                     time.perf_counter() - t0, system)
+
+    def newton(x, R, lam, step):
+        """Iterate to equilibrium at load factor lam; returns (x, R, ev, stabilised) or None."""
+        stabilised = False
+        previous = np.inf
+        growth = 0
+        for it in range(settings.max_iterations):
+            ev = system.evaluate(x, R, lam)
+            r = ev.internal - ev.external
+            ref = max(np.linalg.norm(ev.external), load_ref * lam, 1e-300)
+            res = np.linalg.norm(r) / ref
+            if not np.isfinite(res):
+                return None
+            try:
+                fac = _Factor(ev.tangent, load_ref)
+            except SingularModelError:
+                return None
+            delta = -fac.solve(r)
+            energy = abs(delta @ r) / max(ref * (np.abs(system.cm.xyz).max() + 1.0), 1e-300)
+            history.append(IterationRecord(step, lam, it, res, energy, fac.stabilisation))
+            stabilised |= fac.stabilisation > 0
+            if res < settings.tolerance or (it > 0 and energy < settings.energy_tolerance and res < 1e3 * settings.tolerance):
+                return x, R, ev, stabilised
+            if not np.all(np.isfinite(delta)):
+                return None
+            growth = growth + 1 if res > previous else 0
+            if growth >= 4:
+                return None
+            previous = res
+            # Guard against huge steps on nearly singular tangents: limit rotations to 0.5 rad per iteration.
+            rot = np.abs(system.expand(delta).reshape(-1, 6)[:, 3:]).max() if delta.size else 0.0
+            if rot > 0.5:
+                delta *= 0.5 / rot
+            x, R = system.update(x, R, delta)
+        return None
+
+    lam = 0.0
+    step = 0
+    if start is not None:
+        if start.system is not system and (start.positions.shape != x.shape):
+            raise ModelError("solve_static(start=...): the start state belongs to a model of another size")
+        got = newton(start.positions.copy(), start.rotations.copy(), 1.0, 0)
+        if got is not None:
+            xs, Rs, ev, stab = got
+            state = make_state(xs, Rs, 1.0, ev, stab)
+            return (state, saved) if keep_steps else state
+    increment = 1.0 / settings.increments
+    last = make_state(x, R, 0.0, ev0, False)
+    while lam < 1.0 - 1e-12:
+        target = min(1.0, lam + increment)
+        nxt = [lv for lv in levels if lam + 1e-12 < lv < target - 1e-12]
+        if nxt:
+            target = nxt[0]
+        step += 1
+        got = newton(x, R, target, step)
+        if got is None:
+            increment *= 0.5
+            if increment < settings.min_increment:
+                err = ConvergenceError(
+                    f"configuration '{configuration.name}': Newton-Raphson did not converge beyond load factor "
+                    f"{lam:.4g} (the increment was cut below {settings.min_increment:g}). Likely causes: a limit "
+                    "or buckling point (the structure cannot carry the full load), a mechanism or a slack cord "
+                    "that leaves part of the model free, or loads far beyond the elastic range. The last "
+                    "converged state is in the error's .state and the convergence record in .history.",
+                    state=last, history=tuple(history))
+                raise err
+            continue
+        x, R, ev, stab = got
+        lam = target
+        last = make_state(x, R, lam, ev, stab or last.stabilised_mechanism)
+        if any(abs(lam - lv) < 1e-12 for lv in levels):
+            saved.append(last)
+        if progress is not None:
+            progress(lam)
+        iters = sum(1 for h in history if h.step == step)
+        if iters <= 4:
+            increment = min(increment * settings.max_increment_growth, 1.0)
+    return (last, saved) if keep_steps else last
+
+
+def solve_linear_static(model: Model, configuration: Configuration) -> State:
+    """Linear static solution (small displacements) about the undeformed state."""
+    t0 = time.perf_counter()
+    system = System(model, configuration)
+    x, R = system.undeformed
+    ev = system.evaluate(x, R, 1.0)
+    _rigid_body_check(system, ev.tangent, ev.external - ev.internal, x)
+    r = ev.internal - ev.external
+    ref = max(np.linalg.norm(ev.external), 1e-300)
+    fac = _Factor(ev.tangent, ref)
+    if fac.stabilisation > 0:
+        raise SingularModelError(f"configuration '{configuration.name}': the stiffness matrix is singular; the model "
+                                 "has a mechanism. Add constraints, springs or cords, or use solve_static for a "
+                                 "suspended structure that needs its sagged equilibrium.")
+    delta = -fac.solve(r)
+    x, R = system.update(x, R, delta)
+    rec = IterationRecord(1, 1.0, 0, float(np.linalg.norm(r) / ref), 0.0, 0.0)
+    ev1 = system.evaluate(x, R, 1.0, tangent=False)
+    return State(model, configuration, system.cm.node_ids, x, R, 1.0, (rec,), ev1.axial_forces, ev1.cord_tension,
+                 ev1.cord_length, False, time.perf_counter() - t0, system)

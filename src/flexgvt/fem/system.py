@@ -1,0 +1,421 @@
+"""A model in one configuration, compiled to arrays: DOF numbering, constraints, and evaluation of
+internal forces, consistent tangent, mass and damping at any state.
+
+The model's own arrays are compiled once per model revision and shared by every configuration,
+so one model is solved in many configurations without copying it.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import cached_property
+from weakref import WeakKeyDictionary
+
+import numpy as np
+import scipy.sparse as sp
+
+from ..errors import ModelError
+from ..model import Configuration, Model, parse_dofs
+from .beam import BeamData, beam_forces, beam_mass_matrices, element_frames, local_mass_matrices
+from .points import cord_damping, cord_forces, mass_gravity, mass_matrix, spring_damping, spring_forces
+from .rotations import expm_so3, skew
+
+_COMPILED: "WeakKeyDictionary[Model, tuple[int, CompiledModel]]" = WeakKeyDictionary()
+
+
+@dataclass(frozen=True)
+class PointMasses:
+    nodes: np.ndarray  # (m,) storage indices
+    mass: np.ndarray  # (m,) [kg]
+    offset: np.ndarray  # (m, 3) [m]
+    inertia: np.ndarray  # (m, 3, 3) [kg m^2]
+
+
+@dataclass(frozen=True)
+class Springs:
+    a: np.ndarray  # (s,) storage index or -1 for ground
+    b: np.ndarray
+    stiffness: np.ndarray  # (s, 6)
+    damping: np.ndarray  # (s, 6)
+    frame: np.ndarray  # (s, 3, 3)
+
+
+@dataclass(frozen=True)
+class CompiledModel:
+    """Arrays of a model independent of any configuration."""
+
+    node_ids: np.ndarray
+    xyz: np.ndarray
+    beams: BeamData
+    beam_local_mass: np.ndarray
+    beam_element_ids: np.ndarray
+    beam_group_names: np.ndarray
+    masses: PointMasses
+    springs: Springs
+    links: np.ndarray  # (n_nodes,) index of the independent node for dependents, else -1
+
+
+def _section_arrays(group, n):
+    props = group.section.properties()
+    E, G, rho = group.material.E, group.material.shear_modulus, group.material.rho
+    return props, E, G, rho
+
+
+def compile_model(model: Model) -> CompiledModel:
+    """Compile (and cache against the model's revision) the model's arrays."""
+    cached = _COMPILED.get(model)
+    if cached is not None and cached[0] == model.revision:
+        return cached[1]
+    if model.n_nodes == 0:
+        raise ModelError(f"model '{model.name}' has no nodes; add nodes and elements first")
+    xyz = model.xyz
+    nodes, E0, L0, stiff, rhoA, rhoI, lumped, eids, names = [], [], [], [], [], [], [], [], []
+    for group in model.beams:
+        idx = model.index_of(group.nodes, f"beam group '{group.name}'")
+        frames = element_frames(xyz, idx, group.orientation)
+        length = np.linalg.norm(xyz[idx[:, 1]] - xyz[idx[:, 0]], axis=1)
+        p, E, G, rho = _section_arrays(group, len(idx))
+        phi_y = 12 * E * p["Iy"] / (G * p["Az"] * length**2) if p["Az"] > 0 else np.zeros_like(length)
+        phi_z = 12 * E * p["Iz"] / (G * p["Ay"] * length**2) if p["Ay"] > 0 else np.zeros_like(length)
+        n = len(idx)
+        stiff.append(np.column_stack([np.full(n, E * p["A"]), np.full(n, G * p["J"]), np.full(n, E * p["Iy"]),
+                                      np.full(n, E * p["Iz"]), phi_y, phi_z]))
+        rot = 1.0 if group.rotary_inertia else 0.0
+        rhoI.append(np.tile([rho * p["Ip"], rot * rho * p["Iy"], rot * rho * p["Iz"]], (n, 1)))
+        rhoA.append(np.full(n, rho * p["A"]))
+        lumped.append(np.full(n, group.mass == "lumped"))
+        nodes.append(idx)
+        E0.append(frames)
+        L0.append(length)
+        eids.append(group.ids)
+        names.append(np.full(n, group.name, dtype=object))
+    cat = (lambda parts, shape: np.concatenate(parts) if parts else np.zeros(shape))
+    beams = BeamData(cat(nodes, (0, 2)).astype(np.int64), np.ascontiguousarray(cat(E0, (0, 3, 3))), cat(L0, (0,)),
+                     np.ascontiguousarray(cat(stiff, (0, 6))), cat(rhoA, (0,)), cat(rhoI, (0, 3)),
+                     cat(lumped, (0,)).astype(bool))
+    links = np.full(model.n_nodes, -1)
+    for link in model.rigid_links:
+        links[model.index_of(list(link.dependents))] = model.index_of([link.independent])[0]
+    compiled = CompiledModel(model.node_ids, xyz, beams, local_mass_matrices(beams), cat(eids, (0,)).astype(int),
+                             cat(names, (0,)), _masses(model, model.masses), _springs(model, model.springs), links)
+    _COMPILED[model] = (model.revision, compiled)
+    return compiled
+
+
+def _masses(model: Model, items) -> PointMasses:
+    items = list(items)
+    if not items:
+        return PointMasses(np.zeros(0, int), np.zeros(0), np.zeros((0, 3)), np.zeros((0, 3, 3)))
+    return PointMasses(model.index_of([m.node for m in items], "concentrated mass"),
+                       np.array([m.mass for m in items]), np.array([m.offset for m in items]),
+                       np.array([m.inertia for m in items]))
+
+
+def _springs(model: Model, items) -> Springs:
+    items = list(items)
+    if not items:
+        return Springs(np.zeros(0, int), np.zeros(0, int), np.zeros((0, 6)), np.zeros((0, 6)), np.zeros((0, 3, 3)))
+    a = np.array([-1 if s.node_b is None else model.index_of([s.node_a], "spring")[0] for s in items])
+    # A grounded spring acts on node_a: store it as b with a = -1.
+    b = np.array([model.index_of([s.node_a if s.node_b is None else s.node_b], "spring")[0] for s in items])
+    return Springs(a, b, np.array([s.stiffness for s in items]), np.array([s.damping for s in items]),
+                   np.array([s.frame for s in items]))
+
+
+def _merge_masses(a: PointMasses, b: PointMasses) -> PointMasses:
+    return PointMasses(*(np.concatenate([getattr(a, f), getattr(b, f)]) for f in ("nodes", "mass", "offset", "inertia")))
+
+
+def _merge_springs(a: Springs, b: Springs) -> Springs:
+    return Springs(*(np.concatenate([getattr(a, f), getattr(b, f)])
+                     for f in ("a", "b", "stiffness", "damping", "frame")))
+
+
+class _Pattern:
+    """Sparse pattern of element blocks mapped to reduced DOFs; assembly is one bincount."""
+
+    def __init__(self, blocks: list[np.ndarray], dof_map: np.ndarray, n: int):
+        rows, cols = [], []
+        for dofs in blocks:
+            rows.append(np.repeat(dofs, dofs.shape[1], axis=1).ravel())
+            cols.append(np.tile(dofs, (1, dofs.shape[1])).ravel())
+        rows = dof_map[np.concatenate(rows)] if rows else np.zeros(0, int)
+        cols = dof_map[np.concatenate(cols)] if cols else np.zeros(0, int)
+        self.keep = (rows >= 0) & (cols >= 0)
+        keys = cols[self.keep].astype(np.int64) * n + rows[self.keep]
+        uniq, self.inverse = np.unique(keys, return_inverse=True)
+        self.indices = (uniq % n).astype(np.int32)
+        self.indptr = np.searchsorted(uniq // n, np.arange(n + 1)).astype(np.int32)
+        self.n = n
+
+    def assemble(self, values: list[np.ndarray]) -> sp.csc_matrix:
+        data = np.concatenate([v.reshape(-1) for v in values])[self.keep] if values else np.zeros(0)
+        data = np.bincount(self.inverse, weights=data, minlength=len(self.indices))
+        return sp.csc_matrix((data, self.indices, self.indptr), shape=(self.n, self.n))
+
+
+@dataclass
+class Evaluation:
+    """Residual pieces and tangent at one state (reduced DOFs)."""
+
+    internal: np.ndarray  # reduced internal-force vector (incl. load potentials of offset masses)
+    external: np.ndarray  # reduced applied-load vector at this load factor
+    tangent: sp.csc_matrix | None
+    axial_forces: np.ndarray
+    cord_tension: np.ndarray
+    cord_length: np.ndarray
+
+
+class System:
+    """One model in one configuration. Reduced DOFs exclude fixed DOFs and rigid-link dependents."""
+
+    def __init__(self, model: Model, config: Configuration):
+        self.model = model
+        self.config = config
+        self.cm = cm = compile_model(model)
+        n = len(cm.xyz)
+        self.n_nodes = n
+        self.masses = _merge_masses(cm.masses, _masses(model, config.masses))
+        self.springs = _merge_springs(cm.springs, _springs(model, config.springs))
+        where = f"configuration '{config.name}'"
+        cords = list(config.suspension)
+        self.cord_nodes = model.index_of([c.node for c in cords], f"{where}: cord") if cords else np.zeros(0, int)
+        self.cord_offset = np.array([c.offset for c in cords], float).reshape(-1, 3)
+        self.cord_anchor = np.array([c.anchor for c in cords], float).reshape(-1, 3)
+        self.cord_k = np.array([c.stiffness for c in cords], float)
+        self.cord_c = np.array([c.damping for c in cords], float)
+        self.cord_l0 = np.array([c.unstretched_length for c in cords], float)
+        attach = cm.xyz[self.cord_nodes] + self.cord_offset
+        self.cord_lgeom = np.linalg.norm(attach - self.cord_anchor, axis=1)
+        if np.any(self.cord_lgeom == 0):
+            raise ModelError(f"{where}: a cord's anchor coincides with its attachment point; move the anchor")
+
+        fixed = np.zeros(6 * n, bool)
+        for node, spec in config.fixed.items():
+            i = model.index_of([node], f"{where}: fixed")[0]
+            fixed[6 * i + np.array(parse_dofs(spec, f"{where}: fixed[{node}]"))] = True
+        dependent = cm.links >= 0
+        bad = np.flatnonzero(dependent & fixed.reshape(n, 6).any(axis=1))
+        if len(bad):
+            raise ModelError(f"{where}: node {cm.node_ids[bad[0]]} is a rigid-link dependent and cannot be fixed; "
+                             "fix its independent node instead")
+        self.fixed = fixed
+        self.dependent = dependent
+        free = ~fixed & ~np.repeat(dependent, 6)
+        self.dof_map = np.full(6 * n, -1)
+        self.dof_map[free] = np.arange(free.sum())
+        self.n_free = int(free.sum())
+        if self.n_free == 0:
+            raise ModelError(f"{where}: every DOF is fixed; nothing to solve")
+
+        # Applied loads at load factor 1 (fixed direction): lumped beam weight, nodal and distributed loads.
+        gvec = config.gravity_vector
+        f = np.zeros((n, 6))
+        b = cm.beams
+        half_w = 0.5 * (b.mass_per_length * b.L0)[:, None] * gvec[None, :]
+        np.add.at(f, (b.nodes[:, 0], slice(0, 3)), half_w)
+        np.add.at(f, (b.nodes[:, 1], slice(0, 3)), half_w)
+        for load in config.forces:
+            i = model.index_of([load.node], f"{where}: load")[0]
+            f[i, :3] += load.force
+            f[i, 3:] += load.moment
+        if config.distributed:
+            pos = {int(e): k for k, e in enumerate(cm.beam_element_ids)}
+            for load in config.distributed:
+                try:
+                    ks = np.array([pos[int(e)] for e in load.elements], dtype=int)
+                except KeyError as exc:
+                    raise ModelError(f"{where}: distributed load on element {exc.args[0]}, which is not a beam "
+                                     "of the model") from None
+                share = 0.5 * b.L0[ks][:, None] * np.asarray(load.per_length, float)[None, :]
+                np.add.at(f, (b.nodes[ks, 0], slice(0, 3)), share)
+                np.add.at(f, (b.nodes[ks, 1], slice(0, 3)), share)
+        self.applied = f.reshape(-1)
+        self.mass_weight = self.masses.mass[:, None] * gvec[None, :]
+
+        self.has_links = bool(dependent.any())
+        blocks = [self._beam_dofs(), self._node_dofs(self.masses.nodes), self._node_dofs(self.cord_nodes),
+                  self._spring_dofs()]
+        self._blocks = blocks
+        if self.has_links:
+            self.pattern = _Pattern(blocks, np.arange(6 * n), 6 * n)
+        else:
+            self.pattern = _Pattern(blocks, self.dof_map, self.n_free)
+
+    # ------------------------------------------------------------------ DOF helpers
+    def _beam_dofs(self) -> np.ndarray:
+        nodes = self.cm.beams.nodes
+        return np.concatenate([6 * nodes[:, :1] + np.arange(6), 6 * nodes[:, 1:] + np.arange(6)], axis=1)
+
+    @staticmethod
+    def _node_dofs(nodes: np.ndarray) -> np.ndarray:
+        return 6 * nodes[:, None] + np.arange(6)
+
+    def _spring_dofs(self) -> np.ndarray:
+        s = self.springs
+        a = np.where(s.a >= 0, s.a, s.b)  # grounded springs: node a block is zeroed below
+        return np.concatenate([6 * a[:, None] + np.arange(6), 6 * s.b[:, None] + np.arange(6)], axis=1)
+
+    @property
+    def undeformed(self) -> tuple[np.ndarray, np.ndarray]:
+        return self.cm.xyz.copy(), np.broadcast_to(np.eye(3), (self.n_nodes, 3, 3)).copy()
+
+    def transformation(self, x: np.ndarray) -> sp.csr_matrix:
+        """Full (6n) <- reduced DOF map T at the current positions (rigid links rotate with the state)."""
+        n = self.n_nodes
+        rows, cols, vals = [], [], []
+        free = np.flatnonzero(self.dof_map >= 0)
+        rows.append(free)
+        cols.append(self.dof_map[free])
+        vals.append(np.ones(len(free)))
+        deps = np.flatnonzero(self.dependent)
+        if len(deps):
+            ind = self.cm.links[deps]
+            r = x[deps] - x[ind]
+            # dx_d = dx_i - S(r) w_i ;  w_d = w_i
+            blocks = np.zeros((len(deps), 6, 6))
+            blocks[:, :3, :3] = np.eye(3)
+            blocks[:, :3, 3:] = -skew(r)
+            blocks[:, 3:, 3:] = np.eye(3)
+            rr = (6 * deps[:, None, None] + np.arange(6)[None, :, None]).repeat(6, axis=2)
+            cc = self.dof_map[(6 * ind[:, None, None] + np.arange(6)[None, None, :]).repeat(6, axis=1)]
+            keep = (cc >= 0) & (blocks != 0)
+            rows.append(rr[keep])
+            cols.append(cc[keep])
+            vals.append(blocks[keep])
+        return sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
+                             shape=(6 * n, self.n_free))
+
+    def reduce_vector(self, v_full: np.ndarray, T=None) -> np.ndarray:
+        if not self.has_links:
+            return v_full[self.dof_map >= 0]
+        return T.T @ v_full
+
+    def expand(self, v_red: np.ndarray, T=None) -> np.ndarray:
+        """Reduced DOF vector(s) -> full (6n, ...) with fixed DOFs zero and dependents following."""
+        if not self.has_links:
+            out = np.zeros((6 * self.n_nodes,) + v_red.shape[1:], dtype=v_red.dtype)
+            out[self.dof_map >= 0] = v_red
+            return out
+        return T @ v_red
+
+    # ------------------------------------------------------------------ evaluation
+    def cord_l0_at(self, lam: float) -> np.ndarray:
+        """Unstretched cord lengths along the load ramp: unstrained at lam = 0, nominal at lam = 1."""
+        return self.cord_lgeom + lam * (self.cord_l0 - self.cord_lgeom)
+
+    def evaluate(self, x: np.ndarray, R: np.ndarray, lam: float, tangent: bool = True) -> Evaluation:
+        """Internal and applied forces (reduced) and the consistent tangent at a state and load factor."""
+        n = self.n_nodes
+        g = np.zeros((n, 6))
+        values = []
+        b = self.cm.beams
+        gb, Kb, N = beam_forces(x, R, b, tangent)
+        np.add.at(g, b.nodes[:, 0], gb[:, :6])
+        np.add.at(g, b.nodes[:, 1], gb[:, 6:])
+        values.append(Kb if tangent else None)
+        m = self.masses
+        gm, Km = mass_gravity(R[m.nodes], m.offset, lam * self.mass_weight)
+        np.add.at(g, m.nodes, gm)
+        values.append(Km)
+        tension = length = np.zeros(0)
+        if len(self.cord_nodes):
+            cn = self.cord_nodes
+            gc, Kc, tension, length = cord_forces(x[cn], R[cn], self.cord_offset, self.cord_anchor, self.cord_k,
+                                                  self.cord_l0_at(lam))
+            np.add.at(g, cn, gc)
+            values.append(Kc)
+        else:
+            values.append(np.zeros((0, 6, 6)))
+        s = self.springs
+        if len(s.b):
+            ground = s.a < 0
+            ia = np.where(ground, s.b, s.a)
+            xa = np.where(ground[:, None], self.cm.xyz[s.b], x[ia])
+            Ra = np.where(ground[:, None, None], np.eye(3), R[ia])
+            Xa = self.cm.xyz[np.where(ground, s.b, s.a)]
+            gs, Ks = spring_forces(xa, Xa, Ra, x[s.b], self.cm.xyz[s.b], R[s.b], s.frame, s.stiffness)
+            gs[ground, :6] = 0.0
+            Ks[ground, :6, :] = 0.0
+            Ks[ground, :, :6] = 0.0
+            np.add.at(g, ia[~ground], gs[~ground, :6])
+            np.add.at(g, s.b, gs[:, 6:])
+            values.append(Ks)
+        else:
+            values.append(np.zeros((0, 12, 12)))
+        g_full = g.reshape(-1)
+        f_full = lam * self.applied
+        T = self.transformation(x) if self.has_links else None
+        K = None
+        if tangent:
+            K = self.pattern.assemble(values)
+            if self.has_links:
+                K = self._reduce_with_links(K, T, x, g_full - f_full)
+        return Evaluation(self.reduce_vector(g_full, T), self.reduce_vector(f_full, T), K, N, tension, length)
+
+    def _reduce_with_links(self, K_full, T, x, r_full) -> sp.csc_matrix:
+        """T^T K T plus the geometric term of the rotating rigid-link offsets."""
+        K = (T.T @ K_full @ T).tocsc()
+        deps = np.flatnonzero(self.dependent)
+        ind = self.cm.links[deps]
+        r = x[deps] - x[ind]
+        fd = r_full.reshape(-1, 6)[deps, :3]
+        blocks = skew(fd) @ skew(r)  # d(r x f)/d spin of the independent node
+        rot = self.dof_map[6 * ind[:, None] + 3 + np.arange(3)]
+        rows = np.repeat(rot, 3, axis=1).ravel()
+        cols = np.tile(rot, (1, 3)).ravel()
+        keep = (rows >= 0) & (cols >= 0)
+        extra = sp.csc_matrix((blocks.reshape(-1)[keep], (rows[keep], cols[keep])), shape=K.shape)
+        return (K + extra).tocsc()
+
+    def update(self, x: np.ndarray, R: np.ndarray, delta_red: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Apply a reduced increment: translations add, rotations compose by spatial spin."""
+        T = self.transformation(x) if self.has_links else None
+        d = self.expand(delta_red, T).reshape(-1, 6)
+        x_new = x + d[:, :3]
+        R_new = expm_so3(d[:, 3:]) @ R
+        if self.has_links:
+            deps = np.flatnonzero(self.dependent)
+            ind = self.cm.links[deps]
+            offset0 = self.cm.xyz[deps] - self.cm.xyz[ind]
+            x_new[deps] = x_new[ind] + (R_new[ind] @ offset0[:, :, None])[:, :, 0]
+            R_new[deps] = R_new[ind]
+        return x_new, R_new
+
+    # ------------------------------------------------------------------ mass and damping
+    def mass_matrix(self, x: np.ndarray, R: np.ndarray) -> sp.csc_matrix:
+        """Reduced mass matrix about the state (beam mass in corotated frames, offset masses rotated)."""
+        b = self.cm.beams
+        Mb = beam_mass_matrices(x, R, b, self.cm.beam_local_mass)
+        m = self.masses
+        Mm = mass_matrix(R[m.nodes], m.offset, m.mass, m.inertia)
+        values = [Mb, Mm, np.zeros((len(self.cord_nodes), 6, 6)), np.zeros((len(self.springs.b), 12, 12))]
+        return self._reduce_plain(self.pattern.assemble(values), x)
+
+    def damping_matrix(self, x: np.ndarray, R: np.ndarray) -> sp.csc_matrix:
+        """Reduced viscous damping matrix (springs/dampers and cords) about the state."""
+        s = self.springs
+        values = [np.zeros((len(self.cm.beams.L0), 12, 12)), np.zeros((len(self.masses.nodes), 6, 6))]
+        cn = self.cord_nodes
+        values.append(cord_damping(x[cn], R[cn], self.cord_offset, self.cord_anchor, self.cord_c) if len(cn)
+                      else np.zeros((0, 6, 6)))
+        if len(s.b):
+            ground = s.a < 0
+            Ra = np.where(ground[:, None, None], np.eye(3), R[np.where(ground, s.b, s.a)])
+            Cs = spring_damping(Ra, R[s.b], s.frame, s.damping)
+            Cs[ground, :6, :] = 0.0
+            Cs[ground, :, :6] = 0.0
+            values.append(Cs)
+        else:
+            values.append(np.zeros((0, 12, 12)))
+        return self._reduce_plain(self.pattern.assemble(values), x)
+
+    def _reduce_plain(self, A, x) -> sp.csc_matrix:
+        if not self.has_links:
+            return A
+        T = self.transformation(x)
+        return (T.T @ A @ T).tocsc()
+
+    @cached_property
+    def has_damping(self) -> bool:
+        return bool(np.any(self.cord_c > 0) or np.any(self.springs.damping > 0))
