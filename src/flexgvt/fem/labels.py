@@ -1,5 +1,141 @@
-"""Mode labelling (placeholder replaced below)."""
+"""Mode labelling from strain-energy fractions, and mode tracking across load steps by MAC."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+
+import numpy as np
+from scipy.optimize import linear_sum_assignment
+
+from .beam import corotated_frames
+
+CLASSES = ("OOP", "IP", "T", "EXT", "RB")
+CLASS_NAMES = {"OOP": "out-of-plane bending", "IP": "in-plane bending", "T": "torsion", "EXT": "extension",
+               "RB": "rigid body / suspension"}
+_RIGID = ("fore-aft", "lateral", "plunge", "roll", "pitch", "yaw")
+
+
+def _bending_energy(EI, phi, L, d1, r1, d2, r2, sign):
+    """Energy of a Timoshenko bending block; sign=+1 for (v, rz), -1 for (w, ry)."""
+    k = EI / (L**3 * (1 + phi))
+    s = sign * L
+    a = (12 * (d1 - d2) ** 2 + 12 * s * (d1 - d2) * (r1 + r2)
+         + (4 + phi) * L**2 * (r1**2 + r2**2) + 2 * (2 - phi) * L**2 * r1 * r2)
+    return 0.5 * k * a
+
+
+def energy_fractions(modes, state) -> np.ndarray:
+    """(n_modes, 5) fractions of OOP bending, IP bending, torsion, extension and 'rigid/suspension'.
+
+    Beam strain energy of each mode is split per element in its deformed local axes; bending
+    about the local axis closer to the global vertical plane is out-of-plane. Whatever of the
+    mode's potential energy (omega^2, mass-normalised) is not beam strain energy (springs,
+    cords, gravity) counts as rigid/suspension.
+    """
+    system = state.system
+    b = system.cm.beams
+    shapes = modes.shapes
+    out = np.zeros((len(shapes), 5))
+    if len(b.L0):
+        n1, n2 = b.nodes[:, 0], b.nodes[:, 1]
+        Rr = corotated_frames(state.positions[n1], state.positions[n2], state.rotations[n1], state.rotations[n2],
+                              b.E0)[0]
+        EA, GJ, EIy, EIz, phy, phz = b.stiffness.T
+        L = b.L0
+        vertical = np.abs(Rr[:, 2, 2]) >= np.abs(Rr[:, 2, 1])  # local z closer to global z: bending about y is OOP
+        for m, phi in enumerate(shapes):
+            loc = [np.einsum("nji,nj->ni", Rr, phi[nodes, sl]) for nodes in (n1, n2) for sl in (slice(0, 3), slice(3, 6))]
+            u1, t1, u2, t2 = loc
+            ext = 0.5 * EA / L * (u2[:, 0] - u1[:, 0]) ** 2
+            tor = 0.5 * GJ / L * (t2[:, 0] - t1[:, 0]) ** 2
+            by = _bending_energy(EIy, phy, L, u1[:, 2], t1[:, 1], u2[:, 2], t2[:, 1], -1.0)
+            bz = _bending_energy(EIz, phz, L, u1[:, 1], t1[:, 2], u2[:, 1], t2[:, 2], 1.0)
+            oop = np.where(vertical, by, bz).sum()
+            ip = np.where(vertical, bz, by).sum()
+            out[m, :4] = oop, ip, tor.sum(), ext.sum()
+    total_pe = 0.5 * np.abs(modes.eigenvalues.real if modes.eigenvalues is not None else 0.0)
+    if modes.complex_shapes is not None:
+        total_pe = 0.5 * (2 * np.pi * modes.frequencies_hz) ** 2
+    beam = out[:, :4].sum(axis=1)
+    total = np.maximum(total_pe, beam)
+    out[:, 4] = np.maximum(total - beam, 0.0)
+    return out / np.where(total > 0, total, 1.0)[:, None]
+
+
+def _rigid_name(phi: np.ndarray, x: np.ndarray) -> str:
+    """Dominant rigid-body motion of a shape (least-squares fit of node translations)."""
+    c = x.mean(axis=0)
+    A = np.zeros((3 * len(x), 6))
+    for a in range(3):
+        A[a::3, a] = 1.0
+        e = np.zeros(3)
+        e[a] = 1.0
+        A[:, 3 + a] = np.cross(e, x - c).reshape(-1)
+    coef = np.linalg.lstsq(A, phi[:, :3].reshape(-1), rcond=None)[0]
+    size = np.ptp(x, axis=0).max() / 2 or 1.0
+    coef[3:] *= size
+    return _RIGID[int(np.argmax(np.abs(coef)))]
 
 
 def label_modes(modes):
-    return modes
+    """Label each mode 'k CLASS' (e.g. '1 OOP', '2 T', 'RB plunge') from energy fractions."""
+    state = modes.state
+    fr = energy_fractions(modes, state)
+    counts = {c: 0 for c in CLASSES}
+    labels = []
+    for m in range(len(fr)):
+        if modes.frequencies_hz[m] == 0.0 or fr[m, 4] > 0.5:
+            labels.append("RB " + _rigid_name(modes.shapes[m], state.positions))
+            continue
+        order = np.argsort(fr[m, :4])[::-1]
+        cls = CLASSES[order[0]]
+        counts[cls] += 1
+        second = fr[m, order[1]] / max(fr[m, :4].sum(), 1e-300)
+        tag = f"{counts[cls]} {cls}" + (f"/{CLASSES[order[1]]}" if second > 0.3 else "")
+        labels.append(tag)
+    return replace(modes, labels=tuple(labels), energy_fractions=fr)
+
+
+def mac_matrix(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """MAC between columns of a (n_dof, na) and b (n_dof, nb), complex allowed."""
+    num = np.abs(a.conj().T @ b) ** 2
+    den = np.outer(np.sum(np.abs(a) ** 2, axis=0), np.sum(np.abs(b) ** 2, axis=0))
+    return num / np.where(den > 0, den, 1.0)
+
+
+@dataclass(frozen=True)
+class ModeTracking:
+    """Modes followed across load levels.
+
+    load_factors (n_levels,); frequencies_hz (n_levels, n_tracks) where column j follows one
+    physical mode; labels (n_tracks,) at the first level; mac (n_levels - 1, n_tracks): MAC
+    between consecutive levels; order (n_levels, n_tracks): index of the mode in each level's
+    sorted list.
+    """
+
+    load_factors: np.ndarray
+    frequencies_hz: np.ndarray
+    labels: tuple[str, ...]
+    mac: np.ndarray
+    order: np.ndarray
+    modes: tuple = ()
+
+
+def track_modes(mode_sets, load_factors=None) -> ModeTracking:
+    """Pair the modes of successive levels by MAC of their translations (Hungarian assignment)."""
+    mode_sets = list(mode_sets)
+    n = min(m.n_modes for m in mode_sets)
+    order = np.zeros((len(mode_sets), n), dtype=int)
+    order[0] = np.arange(n)
+    macs = np.zeros((max(len(mode_sets) - 1, 0), n))
+    for k in range(1, len(mode_sets)):
+        prev = mode_sets[k - 1].matrix("translations")[:, order[k - 1]]
+        cur = mode_sets[k].matrix("translations")[:, :mode_sets[k].n_modes]
+        M = mac_matrix(prev, cur)
+        rows, cols = linear_sum_assignment(-M)
+        order[k, rows] = cols
+        macs[k - 1, rows] = M[rows, cols]
+    freqs = np.stack([mode_sets[k].frequencies_hz[order[k]] for k in range(len(mode_sets))])
+    lf = np.asarray(load_factors if load_factors is not None else np.arange(len(mode_sets)), float)
+    labels = tuple(mode_sets[0].labels[i] for i in order[0]) if mode_sets[0].labels else ()
+    return ModeTracking(lf, freqs, labels, macs, order, tuple(mode_sets))

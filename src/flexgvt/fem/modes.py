@@ -14,7 +14,7 @@ import scipy.sparse.linalg as spla
 from ..errors import SolverError
 from .static import State
 
-DENSE_LIMIT = 400  # reduced DOFs below which dense eigensolvers are used
+DENSE_LIMIT = 200  # reduced DOFs below which dense eigensolvers are used
 
 
 @dataclass(frozen=True)
@@ -36,6 +36,7 @@ class Modes:
     labels: tuple[str, ...] = ()
     complex_shapes: np.ndarray | None = None
     eigenvalues: np.ndarray | None = None  # lambda = omega^2 [rad^2/s^2] (real) or s [rad/s] (complex)
+    energy_fractions: np.ndarray | None = None  # (n_modes, 5): OOP, IP, T, EXT, rigid/suspension
     state: State | None = field(default=None, repr=False, compare=False)
 
     def matrix(self, dofs: str = "all") -> np.ndarray:
@@ -101,7 +102,7 @@ def real_modes(K: sp.spmatrix, M: sp.spmatrix, n_modes: int, shift: float | None
 def complex_modes(K, C, M, n_modes: int):
     """Lowest n_modes complex eigenpairs of (s^2 M + s C + K) phi = 0 (state-space, dense or sparse)."""
     n = K.shape[0]
-    if n <= 2 * DENSE_LIMIT:
+    if n <= DENSE_LIMIT // 2:
         Kd, Cd, Md = K.toarray(), C.toarray(), M.toarray()
         A = np.block([[np.zeros((n, n)), np.eye(n)], [-Kd, -Cd]])
         B = np.block([[np.eye(n), np.zeros((n, n))], [np.zeros((n, n)), Md]])
@@ -118,7 +119,7 @@ def complex_modes(K, C, M, n_modes: int):
             x1, x2 = z[:n], z[n:]
             # (A - sigma B)^{-1} B z for A = [[0, I], [-K, -C]], B = diag(I, M)
             rhs = -(M @ x2) - (C + sigma * M) @ x1
-            y1 = -lu.solve(rhs.astype(complex))
+            y1 = lu.solve(rhs.astype(complex))
             y2 = sigma * y1 + x1
             return np.concatenate([y1, y2])
 
@@ -166,11 +167,11 @@ def solve_modes(state: State, n_modes: int = 15, *, damped: bool | None = None, 
         real = np.real(cshapes)
         mm = np.real(np.einsum("ij,ij->j", v.real, M @ v.real))
         real = real / np.sqrt(np.where(mm > 0, mm, 1.0))[:, None, None]
-        modes = Modes(freq, zeta, wd, real, system.cm.node_ids, (), cshapes, s, state)
+        modes = Modes(freq, zeta, wd, real, system.cm.node_ids, complex_shapes=cshapes, eigenvalues=s, state=state)
     else:
         shapes = system.expand(phi, T).T.reshape(len(lam), n, 6)
         f = _frequency_hz(lam, scale)
-        modes = Modes(f, np.zeros(len(f)), f.copy(), shapes, system.cm.node_ids, (), None, lam, state)
+        modes = Modes(f, np.zeros(len(f)), f.copy(), shapes, system.cm.node_ids, eigenvalues=lam, state=state)
     if label:
         from .labels import label_modes
         modes = label_modes(modes)

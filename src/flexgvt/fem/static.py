@@ -17,7 +17,7 @@ import scipy.sparse.linalg as spla
 
 from ..errors import ConvergenceError, ModelError, SingularModelError
 from ..model import Configuration, Model
-from .rotations import logm_so3
+from .rotations import expm_so3, logm_so3
 from .system import System
 
 
@@ -227,6 +227,7 @@ def solve_static(model: Model, configuration: Configuration, *, settings: Static
 
     lam = 0.0
     step = 0
+    previous = None
     if start is not None:
         if start.system is not system and (start.positions.shape != x.shape):
             raise ModelError("solve_static(start=...): the start state belongs to a model of another size")
@@ -235,15 +236,31 @@ def solve_static(model: Model, configuration: Configuration, *, settings: Static
             xs, Rs, ev, stab = got
             state = make_state(xs, Rs, 1.0, ev, stab)
             return (state, saved) if keep_steps else state
+    if not np.any(system.applied) and not np.any(system.mass_weight) and not len(system.cord_nodes):
+        # Nothing loads the structure: the undeformed state is the equilibrium.
+        state = make_state(x, R, 1.0, system.evaluate(x, R, 1.0, tangent=False), False)
+        return (state, [state] * len(levels)) if keep_steps else state
     increment = 1.0 / settings.increments
-    last = make_state(x, R, 0.0, ev0, False)
+    last = make_state(x, R, 0.0, system.evaluate(x, R, 0.0, tangent=False), False)
+    if levels and levels[0] <= 0.0:
+        saved.append(last)
     while lam < 1.0 - 1e-12:
         target = min(1.0, lam + increment)
         nxt = [lv for lv in levels if lam + 1e-12 < lv < target - 1e-12]
         if nxt:
             target = nxt[0]
         step += 1
-        got = newton(x, R, target, step)
+        xs, Rs = x, R
+        if previous is not None and lam > previous[2]:
+            # Secant predictor from the last two equilibria: a far better start than the last one.
+            alpha = (target - lam) / (lam - previous[2])
+            xs = x + alpha * (x - previous[0])
+            Rs = expm_so3(alpha * logm_so3(R @ np.swapaxes(previous[1], 1, 2))) @ R
+            if system.has_links:
+                xs, Rs = system.update(xs, Rs, np.zeros(system.n_free))
+        got = newton(xs, Rs, target, step)
+        if got is None and xs is not x:
+            got = newton(x, R, target, step)
         if got is None:
             increment *= 0.5
             if increment < settings.min_increment:
@@ -256,6 +273,7 @@ def solve_static(model: Model, configuration: Configuration, *, settings: Static
                     state=last, history=tuple(history))
                 raise err
             continue
+        previous = (x, R, lam)
         x, R, ev, stab = got
         lam = target
         last = make_state(x, R, lam, ev, stab or last.stabilised_mechanism)

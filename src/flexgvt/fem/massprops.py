@@ -1,0 +1,60 @@
+"""Mass properties (mass, centre of gravity, inertia tensor) of the deformed or undeformed structure."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..model import Configuration, Model
+from .system import System, _Pattern
+
+
+@dataclass(frozen=True)
+class MassProperties:
+    """mass [kg], cg (3,) [m], inertia (3, 3) about the cg [kg m^2], global axes."""
+
+    mass: float
+    cg: np.ndarray
+    inertia: np.ndarray
+
+    def as_dict(self) -> dict:
+        I = self.inertia
+        return {"mass": self.mass, "Xcg": self.cg[0], "Ycg": self.cg[1], "Zcg": self.cg[2],
+                "Ixx": I[0, 0], "Iyy": I[1, 1], "Izz": I[2, 2], "Ixy": I[0, 1], "Ixz": I[0, 2], "Iyz": I[1, 2]}
+
+
+def mass_properties(state_or_model, configuration: Configuration | None = None) -> MassProperties:
+    """Mass properties from the rigid-body projection of the full mass matrix at a state (or the
+    undeformed model), so they agree exactly with the modal mass model (offsets, inertias,
+    rotary inertia option)."""
+    if isinstance(state_or_model, Model):
+        system = System(state_or_model, configuration or Configuration("undeformed"))
+        x, R = system.undeformed
+    else:
+        system = state_or_model.system
+        x, R = state_or_model.positions, state_or_model.rotations
+    from .beam import beam_mass_matrices
+    from .points import mass_matrix
+    full = _Pattern(system._blocks, np.arange(6 * system.n_nodes), 6 * system.n_nodes)
+    m = system.masses
+    values = [beam_mass_matrices(x, R, system.cm.beams, system.cm.beam_local_mass),
+              mass_matrix(R[m.nodes], m.offset, m.mass, m.inertia),
+              np.zeros((len(system.cord_nodes), 6, 6)), np.zeros((len(system.springs.b), 12, 12))]
+    M = full.assemble(values)
+    n = system.n_nodes
+    phi = np.zeros((n, 6, 6))
+    for a in range(3):
+        e = np.zeros(3)
+        e[a] = 1.0
+        phi[:, a, a] = 1.0
+        phi[:, :3, 3 + a] = np.cross(e, x)
+        phi[:, 3 + a, 3 + a] = 1.0
+    phi = phi.reshape(6 * n, 6)
+    Mrb = phi.T @ (M @ phi)
+    mass = float(np.trace(Mrb[:3, :3]) / 3)
+    S = Mrb[3:, :3] / mass  # m S(c) -> S(c)
+    cg = np.array([S[2, 1], S[0, 2], S[1, 0]])
+    Sc = np.array([[0, -cg[2], cg[1]], [cg[2], 0, -cg[0]], [-cg[1], cg[0], 0]])
+    inertia = Mrb[3:, 3:] + mass * Sc @ Sc
+    return MassProperties(mass, cg, 0.5 * (inertia + inertia.T))
