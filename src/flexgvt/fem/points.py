@@ -43,7 +43,7 @@ def cord_forces(x: np.ndarray, R: np.ndarray, offset0: np.ndarray, anchor: np.nd
     length = np.linalg.norm(d, axis=1)
     nvec = d / length[:, None]
     T = k * np.maximum(length - l0, 0.0)
-    taut = (length > l0).astype(float)
+    taut = (length >= l0).astype(float)  # a cord at its natural length already resists stretching
     gP = T[:, None] * nvec
     g = np.concatenate([gP, cross(r, gP)], axis=1)
     nn = nvec[:, :, None] * nvec[:, None, :]

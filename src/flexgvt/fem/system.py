@@ -205,6 +205,7 @@ class System:
         self.dof_map = np.full(6 * n, -1)
         self.dof_map[free] = np.arange(free.sum())
         self.n_free = int(free.sum())
+        self.rotation_mask = (np.arange(6 * n) % 6 >= 3)[free]  # reduced DOFs that are rotations
         if self.n_free == 0:
             raise ModelError(f"{where}: every DOF is fixed; nothing to solve")
 

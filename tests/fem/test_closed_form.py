@@ -1,0 +1,79 @@
+"""Linear frequencies of straight beams against closed-form solutions (within 0.1 %), and their
+convergence with mesh refinement."""
+
+import numpy as np
+import pytest
+
+import flexgvt as fg
+
+from fem_builders import AL, straight_beam
+
+L = 1.5
+BETA_CANTILEVER = np.array([1.87510407, 4.69409113, 7.85475744])
+BETA_FREE = np.array([4.73004074, 7.85320462, 10.99560784])
+
+
+def modes_of(model, fixed, n=40):
+    cfg = fg.Configuration("linear", fixed=fixed)
+    return fg.solve_modes(fg.solve_linear_static(model, cfg), n)
+
+
+def pick(modes, cls):
+    """Frequencies of the modes whose dominant energy class is cls, ascending."""
+    idx = {"OOP": 0, "IP": 1, "T": 2, "EXT": 3}[cls]
+    fr = modes.energy_fractions
+    mask = (np.argmax(fr[:, :4], axis=1) == idx) & (modes.frequencies_hz > 1e-6)
+    return modes.frequencies_hz[mask]
+
+
+def test_cantilever_bending_both_planes_torsion_and_axial(strip_props):
+    sec, p = strip_props
+    model, ids = straight_beam(40, L, sec)
+    modes = modes_of(model, {int(ids[0]): "123456"})
+    mA = AL.rho * p["A"]
+    flap = BETA_CANTILEVER**2 * np.sqrt(AL.E * p["Iy"] / (mA * L**4)) / (2 * np.pi)
+    edge = BETA_CANTILEVER[:2] ** 2 * np.sqrt(AL.E * p["Iz"] / (mA * L**4)) / (2 * np.pi)
+    k = 2 * np.arange(1, 3) - 1
+    torsion = k / (4 * L) * np.sqrt(AL.shear_modulus * p["J"] / (AL.rho * p["Ip"]))
+    axial = np.array([1.0]) / (4 * L) * np.sqrt(AL.E / AL.rho)
+    np.testing.assert_allclose(pick(modes, "OOP")[:3], flap, rtol=1e-3)
+    np.testing.assert_allclose(pick(modes, "IP")[:2], edge, rtol=1e-3)
+    np.testing.assert_allclose(pick(modes, "T")[:2], torsion, rtol=1e-3)
+    np.testing.assert_allclose(pick(modes, "EXT")[:1], axial, rtol=1e-3)
+
+
+def test_free_free_bending_and_rigid_body_modes(strip_props):
+    sec, p = strip_props
+    model, ids = straight_beam(40, L, sec)
+    modes = modes_of(model, {}, n=12)
+    assert np.sum(np.abs(modes.frequencies_hz) < 1e-3) == 6  # six rigid-body modes at 0 Hz
+    mA = AL.rho * p["A"]
+    flap = BETA_FREE**2 * np.sqrt(AL.E * p["Iy"] / (mA * L**4)) / (2 * np.pi)
+    np.testing.assert_allclose(pick(modes, "OOP")[:3], flap, rtol=1e-3)
+    assert all(lab.startswith("RB") for lab in modes.labels[:6])
+
+
+def test_frequency_error_converges_with_mesh_refinement(strip_props):
+    sec, p = strip_props
+    exact = BETA_CANTILEVER[2] ** 2 * np.sqrt(AL.E * p["Iy"] / (AL.rho * p["A"] * L**4)) / (2 * np.pi)
+    errors = []
+    for n in (3, 6, 12, 24):
+        model, ids = straight_beam(n, L, sec)
+        f = pick(modes_of(model, {int(ids[0]): "123456"}, n=10), "OOP")[2]
+        errors.append(abs(f - exact) / exact)
+    errors = np.array(errors)
+    assert np.all(np.diff(errors) < 0)
+    rates = np.log2(errors[:-1] / errors[1:])
+    assert rates[-1] > 3.5  # cubic Hermite elements with consistent mass: O(h^4) in frequency
+
+
+def test_timoshenko_shear_lowers_frequency_of_a_deep_beam():
+    """A deep beam: shear deformation lowers the second bending frequency as Timoshenko theory says."""
+    deep = fg.RectangularSection(width=0.05, height=0.3, shear=True)
+    eb = fg.RectangularSection(width=0.05, height=0.3, shear=False)
+    f = []
+    for sec in (deep, eb):
+        model, ids = straight_beam(60, 1.5, sec, rotary_inertia=True)
+        f.append(pick(modes_of(model, {int(ids[0]): "123456"}, n=12), "OOP")[:2])
+    assert f[0][1] < 0.95 * f[1][1]
+    assert f[0][0] < f[1][0]

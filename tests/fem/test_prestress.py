@@ -1,0 +1,100 @@
+"""Pre-stressed modes: axial load, pendulum on a cord, plunge on springs, damped support system."""
+
+import numpy as np
+import pytest
+
+import flexgvt as fg
+
+from fem_builders import AL, straight_beam
+
+SEC = fg.RectangularSection(width=0.05, height=0.003, shear=False)
+L = 1.5
+
+
+def pinned_beam_modes(P: float, n_modes: int = 4):
+    """Simply supported strip (flatwise), axial force P at the sliding end (tension > 0)."""
+    model, ids = straight_beam(40, L, SEC)
+    # Beam along y: pin both ends (x, z and the twist about y held), slide axially at the far end.
+    cfg = fg.Configuration("axial", fixed={int(ids[0]): "1235", int(ids[-1]): "135"},
+                           forces=[fg.NodalLoad(int(ids[-1]), force=(0.0, P, 0.0))])
+    state = fg.solve_static(model, cfg)
+    modes = fg.solve_modes(state, n_modes)
+    oop = modes.frequencies_hz[np.argmax(modes.energy_fractions[:, :4], axis=1) == 0]
+    return oop, state
+
+
+EI = AL.E * SEC.properties()["Iy"]
+P_EULER = np.pi**2 * EI / L**2
+
+
+@pytest.mark.parametrize("ratio", [-0.6, -0.3, 0.5, 2.0])
+def test_axial_load_shifts_bending_frequency_as_closed_form(ratio):
+    f0 = pinned_beam_modes(0.0)[0][0]
+    mA = AL.rho * SEC.properties()["A"]
+    exact0 = np.pi / (2 * L**2) * np.sqrt(EI / mA)
+    assert f0 == pytest.approx(exact0, rel=1e-3)
+    f = pinned_beam_modes(ratio * P_EULER)[0][0]
+    # Pinned-pinned: omega^2 = omega0^2 (1 + P / P_euler), tension positive.
+    assert f == pytest.approx(exact0 * np.sqrt(1 + ratio), rel=2e-3)
+
+
+def test_frequency_vanishes_at_the_euler_load():
+    f0 = pinned_beam_modes(0.0)[0][0]
+    f, state = pinned_beam_modes(-P_EULER)
+    assert abs(f[0]) < 0.02 * f0
+
+
+def test_pendulum_frequency_of_a_mass_on_a_cord():
+    model = fg.Model("pendulum")
+    (node,) = model.add_nodes([[0.0, 0.0, 0.0]])
+    m, k, l0 = 2.0, 5000.0, 1.2
+    model.add_mass(node, m, inertia=1e-3)
+    cord = fg.Cord(node=int(node), anchor=(0.0, 0.0, 1.2), stiffness=k, unstretched_length=l0)
+    cfg = fg.Configuration("hung", suspension=[cord], gravity=1.0)
+    state = fg.solve_static(model, cfg)
+    length = l0 + m * 9.80665 / k
+    assert state.cord_length[0] == pytest.approx(length, rel=1e-9)
+    modes = fg.solve_modes(state, 6)
+    f = np.sort(modes.frequencies_hz[modes.frequencies_hz > 1e-3])
+    np.testing.assert_allclose(f[:2], np.sqrt(9.80665 / length) / (2 * np.pi), rtol=1e-6)
+    assert f[2] == pytest.approx(np.sqrt(k / m) / (2 * np.pi), rel=1e-6)
+
+
+def test_plunge_and_pitch_of_a_rigid_strip_on_two_springs():
+    """A strip made rigid by a rigid link, on two vertical springs at its ends, under gravity:
+    plunge sqrt(2k/m) and pitch about its middle sqrt(6k/m) (consistent mass: I = m L^2 / 12)."""
+    model, ids = straight_beam(30, L, SEC)
+    mid = int(ids[15])
+    model.add_rigid_link(mid, [int(i) for i in ids if i != mid])
+    k = 17.0
+    for node in (ids[0], ids[-1]):
+        model.add_spring(int(node), None, stiffness=[0, 0, k, 0, 0, 0])
+    cfg = fg.Configuration("sprung", fixed={mid: "1256"}, gravity=1.0)
+    state = fg.solve_static(model, cfg)
+    m = AL.rho * SEC.properties()["A"] * L
+    assert state.positions[15, 2] == pytest.approx(-m * 9.80665 / (2 * k), rel=1e-6)
+    modes = fg.solve_modes(state, 2)
+    np.testing.assert_allclose(modes.frequencies_hz, np.sqrt(np.array([2, 6]) * k / m) / (2 * np.pi), rtol=1e-6)
+    assert modes.labels[0] == "RB plunge"
+
+
+def test_support_structure_system_damped_modes_match_method_formulas():
+    """METHOD.md section 2: two masses on supports joined by the structure; complex modes give
+    w_sup, z_sup (in phase) and w_m, z_m (out of phase)."""
+    m, k_sup, c_sup, k_st, c_st = 0.8, 5.06, 0.28, 40.0, 0.05
+    model = fg.Model("support-structure")
+    a, b = model.add_nodes([[0, -1, 0], [0, 1, 0]])
+    for n in (a, b):
+        model.add_mass(int(n), m, inertia=1.0)
+        model.add_spring(int(n), None, stiffness=[0, 0, k_sup, 0, 0, 0], damping=[0, 0, c_sup, 0, 0, 0])
+    model.add_spring(int(a), int(b), stiffness=[0, 0, k_st / 2, 0, 0, 0], damping=[0, 0, c_st / 2, 0, 0, 0])
+    cfg = fg.Configuration("2dof", fixed={int(a): "12456", int(b): "12456"})
+    modes = fg.solve_modes(fg.solve_linear_static(model, cfg), 2)
+    w_sup = np.sqrt(k_sup / m)
+    w_m = np.sqrt((k_sup + k_st) / m)
+    np.testing.assert_allclose(modes.frequencies_hz * 2 * np.pi, [w_sup, w_m], rtol=1e-9)
+    np.testing.assert_allclose(modes.damping_ratio, [c_sup / (2 * m * w_sup), (c_sup + c_st) / (2 * m * w_m)],
+                               rtol=1e-9)
+    zeta = modes.damping_ratio
+    np.testing.assert_allclose(modes.damped_frequencies_hz * 2 * np.pi,
+                               [w_sup * np.sqrt(1 - zeta[0] ** 2), w_m * np.sqrt(1 - zeta[1] ** 2)], rtol=1e-9)
