@@ -121,17 +121,27 @@ class ModeTracking:
     modes: tuple = ()
 
 
+def _weighted(modes) -> np.ndarray:
+    """(n_dof, n_modes) shapes scaled by sqrt(diag M): translations and rotations weighted by their inertia."""
+    state = modes.state
+    w = np.sqrt(np.abs(state.system.full_mass_matrix(state.positions, state.rotations).diagonal()))
+    return modes.matrix() * w[:, None]
+
+
 def track_modes(mode_sets, load_factors=None) -> ModeTracking:
-    """Pair the modes of successive levels by MAC of their translations (Hungarian assignment)."""
+    """Pair the modes of successive levels by a mass-weighted MAC (Hungarian assignment).
+
+    The shapes are weighted by sqrt(diag M) so torsion modes (rotations only on a beam axis)
+    are compared as reliably as bending modes.
+    """
     mode_sets = list(mode_sets)
     n = min(m.n_modes for m in mode_sets)
     order = np.zeros((len(mode_sets), n), dtype=int)
     order[0] = np.arange(n)
     macs = np.zeros((max(len(mode_sets) - 1, 0), n))
+    shapes = [_weighted(m) for m in mode_sets]
     for k in range(1, len(mode_sets)):
-        prev = mode_sets[k - 1].matrix("translations")[:, order[k - 1]]
-        cur = mode_sets[k].matrix("translations")[:, :mode_sets[k].n_modes]
-        M = mac_matrix(prev, cur)
+        M = mac_matrix(shapes[k - 1][:, order[k - 1]], shapes[k])
         rows, cols = linear_sum_assignment(-M)
         order[k, rows] = cols
         macs[k - 1, rows] = M[rows, cols]

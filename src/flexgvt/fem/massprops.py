@@ -7,7 +7,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..model import Configuration, Model
-from .system import System, _Pattern
+from .system import System
 
 
 @dataclass(frozen=True)
@@ -34,14 +34,7 @@ def mass_properties(state_or_model, configuration: Configuration | None = None) 
     else:
         system = state_or_model.system
         x, R = state_or_model.positions, state_or_model.rotations
-    from .beam import beam_mass_matrices
-    from .points import mass_matrix
-    full = _Pattern(system._blocks, np.arange(6 * system.n_nodes), 6 * system.n_nodes)
-    m = system.masses
-    values = [beam_mass_matrices(x, R, system.cm.beams, system.cm.beam_local_mass),
-              mass_matrix(R[m.nodes], m.offset, m.mass, m.inertia),
-              np.zeros((len(system.cord_nodes), 6, 6)), np.zeros((len(system.springs.b), 12, 12))]
-    M = full.assemble(values)
+    M = system.full_mass_matrix(x, R)
     n = system.n_nodes
     phi = np.zeros((n, 6, 6))
     for a in range(3):

@@ -85,10 +85,12 @@ def real_modes(K: sp.spmatrix, M: sp.spmatrix, n_modes: int, shift: float | None
         lam, phi = lam[order], phi[:, order]
     else:
         try:
-            lam, phi = spla.eigsh(K.tocsc(), k=k, M=M.tocsc(), sigma=sigma, which="LM", mode="normal")
+            # A margin of extra pairs: ARPACK can miss members of clusters such as six rigid-body modes.
+            k_run = min(n - 2, k + max(8, k // 2))
+            lam, phi = spla.eigsh(K.tocsc(), k=k_run, M=M.tocsc(), sigma=sigma, which="LM", mode="normal")
         except RuntimeError as exc:
             raise SolverError(f"eigensolver failed ({exc}); the model may have a mechanism with no mass") from exc
-        order = np.argsort(lam)
+        order = np.argsort(lam)[:k]
         lam, phi = lam[order], phi[:, order]
     mm = np.einsum("ij,ij->j", phi, M @ phi)
     bad = mm <= 0

@@ -386,12 +386,19 @@ class System:
     # ------------------------------------------------------------------ mass and damping
     def mass_matrix(self, x: np.ndarray, R: np.ndarray) -> sp.csc_matrix:
         """Reduced mass matrix about the state (beam mass in corotated frames, offset masses rotated)."""
-        b = self.cm.beams
-        Mb = beam_mass_matrices(x, R, b, self.cm.beam_local_mass)
+        return self._reduce_plain(self.pattern.assemble(self._mass_values(x, R)), x)
+
+    def full_mass_matrix(self, x: np.ndarray, R: np.ndarray) -> sp.csc_matrix:
+        """(6n, 6n) mass matrix about the state over all DOFs (constraints not applied)."""
+        if not hasattr(self, "_full_pattern"):
+            self._full_pattern = _Pattern(self._blocks, np.arange(6 * self.n_nodes), 6 * self.n_nodes)
+        return self._full_pattern.assemble(self._mass_values(x, R))
+
+    def _mass_values(self, x, R) -> list[np.ndarray]:
         m = self.masses
-        Mm = mass_matrix(R[m.nodes], m.offset, m.mass, m.inertia)
-        values = [Mb, Mm, np.zeros((len(self.cord_nodes), 6, 6)), np.zeros((len(self.springs.b), 12, 12))]
-        return self._reduce_plain(self.pattern.assemble(values), x)
+        return [beam_mass_matrices(x, R, self.cm.beams, self.cm.beam_local_mass),
+                mass_matrix(R[m.nodes], m.offset, m.mass, m.inertia),
+                np.zeros((len(self.cord_nodes), 6, 6)), np.zeros((len(self.springs.b), 12, 12))]
 
     def damping_matrix(self, x: np.ndarray, R: np.ndarray) -> sp.csc_matrix:
         """Reduced viscous damping matrix (springs/dampers and cords) about the state."""

@@ -42,6 +42,9 @@ class Spring:
     stiffness [N/m x3, N m/rad x3] and damping [N s/m x3, N m s/rad x3] act on the relative
     translations and rotation vector of node_b with respect to node_a, in the axes of ``frame``
     (3x3, columns are the spring axes in global coordinates; identity by default).
+    The axes stay fixed in space: exact for grounded springs and for joint springs between
+    coincident nodes (the usual use); between distant nodes a large rigid rotation of both
+    would load the spring, so model such a connection with a beam instead.
     """
 
     node_a: int

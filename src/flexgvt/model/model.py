@@ -46,10 +46,10 @@ class Model:
         self._node_ids: list[np.ndarray] = []
         self._node_xyz: list[np.ndarray] = []
         self._node_index: dict[int, int] = {}
-        self.beams: list[BeamGroup] = []
-        self.masses: list[ConcentratedMass] = []
-        self.springs: list[Spring] = []
-        self.rigid_links: list[RigidLink] = []
+        self._beams: list[BeamGroup] = []
+        self._masses: list[ConcentratedMass] = []
+        self._springs: list[Spring] = []
+        self._rigid_links: list[RigidLink] = []
         self._next_node = 1
         self._next_element = 1
         self.revision = 0  # bumped by every change; solvers cache compiled arrays against it
@@ -149,7 +149,7 @@ class Model:
                              f"{pairs[k].tolist()}; give a vector perpendicular to the beam axis")
         ids = np.arange(self._next_element, self._next_element + len(pairs))
         self._next_element += len(pairs)
-        self.beams.append(BeamGroup(ids, pairs.copy(), material, section, orient, bool(rotary_inertia), mass, name))
+        self._beams.append(BeamGroup(ids, pairs.copy(), material, section, orient, bool(rotary_inertia), mass, name))
         self.revision += 1
         return ids
 
@@ -166,7 +166,7 @@ class Model:
         if J.shape != (3, 3) or not np.all(np.isfinite(J)) or not np.allclose(J, J.T):
             raise ModelError(f"add_mass at node {node}: inertia must be a finite symmetric 3x3 tensor")
         item = ConcentratedMass(int(node), float(mass), as_vector(offset, 3, f"add_mass at node {node}: offset"), J)
-        self.masses.append(item)
+        self._masses.append(item)
         self.revision += 1
         return item
 
@@ -174,7 +174,7 @@ class Model:
         """6-component spring/damper between two nodes, or to ground when node_b is None (see Spring)."""
         self.index_of([node_a] + ([] if node_b is None else [node_b]), "add_spring")
         item = Spring.make(node_a, node_b, stiffness, damping, frame)
-        self.springs.append(item)
+        self._springs.append(item)
         self.revision += 1
         return item
 
@@ -191,9 +191,26 @@ class Model:
         if any(independent in link.dependents for link in self.rigid_links):
             raise ModelError(f"add_rigid_link: independent node {independent} is a dependent of another link")
         item = RigidLink(int(independent), deps)
-        self.rigid_links.append(item)
+        self._rigid_links.append(item)
         self.revision += 1
         return item
+
+    # Read-only views: every change goes through add_* so solvers' caches see it.
+    @property
+    def beams(self) -> tuple[BeamGroup, ...]:
+        return tuple(self._beams)
+
+    @property
+    def masses(self) -> tuple[ConcentratedMass, ...]:
+        return tuple(self._masses)
+
+    @property
+    def springs(self) -> tuple[Spring, ...]:
+        return tuple(self._springs)
+
+    @property
+    def rigid_links(self) -> tuple[RigidLink, ...]:
+        return tuple(self._rigid_links)
 
     @property
     def n_beams(self) -> int:
