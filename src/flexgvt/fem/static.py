@@ -148,17 +148,18 @@ def _rigid_body_check(system: System, K: sp.csc_matrix, f_red: np.ndarray, x: np
     Ksym = 0.5 * (K + K.T)
     w, v = np.linalg.eigh(phi.T @ (Ksym @ phi))
     scale = max(abs(Ksym.diagonal()).max(), 1e-300)
-    load_norm = np.linalg.norm(f_red)
-    for j in range(len(w)):
-        if w[j] > 1e-13 * scale:  # above the round-off level of K times a rigid motion
-            continue
-        if abs((phi @ v[:, j]) @ f_red) > 1e-8 * max(load_norm, 1e-300):
-            coeffs = basis @ v[:, j]
-            dominant = names[int(np.argmax(np.abs(coeffs)))]
-            raise SingularModelError(
-                f"configuration '{system.config.name}': the model is under-constrained: the loads push it along "
-                f"{dominant} (among others) and nothing restrains that motion. Fix DOFs "
-                "(fixed={node: '123456'}), add springs or suspension cords, or remove the load.")
+    null = v[:, w <= 1e-13 * scale]  # motions with no stiffness above round-off
+    if null.shape[1] == 0:
+        return
+    push = (phi @ null).T @ f_red  # generalised load on each unrestrained motion
+    if np.linalg.norm(push) <= 1e-8 * max(np.linalg.norm(f_red), 1e-300):
+        return
+    coeffs = basis @ (null @ push)  # the pushed motion in terms of the six canonical rigid motions
+    pushed = [names[i] for i in np.flatnonzero(np.abs(coeffs) > 0.1 * np.abs(coeffs).max())]
+    raise SingularModelError(
+        f"configuration '{system.config.name}': the model is under-constrained: the loads push it along "
+        f"{' and '.join(pushed)} and nothing restrains that motion. Fix DOFs (fixed={{node: '123456'}}), add "
+        "springs or suspension cords, or remove the load.")
 
 
 def solve_static(model: Model, configuration: Configuration, *, settings: StaticSettings | None = None,
