@@ -162,6 +162,12 @@ def _rigid_body_check(system: System, K: sp.csc_matrix, f_red: np.ndarray, x: np
         "springs or suspension cords, or remove the load.")
 
 
+def _limit_rotation(delta: np.ndarray, system: System, limit: float = 0.5) -> np.ndarray:
+    """Scale a Newton correction so no rotation exceeds ``limit`` [rad] (guards nearly singular tangents)."""
+    rot = np.abs(delta[system.rotation_mask]).max(initial=0.0)
+    return delta * (limit / rot) if rot > limit else delta
+
+
 def solve_static(model: Model, configuration: Configuration, *, settings: StaticSettings | None = None,
                  start: State | None = None, load_factors: np.ndarray | None = None,
                  progress: Callable[[float], None] | None = None, keep_steps: bool = False):
@@ -192,10 +198,15 @@ def solve_static(model: Model, configuration: Configuration, *, settings: Static
                      time.perf_counter() - t0, system)
 
     def newton(x, R, lam, step):
-        """Iterate to equilibrium at load factor lam; returns (x, R, ev, stabilised) or None."""
+        """Iterate to equilibrium at load factor lam.
+
+        Returns (x, R, ev, stabilised, factor-or-None) or None. The residual is checked before
+        factorising, and a factor of the converged tangent is handed back when one was computed.
+        """
         stabilised = False
         previous = np.inf
         growth = 0
+        fac = None
         for it in range(settings.max_iterations):
             ev = system.evaluate(x, R, lam)
             r = ev.internal - ev.external
@@ -203,6 +214,9 @@ def solve_static(model: Model, configuration: Configuration, *, settings: Static
             res = np.linalg.norm(r) / ref
             if not np.isfinite(res):
                 return None
+            if res < settings.tolerance:
+                history.append(IterationRecord(step, lam, it, res, 0.0, 0.0))
+                return x, R, ev, stabilised, fac  # the last factor serves the next step's predictor
             try:
                 fac = _Factor(ev.tangent, load_ref)
             except SingularModelError:
@@ -211,33 +225,40 @@ def solve_static(model: Model, configuration: Configuration, *, settings: Static
             energy = abs(delta @ r) / max(ref * (np.abs(system.cm.xyz).max() + 1.0), 1e-300)
             history.append(IterationRecord(step, lam, it, res, energy, fac.stabilisation))
             stabilised |= fac.stabilisation > 0
-            # Converged: residual below tolerance, or the energy norm is converged and the residual has
-            # stagnated at its round-off floor (very stiff structures on soft supports).
+            # The energy norm is converged and the residual has stagnated at its round-off floor
+            # (very stiff structures on soft supports): the correction would change nothing.
             stagnant = res > 0.5 * previous or res < 1e3 * settings.tolerance
-            if res < settings.tolerance or (it > 0 and energy < settings.energy_tolerance and stagnant):
-                return x, R, ev, stabilised
+            if it > 0 and energy < settings.energy_tolerance and stagnant:
+                return x, R, ev, stabilised, fac
             if not np.all(np.isfinite(delta)):
                 return None
             growth = growth + 1 if res > previous else 0
             if growth >= 4:
                 return None
             previous = res
-            # Guard against huge steps on nearly singular tangents: limit rotations to 0.5 rad per iteration.
-            rot = np.abs(delta[system.rotation_mask]).max(initial=0.0)
-            if rot > 0.5:
-                delta *= 0.5 / rot
-            x, R = system.update(x, R, delta)
+            x, R = system.update(x, R, _limit_rotation(delta, system))
         return None
+
+    def predict(x, R, lam, target, fac, ev_a):
+        """Tangent predictor with the last Newton factor; the residual is affine in the load factor."""
+        if fac is None:
+            return x, R
+        ev_b = system.evaluate(x, R, lam + 1.0, tangent=False)
+        drdl = (ev_b.internal - ev_b.external) - (ev_a.internal - ev_a.external)
+        delta = -(target - lam) * fac.solve(drdl)
+        if not np.all(np.isfinite(delta)):
+            return x, R
+        return system.update(x, R, _limit_rotation(delta, system))
 
     lam = 0.0
     step = 0
-    previous = None
+    factor = last_ev = None
     if start is not None:
         if start.system is not system and (start.positions.shape != x.shape):
             raise ModelError("solve_static(start=...): the start state belongs to a model of another size")
         got = newton(start.positions.copy(), start.rotations.copy(), 1.0, 0)
         if got is not None:
-            xs, Rs, ev, stab = got
+            xs, Rs, ev, stab, _ = got
             state = make_state(xs, Rs, 1.0, ev, stab)
             return (state, saved) if keep_steps else state
     if not np.any(system.applied) and not np.any(system.mass_weight) and not len(system.cord_nodes):
@@ -254,16 +275,9 @@ def solve_static(model: Model, configuration: Configuration, *, settings: Static
         if nxt:
             target = nxt[0]
         step += 1
-        xs, Rs = x, R
-        if previous is not None and lam > previous[2]:
-            # Secant predictor from the last two equilibria: a far better start than the last one.
-            alpha = (target - lam) / (lam - previous[2])
-            xs = x + alpha * (x - previous[0])
-            Rs = expm_so3(alpha * logm_so3(R @ np.swapaxes(previous[1], 1, 2))) @ R
-            if system.has_links:
-                xs, Rs = system.update(xs, Rs, np.zeros(system.n_free))
+        xs, Rs = predict(x, R, lam, target, factor, last_ev)
         got = newton(xs, Rs, target, step)
-        if got is None and xs is not x:
+        if got is None:
             got = newton(x, R, target, step)
         if got is None:
             increment *= 0.5
@@ -277,8 +291,8 @@ def solve_static(model: Model, configuration: Configuration, *, settings: Static
                     state=last, history=tuple(history))
                 raise err
             continue
-        previous = (x, R, lam)
-        x, R, ev, stab = got
+        x, R, ev, stab, factor = got
+        last_ev = ev
         lam = target
         last = make_state(x, R, lam, ev, stab or last.stabilised_mechanism)
         if any(abs(lam - lv) < 1e-12 for lv in levels):
@@ -286,7 +300,7 @@ def solve_static(model: Model, configuration: Configuration, *, settings: Static
         if progress is not None:
             progress(lam)
         iters = sum(1 for h in history if h.step == step)
-        if iters <= 4:
+        if iters <= 3:
             increment = min(increment * settings.max_increment_growth, 1.0)
     return (last, saved) if keep_steps else last
 
