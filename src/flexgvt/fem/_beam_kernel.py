@@ -340,19 +340,26 @@ def beam_kernel(x, R, nodes, E0s, L0s, stiff, want_tangent, g_out, K_out, N_out)
             _cross(mu[0], om[j], tmp)
             _cross(mu[1], om[j], tmp2)
             for k in range(12):
-                val = f0 * _dot(dr1[j], D[k])
-                val += _dot(nu[0, j], wb[0, k]) + _dot(nu[1, j], wb[1, k])
+                val = _dot(nu[0, j], wb[0, k]) + _dot(nu[1, j], wb[1, k])
                 if 3 <= k < 6:
                     val -= _dot(tmp, Rr[k - 3])
-                if k >= 9:
-                    val -= _dot(tmp2, Rr[k - 9])
-                d3 = _dot(dr2[j], D[k]) / ln - om[k, 2] * dln[j] / ln
-                d2 = -_dot(dr3[j], D[k]) / ln - om[k, 1] * dln[j] / ln
-                w = 0.0
-                if 3 <= k < 6:
                     w = da1[j, k - 3]
                 elif k >= 9:
+                    val -= _dot(tmp2, Rr[k - 9])
                     w = da2[j, k - 9]
+                else:
+                    w = 0.0
+                # D[k] is -e_i (k < 3), +e_i (6 <= k < 9) or zero: its dot products are signed picks.
+                if k < 3 or 6 <= k < 9:
+                    i = k % 3
+                    sg = -1.0 if k < 3 else 1.0
+                    val += f0 * sg * dr1[j, i]
+                    p2 = sg * dr2[j, i] / ln
+                    p3 = sg * dr3[j, i] / ln
+                else:
+                    p2 = p3 = 0.0
+                d3 = p2 - om[k, 2] * dln[j] / ln
+                d2 = -p3 - om[k, 1] * dln[j] / ln
                 d1 = (dqb1[j] * om[k, 1] + qb1 * d2 + 0.5 * w - om[k, 0] * dqb2[j]) / qb2
                 val -= musum[0] * d1 + musum[1] * d2 + musum[2] * d3
                 K[k, j] += val  # stored as K[a, b] = d g_a / d p_b
