@@ -114,8 +114,13 @@ def jl_inv_dT_apply(theta, c, e, dth, m, out):
 
 @njit(**_FAST)
 def local_energy(u, t1, t2, L0, st, f, H):
-    """Gradient f (7) and Hessian H (7, 7) of the local strain energy in [u, theta1, theta2]; returns N."""
-    EA, GJ, EIy, EIz, phy, phz = st[0], st[1], st[2], st[3], st[4], st[5]
+    """Gradient f (7) and Hessian H (7, 7) of the local strain energy in [u, theta1, theta2]; returns N.
+
+    st = (EA, GJ, kd_y, ko_y, kd_z, ko_z): the energy is linear in these coefficients (bending
+    energy 1/2 (kd (a^2 + b^2) + 2 ko a b) per plane), so derivatives with respect to any
+    material or section parameter are this same kernel evaluated with d st / d p.
+    """
+    EA, GJ = st[0], st[1]
     a1, a2, b1, b2 = t1[1], t2[1], t1[2], t2[2]
     arch = (2 * a1 * a1 - a1 * a2 + 2 * a2 * a2 + 2 * b1 * b1 - b1 * b2 + 2 * b2 * b2) / 30.0
     eps = u / L0 + arch
@@ -148,12 +153,9 @@ def local_energy(u, t1, t2, L0, st, f, H):
     H[4, 1] -= kt
     for axis in range(2):
         if axis == 0:
-            i, j, EI, ph, ti, tj = 2, 5, EIy, phy, t1[1], t2[1]
+            i, j, kd, ko, ti, tj = 2, 5, st[2], st[3], t1[1], t2[1]
         else:
-            i, j, EI, ph, ti, tj = 3, 6, EIz, phz, t1[2], t2[2]
-        k = EI / (L0 * (1 + ph))
-        kd = k * (4 + ph)
-        ko = k * (2 - ph)
+            i, j, kd, ko, ti, tj = 3, 6, st[4], st[5], t1[2], t2[2]
         f[i] += kd * ti + ko * tj
         f[j] += ko * ti + kd * tj
         H[i, i] += kd

@@ -27,10 +27,25 @@ class BeamData:
     nodes: np.ndarray  # (n, 2) node storage indices
     E0: np.ndarray  # (n, 3, 3) undeformed frames, columns = local x, y, z
     L0: np.ndarray  # (n,) undeformed lengths [m]
-    stiffness: np.ndarray  # (n, 6) EA, GJ, EIy, EIz, Phi_y, Phi_z
+    stiffness: np.ndarray  # (n, 6) kernel coefficients EA, GJ, kd_y, ko_y, kd_z, ko_z (see bending_coefficients)
     mass_per_length: np.ndarray  # (n,) rho*A [kg/m]
     inertia_per_length: np.ndarray  # (n, 3) rho*Ip, rho*Iy, rho*Iz (bending terms zero if no rotary inertia)
     lumped: np.ndarray  # (n,) bool
+    section_stiffness: np.ndarray  # (n, 6) EA, GJ, EIy, EIz, Phi_y, Phi_z
+
+
+def bending_coefficients(EI: np.ndarray, phi: np.ndarray, L: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Timoshenko rotation-block coefficients kd = EI (4 + Phi) / (L (1 + Phi)), ko = EI (2 - Phi) / (L (1 + Phi))."""
+    k = EI / (L * (1 + phi))
+    return k * (4 + phi), k * (2 - phi)
+
+
+def kernel_coefficients(section_stiffness: np.ndarray, L: np.ndarray) -> np.ndarray:
+    """(n, 6) kernel coefficients from (EA, GJ, EIy, EIz, Phi_y, Phi_z)."""
+    EA, GJ, EIy, EIz, phy, phz = section_stiffness.T
+    kdy, koy = bending_coefficients(EIy, phy, L)
+    kdz, koz = bending_coefficients(EIz, phz, L)
+    return np.ascontiguousarray(np.column_stack([EA, GJ, kdy, koy, kdz, koz]))
 
 
 def element_frames(xyz: np.ndarray, nodes: np.ndarray, orientation: np.ndarray) -> np.ndarray:

@@ -40,7 +40,7 @@ def energy_fractions(modes, state) -> np.ndarray:
         n1, n2 = b.nodes[:, 0], b.nodes[:, 1]
         Rr = corotated_frames(state.positions[n1], state.positions[n2], state.rotations[n1], state.rotations[n2],
                               b.E0)[0]
-        EA, GJ, EIy, EIz, phy, phz = b.stiffness.T
+        EA, GJ, EIy, EIz, phy, phz = b.section_stiffness.T
         L = b.L0
         vertical = np.abs(Rr[:, 2, 2]) >= np.abs(Rr[:, 2, 1])  # local z closer to global z: bending about y is OOP
         for m, phi in enumerate(shapes):

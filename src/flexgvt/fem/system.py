@@ -16,7 +16,8 @@ import scipy.sparse as sp
 
 from ..errors import ModelError
 from ..model import Configuration, Model, parse_dofs
-from .beam import BeamData, beam_forces, beam_mass_matrices, element_frames, local_mass_matrices
+from .beam import (BeamData, beam_forces, beam_mass_matrices, element_frames, kernel_coefficients,
+                   local_mass_matrices)
 from .points import cord_damping, cord_forces, mass_gravity, mass_matrix, spring_damping, spring_forces
 from .rotations import expm_so3, skew
 
@@ -55,12 +56,6 @@ class CompiledModel:
     links: np.ndarray  # (n_nodes,) index of the independent node for dependents, else -1
 
 
-def _section_arrays(group, n):
-    props = group.section.properties()
-    E, G, rho = group.material.E, group.material.shear_modulus, group.material.rho
-    return props, E, G, rho
-
-
 def compile_model(model: Model) -> CompiledModel:
     """Compile (and cache against the model's revision) the model's arrays."""
     cached = _COMPILED.get(model)
@@ -74,7 +69,8 @@ def compile_model(model: Model) -> CompiledModel:
         idx = model.index_of(group.nodes, f"beam group '{group.name}'")
         frames = element_frames(xyz, idx, group.orientation)
         length = np.linalg.norm(xyz[idx[:, 1]] - xyz[idx[:, 0]], axis=1)
-        p, E, G, rho = _section_arrays(group, len(idx))
+        p = group.section.properties()
+        E, G, rho = group.material.E, group.material.shear_modulus, group.material.rho
         phi_y = 12 * E * p["Iy"] / (G * p["Az"] * length**2) if p["Az"] > 0 else np.zeros_like(length)
         phi_z = 12 * E * p["Iz"] / (G * p["Ay"] * length**2) if p["Ay"] > 0 else np.zeros_like(length)
         n = len(idx)
@@ -90,9 +86,11 @@ def compile_model(model: Model) -> CompiledModel:
         eids.append(group.ids)
         names.append(np.full(n, group.name, dtype=object))
     cat = (lambda parts, shape: np.concatenate(parts) if parts else np.zeros(shape))
-    beams = BeamData(cat(nodes, (0, 2)).astype(np.int64), np.ascontiguousarray(cat(E0, (0, 3, 3))), cat(L0, (0,)),
-                     np.ascontiguousarray(cat(stiff, (0, 6))), cat(rhoA, (0,)), cat(rhoI, (0, 3)),
-                     cat(lumped, (0,)).astype(bool))
+    section = cat(stiff, (0, 6))
+    lengths = cat(L0, (0,))
+    beams = BeamData(cat(nodes, (0, 2)).astype(np.int64), np.ascontiguousarray(cat(E0, (0, 3, 3))), lengths,
+                     kernel_coefficients(section, lengths), cat(rhoA, (0,)), cat(rhoI, (0, 3)),
+                     cat(lumped, (0,)).astype(bool), section)
     links = np.full(model.n_nodes, -1)
     for link in model.rigid_links:
         links[model.index_of(list(link.dependents))] = model.index_of([link.independent])[0]
