@@ -16,7 +16,7 @@ import scipy.sparse as sp
 
 from ..errors import ModelError
 from ..model import RectangularSection
-from .beam import beam_forces, local_mass_matrices
+from .beam import beam_forces, beam_mass_matrices, local_mass_matrices
 from .static import State
 
 BEAM_PARAMETERS = ("E", "G", "rho", "width", "height")
@@ -128,10 +128,9 @@ def beam_parameter_derivative(state: State, group: str, parameter: str) -> Param
     x, R = state.positions, state.rotations
     data = replace(b, stiffness=coeff)
     g, K, _ = beam_forces(x, R, data, True)
-    n = system.n_nodes
-    g_full = np.zeros((n, 6))
-    np.add.at(g_full, b.nodes[:, 0], g[:, :6])
-    np.add.at(g_full, b.nodes[:, 1], g[:, 6:])
+    zero_pts = [np.zeros((len(system.masses.nodes), 6, 6)), np.zeros((len(system.cord_nodes), 6, 6)),
+                np.zeros((len(system.springs.b), 12, 12))]
+    g_full = system._scatter([g] + [z[:, :, 0] for z in zero_pts]).reshape(-1, 6)
     # Weight of the group (lumped), scaled by the load factor, enters the applied loads.
     dw = np.zeros(len(b.L0))
     dw[mask] = dmass[:, 0] * L
@@ -140,13 +139,10 @@ def beam_parameter_derivative(state: State, group: str, parameter: str) -> Param
     np.add.at(g_full, (b.nodes[:, 1], slice(0, 3)), -0.5 * dw[:, None] * gvec[None, :])
     T = system.transformation(x) if system.has_links else None
     d_res = system.reduce_vector(g_full.reshape(-1), T)
-    zero_pts = [np.zeros((len(system.masses.nodes), 6, 6)), np.zeros((len(system.cord_nodes), 6, 6)),
-                np.zeros((len(system.springs.b), 12, 12))]
     dK = system.pattern.assemble([K] + zero_pts)
     mass_terms = np.zeros((len(b.L0), 4))
     mass_terms[mask] = dmass
     dlocal = local_mass_matrices(replace(b, mass_per_length=mass_terms[:, 0], inertia_per_length=mass_terms[:, 1:]))
-    from .beam import beam_mass_matrices
     dM = system.pattern.assemble([beam_mass_matrices(x, R, b, dlocal)] + zero_pts)
     if system.has_links:
         dK = (T.T @ dK @ T).tocsc()

@@ -303,51 +303,41 @@ class System:
         """Unstretched cord lengths along the load ramp: unstrained at lam = 0, nominal at lam = 1."""
         return self.cord_lgeom + lam * (self.cord_l0 - self.cord_lgeom)
 
+    def _scatter(self, vectors: list[np.ndarray]) -> np.ndarray:
+        """Sum element vectors (one array per block of self._blocks) into a full DOF vector."""
+        dofs = np.concatenate([blk.reshape(-1) for blk in self._blocks])
+        vals = np.concatenate([v.reshape(-1) for v in vectors])
+        return np.bincount(dofs, weights=vals, minlength=6 * self.n_nodes)
+
     def evaluate(self, x: np.ndarray, R: np.ndarray, lam: float, tangent: bool = True) -> Evaluation:
         """Internal and applied forces (reduced) and the consistent tangent at a state and load factor."""
-        n = self.n_nodes
-        g = np.zeros((n, 6))
-        values = []
-        b = self.cm.beams
-        gb, Kb, N = beam_forces(x, R, b, tangent)
-        np.add.at(g, b.nodes[:, 0], gb[:, :6])
-        np.add.at(g, b.nodes[:, 1], gb[:, 6:])
-        values.append(Kb if tangent else None)
+        gb, Kb, N = beam_forces(x, R, self.cm.beams, tangent)
         m = self.masses
         gm, Km = mass_gravity(R[m.nodes], m.offset, lam * self.mass_weight)
-        np.add.at(g, m.nodes, gm)
-        values.append(Km)
         tension = length = np.zeros(0)
+        gc, Kc = np.zeros((0, 6)), np.zeros((0, 6, 6))
         if len(self.cord_nodes):
             cn = self.cord_nodes
             gc, Kc, tension, length = cord_forces(x[cn], R[cn], self.cord_offset, self.cord_anchor, self.cord_k,
                                                   self.cord_l0_at(lam))
-            np.add.at(g, cn, gc)
-            values.append(Kc)
-        else:
-            values.append(np.zeros((0, 6, 6)))
         s = self.springs
+        gs, Ks = np.zeros((0, 12)), np.zeros((0, 12, 12))
         if len(s.b):
             ground = s.a < 0
             ia = np.where(ground, s.b, s.a)
             xa = np.where(ground[:, None], self.cm.xyz[s.b], x[ia])
             Ra = np.where(ground[:, None, None], np.eye(3), R[ia])
-            Xa = self.cm.xyz[np.where(ground, s.b, s.a)]
-            gs, Ks = spring_forces(xa, Xa, Ra, x[s.b], self.cm.xyz[s.b], R[s.b], s.frame, s.stiffness)
+            gs, Ks = spring_forces(xa, self.cm.xyz[ia], Ra, x[s.b], self.cm.xyz[s.b], R[s.b], s.frame, s.stiffness)
+            # A grounded spring's first node is a placeholder (its own node): zero that half.
             gs[ground, :6] = 0.0
             Ks[ground, :6, :] = 0.0
             Ks[ground, :, :6] = 0.0
-            np.add.at(g, ia[~ground], gs[~ground, :6])
-            np.add.at(g, s.b, gs[:, 6:])
-            values.append(Ks)
-        else:
-            values.append(np.zeros((0, 12, 12)))
-        g_full = g.reshape(-1)
+        g_full = self._scatter([gb, gm, gc, gs])
         f_full = lam * self.applied
         T = self.transformation(x) if self.has_links else None
         K = None
         if tangent:
-            K = self.pattern.assemble(values)
+            K = self.pattern.assemble([Kb, Km, Kc, Ks])
             if self.has_links:
                 K = self._reduce_with_links(K, T, x, g_full - f_full)
         return Evaluation(self.reduce_vector(g_full, T), self.reduce_vector(f_full, T), K, N, tension, length)
