@@ -82,7 +82,9 @@ class StaticSettings:
 
     increments: initial number of equal load increments; max_iterations per increment;
     tolerance: residual norm relative to the applied-load norm; min_increment: smallest load
-    increment before giving up; max_increment_growth: growth of an increment after an easy step.
+    increment before giving up; max_increment_growth: largest growth of an increment after an
+    easy step (1.0 keeps every increment equal); desired_iterations: the increment is scaled by
+    sqrt(desired / taken) after each step.
     """
 
     increments: int = 20
@@ -91,6 +93,7 @@ class StaticSettings:
     energy_tolerance: float = 1e-14
     min_increment: float = 1e-5
     max_increment_growth: float = 1.5
+    desired_iterations: int = 5
 
 
 class _Factor:
@@ -299,9 +302,10 @@ def solve_static(model: Model, configuration: Configuration, *, settings: Static
             saved.append(last)
         if progress is not None:
             progress(lam)
+        # Crisfield's rule: aim at the desired number of iterations per increment.
         iters = sum(1 for h in history if h.step == step)
-        if iters <= 3:
-            increment = min(increment * settings.max_increment_growth, 1.0)
+        scale = np.sqrt(settings.desired_iterations / max(iters, 1))
+        increment = min(increment * min(scale, settings.max_increment_growth), 1.0)
     return (last, saved) if keep_steps else last
 
 
