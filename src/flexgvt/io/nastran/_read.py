@@ -1,0 +1,938 @@
+"""Read a Nastran bulk data deck (pyNastran) into a flexgvt Model and one Configuration per subcase."""
+
+from __future__ import annotations
+
+import contextlib
+import io
+import math
+import re
+import warnings
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from ...errors import FileFormatError, FlexGVTError, ModelError
+from ...model import (STANDARD_GRAVITY, Configuration, DistributedLoad, Material, Model, NodalLoad)
+from ._common import (CardIndex, UnsupportedCardsError, Units, absolute_include_lines, coord_axes, get_units,
+                      split_first_fields, where_prefix)
+from ._sections import SectionData, from_properties, library_section
+
+BEAM_CARDS = ("CBAR", "CBEAM")
+BEAM_PROPERTIES = ("PBAR", "PBARL", "PBEAM", "PBEAML")
+SUPPORTED_ELEMENTS = BEAM_CARDS + ("CONM2", "CONM1", "CELAS1", "CELAS2", "CDAMP1", "CDAMP2", "CVISC", "CBUSH", "RBE2")
+SUPPORTED_PROPERTIES = BEAM_PROPERTIES + ("PELAS", "PDAMP", "PVISC", "PBUSH")
+SUPPORTED_LOADS = ("FORCE", "MOMENT", "GRAV", "PLOAD1")
+# Cards that carry no structure or are read through the case control (methods, solution controls).
+IGNORED_CARDS = {"ENDDATA", "PARAM", "EIGRL", "EIGR", "NLPARM", "NLPCI", "MDLPRM", "DTI", "TSTEPNL", "TSTEP", "FREQ",
+                 "FREQ1", "FREQ2", "NLSTEP"}
+# Bulk cards flexgvt reads (anything else present in the deck is reported as unsupported).
+READ_CARDS = set(SUPPORTED_ELEMENTS + SUPPORTED_PROPERTIES + SUPPORTED_LOADS) | {
+    "GRID", "MAT1", "CORD2R", "CORD2C", "CORD2S", "CORD1R", "CORD1C", "CORD1S", "SPC", "SPC1", "SPCADD", "LOAD"}
+# Cards read by pyNastran into dictionaries we inspect, mapped to where unsupported ones are listed.
+ELEMENT_NAMESPACE = ("CBAR", "CBEAM", "CROD", "CONROD", "CTUBE", "CQUAD4", "CTRIA3", "CQUAD8", "CTRIA6", "CQUADR",
+                     "CTRIAR", "CSHEAR", "CHEXA", "CPENTA", "CTETRA", "CONM1", "CONM2", "CMASS1", "CMASS2", "CMASS3",
+                     "CMASS4", "CELAS1", "CELAS2", "CELAS3", "CELAS4", "CDAMP1", "CDAMP2", "CDAMP3", "CDAMP4", "CVISC",
+                     "CBUSH", "CBUSH1D", "CGAP", "RBE2", "RBE3", "RBAR", "RBE1", "RROD", "RSPLINE")
+PROPERTY_NAMESPACE = ("PBAR", "PBARL", "PBEAM", "PBEAML", "PROD", "PTUBE", "PSHELL", "PCOMP", "PCOMPG", "PSHEAR",
+                      "PSOLID", "PELAS", "PDAMP", "PVISC", "PBUSH", "PBUSH1D", "PGAP", "PMASS")
+MATERIAL_NAMESPACE = ("MAT1", "MAT2", "MAT8", "MAT9")
+COORD_NAMESPACE = ("CORD2R", "CORD2C", "CORD2S", "CORD1R", "CORD1C", "CORD1S")
+STRUCTURAL_PARAMS_IGNORED = {"G": "structural damping (PARAM,G) is not modelled",
+                             "W3": "PARAM,W3 (structural damping reference) is not modelled",
+                             "W4": "PARAM,W4 (element damping reference) is not modelled"}
+
+
+@dataclass(frozen=True)
+class BeamSource:
+    """Where a flexgvt beam group came from: one Nastran beam property."""
+
+    name: str
+    card: str  # CBAR or CBEAM
+    ptype: str  # PBAR, PBARL, PBEAM, PBEAML
+    pid: int
+    mid: int
+    eids: tuple[int, ...]
+    principal: tuple[float, float]
+
+
+@dataclass
+class BdfDeck:
+    """A bulk data deck read into flexgvt.
+
+    model: the structural model; configurations: one per SUBCASE (or one named after the file);
+    bdf: the pyNastran BDF object (kept for writing back); units: the deck's unit system; wtmass:
+    PARAM,WTMASS; mass: 'lumped' or 'consistent' (PARAM,COUPMASS); beams: beam group name ->
+    BeamSource; element_ids: Nastran beam element id -> flexgvt element id; mass_sources and
+    spring_sources: (card, id) per entry of model.masses / model.springs; rigid_sources: RBE2 ids
+    per model.rigid_links; n_modes: configuration -> EIGRL ND of its METHOD (None if not given);
+    subcases: configuration -> subcase id; unsupported: card (feature) -> ids that were not read;
+    notes: things read with an approximation or ignored on purpose.
+    """
+
+    path: Path
+    model: Model
+    configurations: dict[str, Configuration]
+    bdf: object
+    units: Units
+    wtmass: float
+    mass: str
+    beams: dict[str, BeamSource] = field(default_factory=dict)
+    element_ids: dict[int, int] = field(default_factory=dict)
+    mass_sources: list[tuple[str, int]] = field(default_factory=list)
+    spring_sources: list[tuple[str, int]] = field(default_factory=list)
+    rigid_sources: list[tuple[int, ...]] = field(default_factory=list)
+    materials: dict[int, Material] = field(default_factory=dict)
+    n_modes: dict[str, int | None] = field(default_factory=dict)
+    subcases: dict[str, int] = field(default_factory=dict)
+    unsupported: dict[str, list] = field(default_factory=dict)
+    notes: list[str] = field(default_factory=list)
+
+    def __repr__(self) -> str:
+        return (f"BdfDeck('{self.path.name}': {self.model!r}, configurations={list(self.configurations)}, "
+                f"units={self.units.name}, wtmass={self.wtmass}, mass='{self.mass}')")
+
+
+class _QuietLog:
+    """Logger handed to pyNastran: keeps its messages (for error context) instead of printing them."""
+
+    level = "error"
+
+    def __init__(self):
+        self.messages: list[str] = []
+
+    def _keep(self, msg, *args, **kwargs):
+        self.messages.append(str(msg))
+
+    debug = info = warning = error = exception = critical = _keep
+
+    def __getattr__(self, name):  # any other cpylog method
+        if name.startswith("__"):
+            raise AttributeError(name)
+        return self._keep
+
+    def __deepcopy__(self, memo):
+        return _QuietLog()
+
+
+def _open_bdf(path: Path, index: CardIndex):
+    """pyNastran BDF of ``path`` (with or without executive/case control), errors as FileFormatError."""
+    from pyNastran.bdf.bdf import BDF
+
+    with open(path, "r", errors="replace") as handle:
+        lines = handle.readlines()
+    if not any(line.strip() and not line.lstrip().startswith("$") for line in lines):
+        raise FileFormatError(f"{path}: the file is empty; give a Nastran bulk data deck")
+    has_cend = any(line.strip().upper().startswith("CEND") for line in lines)
+    has_begin = any(line.strip().upper().replace(" ", "").startswith("BEGINBULK") for line in lines)
+    lines = absolute_include_lines(lines, path.resolve().parent)
+    punch = False
+    if not has_cend:
+        if has_begin:
+            lines = ["CEND\n"] + lines
+        else:
+            punch = True
+    log = _QuietLog()
+    bdf = BDF(log=log)
+    try:
+        with contextlib.redirect_stdout(io.StringIO()):
+            bdf.read_bdf(io.StringIO("".join(lines)), xref=False, punch=punch, validate=True)
+    except FlexGVTError:
+        raise
+    except Exception as exc:  # pyNastran raises many kinds; translate them into one message
+        raise _parse_error(path, index, exc, log) from None
+    bdf.bdf_filename = str(path)
+    return bdf
+
+
+_CARD_IN_MSG = re.compile(r"card\s*=\s*\[\s*'([A-Za-z0-9*]+)'\s*,\s*'?([^',\]]*)'?")
+
+
+def _parse_error(path: Path, index: CardIndex, exc: Exception, log: _QuietLog) -> FileFormatError:
+    text = str(exc).strip()
+    where = str(path)
+    card = ""
+    found = _CARD_IN_MSG.search(text) or next((m for m in (_CARD_IN_MSG.search(x) for x in log.messages[::-1]) if m),
+                                              None)
+    if found is None:
+        for msg in log.messages[::-1]:
+            if msg.startswith("problem adding"):
+                found = re.search(r"\[\s*'([A-Za-z0-9*]+)'\s*,\s*'?([^',\]]*)'?", msg)
+                if found:
+                    break
+    if found is not None:
+        name, ident = found.group(1).upper().rstrip("*"), found.group(2).strip()
+        place = index.where(name, ident)
+        where = place or where
+        card = f" in {name} {ident}"
+    first = text.splitlines()[0] if text else type(exc).__name__
+    hint = "fix the field named above (see the Nastran Quick Reference Guide for the card's format)"
+    if isinstance(exc, (AssertionError,)) and ("old_" in text or "duplicate" in text.lower()):
+        return FileFormatError(f"{where}: duplicate id{card}: {first}; give every card a unique id")
+    return FileFormatError(f"{where}: cannot read the deck{card}: {first}; {hint}")
+
+
+def _check_duplicates(path: Path, index: CardIndex) -> None:
+    problems = []
+    for label, names in (("node", ("GRID",)), ("element", ELEMENT_NAMESPACE), ("property", PROPERTY_NAMESPACE),
+                         ("material", MATERIAL_NAMESPACE), ("coordinate system", COORD_NAMESPACE)):
+        for ident, hits in index.duplicates(names).items():
+            places = ", ".join(f"{card} at {f}:{ln}" for card, f, ln in hits[:4])
+            problems.append(f"{label} id {ident} is defined {len(hits)} times ({places})")
+    if problems:
+        raise ModelError(f"{path}: duplicate ids: " + "; ".join(problems[:10]) +
+                         ("; ..." if len(problems) > 10 else "") + ". Give every node, element, property, material "
+                         "and coordinate system a unique id")
+
+
+class _Reader:
+    def __init__(self, path: Path, units: Units, mass: str | None, rotary_inertia: bool):
+        self.path = path
+        self.units = units
+        self.index = CardIndex(path)
+        _check_duplicates(path, self.index)
+        self.bdf = _open_bdf(path, self.index)
+        self.rotary_inertia = rotary_inertia
+        self.mass_override = mass
+        self.unsupported: dict[str, list] = {}
+        self.notes: list[str] = []
+        self.missing: list[str] = []
+
+    # ----------------------------------------------------------------- helpers
+    def at(self, name: str, ident) -> str:
+        return where_prefix(self.index, name, ident)
+
+    def skip(self, what: str, ident) -> None:
+        self.unsupported.setdefault(what, []).append(ident)
+
+    def param(self, name: str, default):
+        p = self.bdf.params.get(name)
+        if p is None:
+            return default
+        values = getattr(p, "values", None) or [default]
+        return values[0] if values[0] is not None else default
+
+    # ----------------------------------------------------------------- references
+    def check_references(self) -> None:
+        bdf, miss = self.bdf, self.missing
+        nodes, coords = bdf.nodes, bdf.coords
+        for nid, node in nodes.items():
+            for label, cid in (("CP", node.cp), ("CD", node.cd)):
+                if cid not in (None, 0, -1) and cid not in coords:
+                    miss.append(f"{self.at('GRID', nid)} uses {label}={cid} but coordinate system {cid} is not defined")
+        for cid, coord in coords.items():
+            rid = getattr(coord, "rid", 0)
+            if rid not in (None, 0) and rid not in coords:
+                miss.append(f"{self.at(coord.type, cid)} refers to RID={rid}, which is not defined")
+            for g in (getattr(coord, "g1", None), getattr(coord, "g2", None), getattr(coord, "g3", None)):
+                if coord.type.startswith("CORD1") and g is not None and g not in nodes:
+                    miss.append(f"{self.at(coord.type, cid)} refers to node {g}, which is not defined")
+        for eid, elem in bdf.elements.items():
+            ids = [n for n in (elem.node_ids if hasattr(elem, "node_ids") else []) if n not in (None, 0)]
+            for n in ids:
+                if n not in nodes:
+                    miss.append(f"{self.at(elem.type, eid)} refers to node {n}, which is not defined")
+            pid = getattr(elem, "pid", None)
+            if elem.type in ("CBAR", "CBEAM", "CELAS1", "CDAMP1", "CVISC", "CBUSH") and pid not in bdf.properties:
+                miss.append(f"{self.at(elem.type, eid)} refers to property {pid}, which is not defined")
+            g0 = getattr(elem, "g0", None)
+            if elem.type in ("CBAR", "CBEAM", "CBUSH") and g0 not in (None, 0) and g0 not in nodes:
+                miss.append(f"{self.at(elem.type, eid)} orientation node G0={g0} is not defined")
+            cid = getattr(elem, "cid", None)
+            if elem.type in ("CBUSH",) and cid not in (None, -1, 0) and cid not in coords:
+                miss.append(f"{self.at(elem.type, eid)} refers to coordinate system {cid}, which is not defined")
+        for eid, elem in bdf.masses.items():
+            if elem.nid not in nodes:
+                miss.append(f"{self.at(elem.type, eid)} refers to node {elem.nid}, which is not defined")
+            if getattr(elem, "cid", 0) not in (None, -1, 0) and elem.cid not in coords:
+                miss.append(f"{self.at(elem.type, eid)} refers to coordinate system {elem.cid}, which is not defined")
+        for eid, elem in bdf.rigid_elements.items():
+            for n in elem.independent_nodes + elem.dependent_nodes:
+                if n not in nodes:
+                    miss.append(f"{self.at(elem.type, eid)} refers to node {n}, which is not defined")
+        for pid, prop in bdf.properties.items():
+            mid = getattr(prop, "mid", None)
+            if prop.type in BEAM_PROPERTIES and mid not in bdf.materials:
+                miss.append(f"{self.at(prop.type, pid)} refers to material {mid}, which is not defined")
+        if miss:
+            raise ModelError(f"{self.path}: missing references: " + "; ".join(miss[:12]) +
+                             ("; ..." if len(miss) > 12 else "") + ". Add the missing cards or fix the ids")
+
+    # ----------------------------------------------------------------- main
+    def read(self) -> BdfDeck:
+        bdf = self.bdf
+        self.check_references()
+        try:
+            with contextlib.redirect_stdout(io.StringIO()):
+                bdf.cross_reference(xref=True, xref_nodes=True, xref_elements=False, xref_nodes_with_elements=False,
+                                    xref_properties=False, xref_masses=False, xref_materials=False, xref_loads=False,
+                                    xref_constraints=False, xref_aero=False, xref_sets=False, xref_optimization=False)
+        except FlexGVTError:
+            raise
+        except Exception as exc:
+            raise ModelError(f"{self.path}: coordinate systems or grids could not be resolved: "
+                             f"{str(exc).splitlines()[0] if str(exc) else type(exc).__name__}; check CORD/GRID cards")
+        u = self.units
+        self.wtmass = float(self.param("WTMASS", 1.0))
+        if not (math.isfinite(self.wtmass) and self.wtmass > 0):
+            raise ModelError(f"{self.path}: PARAM,WTMASS={self.wtmass} must be a positive number")
+        coupmass = self.param("COUPMASS", -1)
+        if isinstance(coupmass, str):
+            coupmass = 1 if coupmass.upper() in ("ON", "YES") else -1
+        self.mass = self.mass_override or ("consistent" if coupmass > 0 else "lumped")
+        for name, why in STRUCTURAL_PARAMS_IGNORED.items():
+            if name in bdf.params:
+                self.notes.append(why)
+
+        model = Model(self.path.stem)
+        self.model = model
+        nids = sorted(bdf.nodes)
+        if not nids:
+            raise ModelError(f"{self.path}: the deck has no GRID cards; a model needs nodes")
+        xyz = np.array([bdf.nodes[n].get_position() for n in nids], float).reshape(-1, 3) * u.length
+        self.xyz = dict(zip(nids, xyz))
+        self.xyz_deck = {n: x / u.length for n, x in self.xyz.items()}
+        model.add_nodes(xyz, ids=nids)
+        self.deck = BdfDeck(self.path, model, {}, bdf, u, self.wtmass, self.mass)
+        self.read_materials()
+        self.read_beams()
+        self.read_masses()
+        self.read_springs()
+        self.read_rigid()
+        self.list_other_cards()
+        self.read_configurations()
+        self.deck.unsupported = self.unsupported
+        self.deck.notes = self.notes
+        return self.deck
+
+    # ----------------------------------------------------------------- materials
+    def read_materials(self) -> None:
+        u = self.units
+        for mid, mat in sorted(self.bdf.materials.items()):
+            if mat.type != "MAT1":
+                continue
+            where = self.at("MAT1", mid)
+            E, G, nu, rho = mat.e, mat.g, mat.nu, mat.rho or 0.0
+            if not E:
+                raise ModelError(f"{where}: E is blank or zero; flexgvt beams need Young's modulus")
+            if not G and not nu:
+                raise ModelError(f"{where}: G and NU are both blank, which Nastran reads as G = 0 (no torsional or "
+                                 "shear stiffness); give G or NU")
+            consistent = G and nu is not None and math.isclose(G, E / (2 * (1 + nu)), rel_tol=1e-6)
+            kwargs = {"nu": float(nu)} if (consistent or not G) else {"G": float(G) * u.stress}
+            if G and nu is not None and not consistent and -1 < nu < 0.5:
+                kwargs["nu"] = float(nu)
+            if getattr(mat, "ge", 0.0):
+                self.notes.append(f"{where}: structural damping GE={mat.ge} is not modelled")
+            try:
+                self.deck.materials[mid] = Material(f"MAT1_{mid}", E=float(E) * u.stress,
+                                                    rho=float(rho) * u.density * self.wtmass, **kwargs)
+            except ModelError as exc:
+                raise ModelError(f"{where}: {exc}") from None
+
+    # ----------------------------------------------------------------- beams
+    def beam_section(self, prop) -> tuple[SectionData, float] | None:
+        """(section, nsm per length in deck units) of a beam property, or None if unsupported (recorded)."""
+        where = self.at(prop.type, prop.pid)
+        if prop.type == "PBAR":
+            return from_properties(where, prop.A, prop.i1, prop.i2, prop.i12, prop.j, prop.k1, prop.k2), prop.nsm or 0.0
+        if prop.type == "PBARL":
+            if prop.Type not in _supported_shapes():
+                self.skip(f"PBARL TYPE {prop.Type}", prop.pid)
+                return None
+            return library_section(where, prop.Type, prop.dim), prop.nsm or 0.0
+        if prop.type == "PBEAM":
+            for name in ("A", "i1", "i2", "i12", "j", "nsm"):
+                vals = np.atleast_1d(np.asarray(getattr(prop, name), float))
+                if not np.allclose(vals, vals[0], rtol=1e-9, atol=0.0):
+                    self.skip("PBEAM (tapered: stations differ)", prop.pid)
+                    return None
+            offsets = [getattr(prop, n, None) for n in ("m1a", "m2a", "m1b", "m2b", "n1a", "n2a", "n1b", "n2b")]
+            if any(np.any(np.asarray(o, float) != 0) for o in offsets if o is not None):
+                self.skip("PBEAM (neutral-axis/NSM offsets)", prop.pid)
+                return None
+            first = (lambda v: float(np.atleast_1d(v)[0]))
+            return from_properties(where, first(prop.A), first(prop.i1), first(prop.i2), first(prop.i12),
+                                   first(prop.j), prop.k1, prop.k2), first(prop.nsm)
+        if prop.type == "PBEAML":
+            dims = [list(map(float, d)) for d in prop.dim]
+            if any(not np.allclose(d, dims[0]) for d in dims):
+                self.skip("PBEAML (tapered: stations differ)", prop.pid)
+                return None
+            if prop.beam_type not in _supported_shapes():
+                self.skip(f"PBEAML TYPE {prop.beam_type}", prop.pid)
+                return None
+            nsm = float(np.atleast_1d(prop.nsm)[0]) if prop.nsm is not None else 0.0
+            return library_section(where, prop.beam_type, dims[0]), nsm
+        return None
+
+    def orientation_vector(self, elem) -> np.ndarray:
+        """Nastran v vector of a CBAR/CBEAM/CBUSH in basic axes (deck length units)."""
+        ga = elem.nodes[0] if hasattr(elem, "nodes") else elem.ga
+        if elem.g0 not in (None, 0):
+            return self.xyz_deck[elem.g0] - self.xyz_deck[ga]
+        x = np.asarray(elem.x, float)
+        offt = (getattr(elem, "offt", None) or "GGG") if elem.type != "CBUSH" else "GGG"
+        if isinstance(offt, str) and offt[0] == "G":
+            cd = self.bdf.nodes[ga].cd
+            x = coord_axes(self.bdf, cd, self.xyz_deck[ga], self.at(elem.type, elem.eid)) @ x
+        return x
+
+    def read_beams(self) -> None:
+        bdf, model, u = self.bdf, self.model, self.units
+        groups: dict[int, list] = {}
+        for eid, elem in sorted(bdf.elements.items()):
+            if elem.type not in BEAM_CARDS:
+                continue
+            where = self.at(elem.type, eid)
+            if elem.pa or elem.pb:
+                self.skip(f"{elem.type} (pin flags PA/PB)", eid)
+                continue
+            if any(w is not None and np.any(np.asarray(w, float) != 0) for w in (elem.wa, elem.wb)):
+                self.skip(f"{elem.type} (offsets WA/WB)", eid)
+                continue
+            if elem.type == "CBEAM" and (getattr(elem, "sa", 0) or getattr(elem, "sb", 0)):
+                self.skip("CBEAM (warping scalar points SA/SB)", eid)
+                continue
+            offt = getattr(elem, "offt", "GGG")
+            if elem.type == "CBEAM" and getattr(elem, "bit", None) is not None:
+                self.skip("CBEAM (BIT field)", eid)
+                continue
+            if isinstance(offt, str) and offt[0] not in "GB":
+                self.skip(f"{elem.type} (OFFT {offt})", eid)
+                continue
+            groups.setdefault(elem.pid, []).append(elem)
+        for pid, elems in sorted(groups.items()):
+            prop = bdf.properties[pid]
+            if prop.type not in BEAM_PROPERTIES:
+                for e in elems:
+                    self.skip(f"{e.type} with {prop.type}", e.eid)
+                continue
+            mat = self.deck.materials.get(prop.mid)
+            if mat is None:
+                kind = bdf.materials[prop.mid].type
+                self.skip(f"{kind} on beam property {prop.type}", prop.pid)
+                continue
+            cards = {e.type for e in elems}
+            if len(cards) > 1:
+                raise ModelError(f"{self.at(prop.type, pid)} is used by both CBAR and CBEAM elements; give each its "
+                                 "own property")
+            got = self.beam_section(prop)
+            if got is None:
+                for e in elems:
+                    self.skip(f"{e.type} on unsupported {prop.type}", e.eid)
+                continue
+            sdata, nsm = got
+            section = _scale_section(sdata.section, u.length)
+            pairs = np.array([e.node_ids[:2] for e in elems], int)
+            ga = np.array([self.xyz[p[0]] for p in pairs])
+            gb = np.array([self.xyz[p[1]] for p in pairs])
+            ex = gb - ga
+            length = np.linalg.norm(ex, axis=1)
+            if np.any(length == 0):
+                k = int(np.flatnonzero(length == 0)[0])
+                raise ModelError(f"{self.at(elems[k].type, elems[k].eid)}: GA and GB coincide; a beam needs two "
+                                 "distinct nodes")
+            ex /= length[:, None]
+            v = np.array([self.orientation_vector(e) for e in elems], float)
+            zn = np.cross(ex, v)
+            nz = np.linalg.norm(zn, axis=1)
+            bad = nz <= 1e-8 * np.maximum(np.linalg.norm(v, axis=1), 1e-300)
+            if bad.any():
+                k = int(np.flatnonzero(bad)[0])
+                raise ModelError(f"{self.at(elems[k].type, elems[k].eid)}: orientation vector {v[k].tolist()} is "
+                                 "parallel to the element axis; give X1-X3 or G0 off the axis")
+            zn /= nz[:, None]
+            yn = np.cross(zn, ex)
+            cy, cz = sdata.principal
+            orient = cy * yn + cz * zn
+            name = f"{prop.type}_{pid}"
+            try:
+                ids = model.add_beams(pairs, mat, section, orientation=orient, rotary_inertia=self.rotary_inertia,
+                                      mass=self.mass, name=name)
+            except ModelError as exc:
+                raise ModelError(f"{self.at(prop.type, pid)}: {exc}") from None
+            eids = tuple(int(e.eid) for e in elems)
+            self.deck.element_ids.update(dict(zip(eids, (int(i) for i in ids))))
+            self.deck.beams[name] = BeamSource(name, elems[0].type, prop.type, int(pid), int(prop.mid), eids,
+                                               sdata.principal)
+            if nsm:
+                # Nastran's lumped mass puts NSM*L/2 on each end (translations only): exact for lumped mass.
+                nsm_si = nsm * u.mass / u.length * self.wtmass
+                ends = {}
+                for p, L in zip(pairs, length):
+                    for n in p:
+                        ends[int(n)] = ends.get(int(n), 0.0) + 0.5 * nsm_si * L
+                for n, m in ends.items():
+                    model.add_mass(n, m)
+                    self.deck.mass_sources.append((f"NSM:{prop.type}", int(pid)))
+                if self.mass == "consistent":
+                    self.notes.append(f"{self.at(prop.type, pid)}: NSM={nsm} lumped at the element ends (Nastran "
+                                      "distributes it consistently under COUPMASS)")
+
+    # ----------------------------------------------------------------- masses
+    def read_masses(self) -> None:
+        bdf, model, u, w = self.bdf, self.model, self.units, self.wtmass
+        for eid, elem in sorted(bdf.masses.items()):
+            where = self.at(elem.type, eid)
+            if elem.type == "CONM2":
+                cid = elem.cid
+                x = np.asarray(elem.X, float)
+                node_xyz = self.xyz_deck[elem.nid]
+                if cid == -1:
+                    offset, T = x - node_xyz, np.eye(3)
+                else:
+                    if cid not in (None, 0) and bdf.coords[cid].Type != "R":
+                        self.skip("CONM2 (curvilinear CID)", eid)
+                        continue
+                    T = coord_axes(bdf, cid, node_xyz, where)
+                    offset = T @ x
+                I11, I21, I22, I31, I32, I33 = np.asarray(elem.I, float)
+                J = np.array([[I11, -I21, -I31], [-I21, I22, -I32], [-I31, -I32, I33]])
+                J = T @ J @ T.T
+                try:
+                    model.add_mass(elem.nid, float(elem.mass) * u.mass * w, offset=offset * u.length,
+                                   inertia=J * u.inertia * w)
+                except ModelError as exc:
+                    raise ModelError(f"{where}: {exc}") from None
+                self.deck.mass_sources.append(("CONM2", int(eid)))
+            elif elem.type == "CONM1":
+                M = np.asarray(elem.mass_matrix, float)
+                M = np.tril(M) + np.tril(M, -1).T
+                T = coord_axes(bdf, elem.cid, self.xyz_deck[elem.nid], where)
+                T6 = np.zeros((6, 6))
+                T6[:3, :3] = T6[3:, 3:] = T
+                M = T6 @ M @ T6.T
+                got = _rigid_mass(M)
+                if got is None:
+                    self.skip("CONM1 (not a rigid-body mass matrix)", eid)
+                    continue
+                m, r, J = got
+                model.add_mass(elem.nid, m * u.mass * w, offset=r * u.length, inertia=J * u.inertia * w)
+                self.deck.mass_sources.append(("CONM1", int(eid)))
+            else:
+                self.skip(elem.type, eid)
+
+    # ----------------------------------------------------------------- springs and dampers
+    def _scalar(self, elem, value_stiff: float, value_damp: float) -> None:
+        """CELAS/CDAMP: a scalar spring between (G1, C1) and (G2, C2) in the nodes' displacement axes."""
+        bdf, u = self.bdf, self.units
+        where = self.at(elem.type, elem.eid)
+        n1, n2 = (list(elem.nodes) + [None, None])[:2]
+        c1, c2 = int(elem.c1 or 0), int(elem.c2 or 0)
+        ends = [(n, c) for n, c in ((n1, c1), (n2, c2)) if n not in (None, 0)]
+        if not ends or any(not 1 <= c <= 6 for _, c in ends):
+            self.skip(f"{elem.type} (scalar points or component 0)", elem.eid)
+            return
+        comps = {c for _, c in ends}
+        axes = [coord_axes(bdf, bdf.nodes[n].cd, self.xyz_deck[n], where) for n, _ in ends]
+        c = ends[0][1]
+        if len(comps) > 1 or (len(ends) == 2 and not np.allclose(axes[0][:, (c - 1) % 3], axes[1][:, (c - 1) % 3],
+                                                                 atol=1e-9)):
+            self.skip(f"{elem.type} (components along different directions)", elem.eid)
+            return
+        rot = c > 3
+        k = np.zeros(6)
+        d = np.zeros(6)
+        k[c - 1] = value_stiff * (u.moment if rot else u.force / u.length)
+        d[c - 1] = value_damp * (u.moment if rot else u.force / u.length)
+        a, b = (ends[0][0], ends[1][0]) if len(ends) == 2 else (ends[0][0], None)
+        self._add_spring(where, a, b, k, d, axes[0], (elem.type, int(elem.eid)))
+
+    def _add_spring(self, where, a, b, k, d, frame, source) -> None:
+        try:
+            self.model.add_spring(a, b, stiffness=k, damping=d, frame=frame)
+        except ModelError as exc:
+            raise ModelError(f"{where}: {exc}") from None
+        self.deck.spring_sources.append(source)
+
+    def read_springs(self) -> None:
+        bdf, u = self.bdf, self.units
+        for eid, elem in sorted(bdf.elements.items()):
+            t = elem.type
+            where = self.at(t, eid)
+            if t in ("CELAS1", "CELAS2"):
+                prop = bdf.properties[elem.pid] if t == "CELAS1" else None
+                k = prop.k if prop is not None else elem.k
+                ge = prop.ge if prop is not None else elem.ge
+                if ge:
+                    self.notes.append(f"{where}: structural damping GE={ge} is not modelled")
+                self._scalar(elem, float(k), 0.0)
+            elif t in ("CDAMP1", "CDAMP2"):
+                b = bdf.properties[elem.pid].b if t == "CDAMP1" else elem.b
+                self._scalar(elem, 0.0, float(b))
+            elif t == "CVISC":
+                prop = bdf.properties[elem.pid]
+                n1, n2 = elem.nodes
+                ex = self.xyz[n2] - self.xyz[n1]
+                if np.linalg.norm(ex) == 0:
+                    raise ModelError(f"{where}: the two nodes of a CVISC coincide; its line of action is undefined")
+                frame = _frame_from_x(ex)
+                d = np.array([prop.ce * u.force / u.length, 0, 0, (prop.cr or 0.0) * u.moment, 0, 0])
+                self._add_spring(where, n1, n2, np.zeros(6), d, frame, ("CVISC", int(eid)))
+            elif t == "CBUSH":
+                self.read_cbush(elem, where)
+
+    def read_cbush(self, elem, where) -> None:
+        bdf, u = self.bdf, self.units
+        prop = bdf.properties[elem.pid]
+        ga, gb = (list(elem.nodes) + [None])[:2]
+        gb = None if gb in (None, 0) else gb
+        coincident = gb is None or np.linalg.norm(self.xyz_deck[gb] - self.xyz_deck[ga]) <= 1e-4
+        if not coincident:
+            self.skip("CBUSH (between distinct points: needs the spring-location offset)", elem.eid)
+            return
+        if elem.cid not in (None, -1):
+            frame = coord_axes(bdf, elem.cid, self.xyz_deck[ga], where)
+        else:
+            raise ModelError(f"{where}: a CBUSH on coincident nodes (or grounded) needs CID; Nastran rejects it too. "
+                             "Give CID = 0 for basic axes")
+        def six(values):
+            vals = list(values or [])
+            return np.array([float(v) if v is not None else 0.0 for v in (vals + [0.0] * 6)[:6]])
+        k = six(getattr(prop, "Ki", None))
+        b = six(getattr(prop, "Bi", None))
+        if any(getattr(prop, "GEi", None) or []):
+            if any(v for v in prop.GEi if v):
+                self.notes.append(f"{where}: structural damping GE of PBUSH {prop.pid} is not modelled")
+        scale = np.r_[[u.force / u.length] * 3, [u.moment] * 3]
+        self._add_spring(where, ga, gb, k * scale, b * scale, frame, ("CBUSH", int(elem.eid)))
+
+    # ----------------------------------------------------------------- rigid elements
+    def read_rigid(self) -> None:
+        links: dict[int, list[int]] = {}
+        sources: dict[int, list[int]] = {}
+        owner: dict[int, int] = {}
+        for eid, elem in sorted(self.bdf.rigid_elements.items()):
+            if elem.type != "RBE2" or "".join(sorted(str(elem.cm))) != "123456":
+                self.skip(elem.type if elem.type != "RBE2" else "RBE2 (fewer than 6 components)", eid)
+                continue
+            deps = [int(n) for n in elem.Gmi]
+            for d in deps:
+                if d in owner:
+                    raise ModelError(f"{self.at('RBE2', eid)}: node {d} is already a dependent of RBE2 {owner[d]}; "
+                                     "a node can depend on one rigid element only (Nastran rejects this too)")
+                owner[d] = eid
+            links[int(elem.gn)] = links.get(int(elem.gn), []) + deps
+            sources.setdefault(int(elem.gn), []).append(int(eid))
+        # Chains (an independent node that is a dependent of another RBE2) merge into one rigid link.
+        changed = True
+        while changed:
+            changed = False
+            for ind in list(links):
+                parent = next((p for p, deps in links.items() if ind in deps and p != ind), None)
+                if parent is not None:
+                    links[parent] = links[parent] + links.pop(ind)
+                    sources[parent] = sources[parent] + sources.pop(ind)
+                    changed = True
+                    break
+        for ind, deps in links.items():
+            if ind in deps:
+                raise ModelError(f"RBE2 {sources[ind]}: the rigid elements form a loop through node {ind}")
+            self.model.add_rigid_link(ind, deps)
+            self.deck.rigid_sources.append(tuple(sources[ind]))
+
+    # ----------------------------------------------------------------- everything else
+    def list_other_cards(self) -> None:
+        for name, count in self.bdf.card_count.items():
+            if name in READ_CARDS or name in IGNORED_CARDS:
+                continue
+            ids = sorted({ident for (n, ident) in self.index.places if n == name}, key=_natural)
+            self.unsupported.setdefault(name, []).extend(ids or [f"{count} card(s)"])
+        for card in getattr(self.bdf, "reject_cards", []) or []:
+            name = str(card[0]).upper().rstrip("*") if card else "?"
+            self.unsupported.setdefault(name, []).append(str(card[1]) if len(card) > 1 else "?")
+
+    # ----------------------------------------------------------------- configurations
+    def read_configurations(self) -> None:
+        bdf = self.bdf
+        ccd = bdf.case_control_deck
+        subcases = {} if ccd is None else dict(ccd.subcases)
+        numbered = {k: v for k, v in subcases.items() if k > 0}
+        if numbered:
+            for sid, sub in sorted(numbered.items()):
+                self.configuration(f"subcase_{sid}", sub, sid)
+        elif 0 in subcases and subcases[0].params:
+            self.configuration(self.path.stem, subcases[0], 0)
+        else:
+            self.configuration(self.path.stem, None, 0)
+
+    def _get(self, sub, key):
+        if sub is None or key not in sub.params:
+            return None
+        return sub.get_parameter(key)[0]
+
+    def configuration(self, name: str, sub, sid: int) -> None:
+        bdf = self.bdf
+        where = f"{self.path}: subcase {sid}" if sub is not None and sid else f"{self.path}"
+        spc_id = self._get(sub, "SPC")
+        load_id = self._get(sub, "LOAD")
+        if sub is None:  # bulk data only: use the one SPC/load set if unambiguous
+            spc_sets = set(bdf.spcs) | set(bdf.spcadds)
+            load_sets = set(bdf.load_combinations) or set(bdf.loads)
+            if len(spc_sets) == 1:
+                spc_id = next(iter(spc_sets))
+            elif spc_sets:
+                self.notes.append(f"{where}: no case control and several SPC sets {sorted(spc_sets)}: none applied; "
+                                  "add a SUBCASE with SPC = ...")
+            if len(load_sets) == 1:
+                load_id = next(iter(load_sets))
+            elif load_sets:
+                self.notes.append(f"{where}: no case control and several load sets {sorted(load_sets)}: none applied; "
+                                  "add a SUBCASE with LOAD = ...")
+        mpc_id = self._get(sub, "MPC")
+        if mpc_id is not None:
+            self.skip("MPC (case control MPC set)", mpc_id)
+        fixed: dict[int, set[int]] = {}
+        for nid, node in bdf.nodes.items():
+            if node.ps:
+                self._fix(fixed, nid, str(node.ps), f"{self.at('GRID', nid)} (PS)")
+        if spc_id is not None:
+            for card in self._spc_cards(int(spc_id), where):
+                if card.type == "SPC1":
+                    for n in card.node_ids if hasattr(card, "node_ids") else card.nodes:
+                        self._fix(fixed, n, str(card.components), self.at("SPC1", card.conid))
+                elif card.type == "SPC":
+                    for n, comp, val in zip(card.node_ids, card.components, card.enforced):
+                        if val:
+                            self.skip("SPC (enforced displacement)", card.conid)
+                            continue
+                        self._fix(fixed, n, str(comp), self.at("SPC", card.conid))
+                else:
+                    self.skip(card.type, card.conid)
+        forces, distributed, accel = [], [], np.zeros(3)
+        gravity_terms = []
+        if load_id is not None:
+            for scale, card in self._load_cards(int(load_id), where):
+                self._load(card, scale, forces, distributed, gravity_terms)
+        kwargs = {}
+        if gravity_terms:
+            if len(gravity_terms) == 1:
+                factor, a = gravity_terms[0]
+                g = float(np.linalg.norm(a))
+                kwargs = dict(gravity=factor, g=g, gravity_direction=tuple(a / g)) if g > 0 else {}
+            else:
+                accel = sum(f * a for f, a in gravity_terms)
+                g = float(np.linalg.norm(accel))
+                if g > 0:
+                    kwargs = dict(gravity=1.0, g=g, gravity_direction=tuple(accel / g))
+        fixed_spec = {n: "".join(str(c + 1) for c in sorted(cs)) for n, cs in sorted(fixed.items()) if cs}
+        cfg = Configuration(name, fixed=fixed_spec, forces=tuple(forces), distributed=tuple(distributed), **kwargs)
+        self.deck.configurations[name] = cfg
+        self.deck.subcases[name] = sid
+        method = self._get(sub, "METHOD")
+        nd = None
+        if method is not None:
+            eig = bdf.methods.get(int(method))
+            nd = getattr(eig, "nd", None) if eig is not None else None
+        self.deck.n_modes[name] = nd
+
+    def _spc_cards(self, sid: int, where: str, depth: int = 0):
+        bdf = self.bdf
+        if depth > 10:
+            raise ModelError(f"{where}: SPCADD sets refer to each other in a loop (set {sid})")
+        found = False
+        out = []
+        for card in bdf.spcadds.get(sid, []):
+            found = True
+            for s in card.sets if hasattr(card, "sets") else card.spc_ids:
+                out += self._spc_cards(int(s), where, depth + 1)
+        if sid in bdf.spcs:
+            found = True
+            out += list(bdf.spcs[sid])
+        if not found:
+            raise ModelError(f"{where}: SPC = {sid} but no SPC, SPC1 or SPCADD card has set id {sid}; add it or fix "
+                             "the case control")
+        return out
+
+    def _load_cards(self, sid: int, where: str):
+        bdf = self.bdf
+        if sid in bdf.load_combinations:
+            out = []
+            for combo in bdf.load_combinations[sid]:
+                for s, lid in zip(combo.scale_factors, combo.load_ids):
+                    if int(lid) not in bdf.loads:
+                        raise ModelError(f"{self.at('LOAD', sid)} refers to load set {lid}, which has no FORCE, "
+                                         "MOMENT, GRAV or PLOAD1 card; add it or fix the LOAD card")
+                    out += [(combo.scale * s, card) for card in bdf.loads[int(lid)]]
+            return out
+        if sid in bdf.loads:
+            return [(1.0, card) for card in bdf.loads[sid]]
+        raise ModelError(f"{where}: LOAD = {sid} but no LOAD, FORCE, MOMENT, GRAV or PLOAD1 card has set id {sid}; "
+                         "add it or fix the case control")
+
+    def _fix(self, fixed: dict, nid: int, comps: str, where: str) -> None:
+        if nid not in self.bdf.nodes:
+            raise ModelError(f"{where} refers to node {nid}, which is not defined")
+        comps = comps.strip()
+        if comps in ("", "0"):
+            return
+        dofs = sorted({int(c) for c in comps})
+        if any(not 1 <= d <= 6 for d in dofs):
+            raise FileFormatError(f"{where}: components {comps!r} must be digits 1-6")
+        cd = self.bdf.nodes[nid].cd
+        out = fixed.setdefault(int(nid), set())
+        if cd in (None, 0):
+            out.update(d - 1 for d in dofs)
+            return
+        T = coord_axes(self.bdf, cd, self.xyz_deck[nid], f"{where} at node {nid}")
+        for base, group in ((0, [d - 1 for d in dofs if d <= 3]), (3, [d - 4 for d in dofs if d > 3])):
+            if not group:
+                continue
+            P = T[:, group] @ T[:, group].T  # projector on the constrained directions, basic axes
+            diag = np.diag(P)
+            if not (np.allclose(P, np.diag(diag), atol=1e-9) and np.allclose(diag, np.round(diag), atol=1e-9)):
+                raise ModelError(f"{where}: node {nid} has CD={cd} and its constrained components "
+                                 f"{''.join(str(base + g + 1) for g in group)} do not line up with basic axes; "
+                                 "flexgvt fixes DOFs in basic axes. Constrain all three translations/rotations, use "
+                                 "a CD aligned with basic, or replace the SPC by a stiff CBUSH in that system")
+            out.update(base + i for i in np.flatnonzero(np.round(diag) == 1))
+
+    def _load(self, card, scale: float, forces: list, distributed: list, gravity_terms: list) -> None:
+        bdf, u = self.bdf, self.units
+        where = self.at(card.type, card.sid)
+        if card.type in ("FORCE", "MOMENT"):
+            nid = card.node
+            if nid not in bdf.nodes:
+                raise ModelError(f"{where} refers to node {nid}, which is not defined")
+            T = coord_axes(bdf, card.cid, self.xyz_deck[nid], where)
+            vec = scale * card.mag * (T @ np.asarray(card.xyz, float))
+            if card.type == "FORCE":
+                forces.append(NodalLoad(int(nid), force=tuple(vec * u.force)))
+            else:
+                forces.append(NodalLoad(int(nid), moment=tuple(vec * u.moment)))
+        elif card.type == "GRAV":
+            if card.cid not in (None, 0) and bdf.coords[card.cid].Type != "R":
+                self.skip("GRAV (curvilinear CID)", card.sid)
+                return
+            if getattr(card, "mb", 0):
+                self.skip("GRAV (MB = -1: main bulk only)", card.sid)
+            T = coord_axes(bdf, card.cid, np.zeros(3), where)
+            a = card.scale * (T @ np.asarray(card.N, float)) * u.length
+            gravity_terms.append((scale, a))
+        elif card.type == "PLOAD1":
+            self._pload1(card, scale, distributed, where)
+        else:
+            self.skip(card.type, card.sid)
+
+    def _pload1(self, card, scale, distributed, where) -> None:
+        u = self.units
+        eid = card.eid
+        if eid not in self.deck.element_ids:
+            if eid not in self.bdf.elements:
+                raise ModelError(f"{where} refers to element {eid}, which is not defined")
+            self.skip("PLOAD1 (on an element that was not read as a beam)", card.sid)
+            return
+        if card.load_type not in ("FX", "FY", "FZ"):
+            self.skip(f"PLOAD1 (TYPE {card.load_type}: only FX, FY, FZ in basic axes)", card.sid)
+            return
+        elem = self.bdf.elements[eid]
+        n1, n2 = elem.node_ids[:2]
+        axis = self.xyz_deck[n2] - self.xyz_deck[n1]
+        L = float(np.linalg.norm(axis))
+        x1, x2 = card.x1, card.x2
+        p1, p2 = card.p1, card.p2 if card.p2 is not None else card.p1
+        full = x2 is not None and math.isclose(x1 or 0.0, 0.0, abs_tol=1e-9) and (
+            math.isclose(x2, 1.0, rel_tol=1e-6) if card.scale in ("FR", "FRPR") else math.isclose(x2, L, rel_tol=1e-6))
+        if not full or not math.isclose(p1, p2, rel_tol=1e-9, abs_tol=0.0):
+            self.skip("PLOAD1 (not uniform over the whole element)", card.sid)
+            return
+        direction = np.eye(3)["XYZ".index(card.load_type[1])]
+        w = p1
+        if card.scale in ("LEPR", "FRPR"):
+            w = p1 * math.sqrt(max(0.0, 1.0 - (axis @ direction / L) ** 2))
+        distributed.append(DistributedLoad((self.deck.element_ids[eid],),
+                                           tuple(scale * w * direction * u.force / u.length)))
+
+
+def _supported_shapes():
+    from ._sections import SUPPORTED_SHAPES
+    return SUPPORTED_SHAPES
+
+
+def _natural(x):
+    s = str(x)
+    return (0, int(s)) if s.isdigit() else (1, s)
+
+
+def _scale_section(section, L: float):
+    """Section in SI from deck length units L [m per unit]."""
+    if L == 1.0:
+        return section
+    from dataclasses import replace
+
+    from ...model import CircularTubeSection, GeneralSection, RectangularSection
+    if isinstance(section, RectangularSection):
+        return replace(section, width=section.width * L, height=section.height * L)
+    if isinstance(section, CircularTubeSection):
+        return replace(section, outer_radius=section.outer_radius * L, inner_radius=section.inner_radius * L)
+    assert isinstance(section, GeneralSection)
+    s2, s4 = L**2, L**4
+    return GeneralSection(A=section.A * s2, Iy=section.Iy * s4, Iz=section.Iz * s4, J=section.J * s4,
+                          Ay=None if section.Ay is None else section.Ay * s2,
+                          Az=None if section.Az is None else section.Az * s2,
+                          Ip=None if section.Ip is None else section.Ip * s4)
+
+
+def _frame_from_x(ex: np.ndarray) -> np.ndarray:
+    """Orthonormal frame (columns) whose first axis is along ex."""
+    x = ex / np.linalg.norm(ex)
+    helper = np.eye(3)[int(np.argmin(np.abs(x)))]
+    y = np.cross(helper, x)
+    y /= np.linalg.norm(y)
+    return np.column_stack([x, y, np.cross(x, y)])
+
+
+def _rigid_mass(M: np.ndarray, rtol: float = 1e-6):
+    """(m, offset, inertia about the centre) if M (6x6, basic axes) is a rigid-body mass matrix, else None."""
+    m = M[0, 0]
+    scale = max(np.abs(M).max(), 1e-300)
+    if m <= 0 or not np.allclose(M[:3, :3], m * np.eye(3), atol=rtol * scale):
+        return None
+    S = -M[:3, 3:] / m  # M_tr = -m skew(r)
+    if not np.allclose(S, -S.T, atol=rtol * scale / m):
+        return None
+    r = np.array([S[2, 1], S[0, 2], S[1, 0]])
+    Sr = np.array([[0, -r[2], r[1]], [r[2], 0, -r[0]], [-r[1], r[0], 0]])
+    if not np.allclose(M[3:, :3], m * Sr, atol=rtol * scale):
+        return None
+    J = M[3:, 3:] + m * Sr @ Sr
+    return m, r, 0.5 * (J + J.T)
+
+
+def read_bdf(path, *, units: str | Units = "SI", unsupported: str = "error", mass: str | None = None,
+             rotary_inertia: bool = False) -> BdfDeck:
+    """Read a Nastran bulk data deck into a flexgvt Model and Configurations.
+
+    path: .bdf/.dat/.nas file (INCLUDEs followed; executive and case control optional).
+    units: the deck's consistent unit system ('SI', 'mm-N-t-s', 'in-lbf-s' or a Units); everything
+    is converted to SI. PARAM,WTMASS scales every mass (density, CONM1/2, NSM).
+    unsupported: 'error' raises UnsupportedCardsError listing every card (or card feature) that
+    has no flexgvt counterpart, with ids; 'warn' reads the rest and lists them in one warning.
+    mass: 'lumped' or 'consistent' beam mass; default from PARAM,COUPMASS (lumped unless > 0).
+    rotary_inertia: include bending rotary inertia of beams (Nastran's CBAR leaves it out, so the
+    default False matches Nastran; torsional inertia is always kept).
+    Returns a BdfDeck with .model and .configurations (one per SUBCASE, named 'subcase_<id>', or
+    one named after the file when there are no subcases).
+    """
+    path = Path(path)
+    if not path.is_file():
+        raise FileFormatError(f"{path}: no such file; give the path of a Nastran bulk data deck")
+    if unsupported not in ("error", "warn"):
+        raise ModelError(f"read_bdf: unsupported={unsupported!r} must be 'error' or 'warn'")
+    if mass not in (None, "lumped", "consistent"):
+        raise ModelError(f"read_bdf: mass={mass!r} must be None (from COUPMASS), 'lumped' or 'consistent'")
+    reader = _Reader(path, get_units(units), mass, rotary_inertia)
+    deck = reader.read()
+    if deck.unsupported:
+        listing = "; ".join(f"{card}: {', '.join(map(str, ids[:8]))}{', ...' if len(ids) > 8 else ''}"
+                            for card, ids in sorted(deck.unsupported.items()))
+        message = (f"{path}: {sum(len(v) for v in deck.unsupported.values())} card(s) have no flexgvt counterpart "
+                   f"and were not read: {listing}")
+        if unsupported == "error":
+            raise UnsupportedCardsError(message + ". Remove or replace them, or call read_bdf(..., "
+                                        "unsupported='warn') to read the rest", deck.unsupported)
+        warnings.warn(message, stacklevel=2)
+    if deck.notes:
+        warnings.warn(f"{path}: read with these approximations: " + "; ".join(deck.notes), stacklevel=2)
+    return deck

@@ -1,0 +1,399 @@
+"""Write flexgvt models as Nastran bulk data: into a copy of the user's deck, or as a compact deck."""
+
+from __future__ import annotations
+
+import contextlib
+import copy
+import io
+import warnings
+from pathlib import Path
+
+import numpy as np
+
+from ...errors import ModelError
+from ...model import CircularTubeSection, Configuration, GeneralSection, Material, Model, RectangularSection
+from ._common import Units, coord_axes, get_units
+from ._read import BdfDeck, _rigid_mass, _scale_section
+from ._sections import library_dims, library_section, to_properties
+
+
+def _material_values(mat: Material, u: Units, wtmass: float) -> dict:
+    out = {"E": mat.E / u.stress, "rho": mat.rho / (u.density * wtmass), "G": None, "nu": mat.nu}
+    if mat.G is not None:
+        out["G"] = mat.G / u.stress
+    elif mat.nu is not None:
+        out["G"] = out["E"] / (2 * (1 + mat.nu))
+    return out
+
+
+def _same(a, b, rtol=1e-9) -> bool:
+    return np.allclose(np.asarray(a, float), np.asarray(b, float), rtol=rtol, atol=0.0)
+
+
+def _quiet_write(bdf, path: Path, size: int) -> None:
+    with contextlib.redirect_stdout(io.StringIO()):
+        bdf.write_bdf(str(path), size=size, is_double=False, enddata=True)
+
+
+# --------------------------------------------------------------------------- template
+def _write_into_template(model: Model, path: Path, deck: BdfDeck, size: int) -> list[str]:
+    from ._read import _QuietLog
+    bdf = copy.deepcopy(deck.bdf)
+    bdf.log = _QuietLog()
+    u, w = deck.units, deck.wtmass
+    notes: list[str] = []
+    tmodel = deck.model
+    if sorted(model.node_ids.tolist()) != sorted(tmodel.node_ids.tolist()):
+        raise ModelError("write_bdf: the model's node ids differ from the template deck's; write without template= "
+                         "for a model with a different mesh")
+    if not np.allclose(model.xyz[np.argsort(model.node_ids)], tmodel.xyz[np.argsort(tmodel.node_ids)],
+                       rtol=0, atol=1e-9 * max(1.0, float(np.abs(tmodel.xyz).max()))):
+        raise ModelError("write_bdf: node coordinates differ from the template deck; geometry changes are not "
+                         "written into a template (write without template=)")
+    next_mid = max(list(bdf.materials) + [0]) + 1
+    next_pid = max(list(bdf.properties) + [0]) + 1
+    mat_values: dict[int, dict] = {}
+
+    def material_id(mid: int, mat: Material) -> int:
+        nonlocal next_mid
+        vals = _material_values(mat, u, w)
+        if mid in mat_values and not all(_same(mat_values[mid][k] or 0.0, vals[k] or 0.0) for k in vals):
+            for other, ov in mat_values.items():  # an already split copy with the same values
+                if all(_same(ov[k] or 0.0, vals[k] or 0.0) for k in vals):
+                    return other
+            src = bdf.materials[mid]
+            new = copy.deepcopy(src)
+            new.mid = next_mid
+            new.comment = f"copy of MAT1 {mid} with values updated by flexgvt"
+            bdf.materials[next_mid] = new
+            mid, next_mid = next_mid, next_mid + 1
+        mat_values[mid] = vals
+        card = bdf.materials[mid]
+        card.e, card.rho = vals["E"], vals["rho"]
+        card.g, card.nu = vals["G"], vals["nu"]
+        return mid
+
+    names = {g.name for g in model.beams}
+    missing = sorted(set(deck.beams) - names)
+    extra = sorted(names - set(deck.beams))
+    if missing or extra:
+        raise ModelError(f"write_bdf: beam groups differ from the template (missing {missing}, not in the deck "
+                         f"{extra}); write without template=")
+    for group in model.beams:
+        src = deck.beams[group.name]
+        if len(group.ids) != len(src.eids):
+            raise ModelError(f"write_bdf: beam group '{group.name}' has {len(group.ids)} elements, the template "
+                             f"{len(src.eids)}")
+        prop = bdf.properties[src.pid]
+        prop.mid = material_id(src.mid, group.material)
+        section = _scale_section(group.section, 1.0 / u.length)
+        _update_beam_property(bdf, prop, section, src, notes)
+
+    # concentrated masses
+    if len(model.masses) != len(deck.mass_sources):
+        raise ModelError(f"write_bdf: the model has {len(model.masses)} concentrated masses, the template "
+                         f"{len(deck.mass_sources)}; write without template=")
+    for item, old, (card, ident) in zip(model.masses, tmodel.masses, deck.mass_sources):
+        if item.node != old.node:
+            raise ModelError(f"write_bdf: concentrated mass from {card} {ident} moved from node {old.node} to "
+                             f"{item.node}")
+        if _same(item.mass, old.mass) and _same(item.offset, old.offset) and _same(item.inertia, old.inertia):
+            continue
+        if card.startswith("NSM"):
+            notes.append(f"mass lumped from the NSM of {card[4:]} {ident} changed; NSM is not written back")
+            continue
+        elem = bdf.masses[ident]
+        node_xyz = deck.model.xyz[deck.model.index_of([item.node])[0]] / u.length
+        m = item.mass / (u.mass * w)
+        r = np.asarray(item.offset) / u.length
+        J = np.asarray(item.inertia) / (u.inertia * w)
+        if card == "CONM2":
+            if elem.cid == -1:
+                elem.X = node_xyz + r
+                T = np.eye(3)
+            else:
+                T = coord_axes(bdf, elem.cid, node_xyz, f"CONM2 {ident}")
+                elem.X = T.T @ r
+            Jl = T.T @ J @ T
+            elem.mass = m
+            elem.I = np.array([Jl[0, 0], -Jl[1, 0], Jl[1, 1], -Jl[2, 0], -Jl[2, 1], Jl[2, 2]])
+        else:  # CONM1
+            T = coord_axes(bdf, elem.cid, node_xyz, f"CONM1 {ident}")
+            S = np.array([[0, -r[2], r[1]], [r[2], 0, -r[0]], [-r[1], r[0], 0]])
+            M = np.zeros((6, 6))
+            M[:3, :3] = m * np.eye(3)
+            M[:3, 3:] = -m * S
+            M[3:, :3] = m * S
+            M[3:, 3:] = J - m * S @ S
+            T6 = np.zeros((6, 6))
+            T6[:3, :3] = T6[3:, 3:] = T
+            elem.mass_matrix = T6.T @ M @ T6
+
+    # springs and dampers
+    if len(model.springs) != len(deck.spring_sources):
+        raise ModelError(f"write_bdf: the model has {len(model.springs)} springs, the template "
+                         f"{len(deck.spring_sources)}; write without template=")
+    prop_values: dict[int, tuple] = {}
+
+    def prop_for(elem, values: tuple):
+        nonlocal next_pid
+        pid = elem.pid
+        if pid in prop_values and not _same(prop_values[pid], values):
+            new = copy.deepcopy(bdf.properties[pid])
+            new.pid = next_pid
+            bdf.properties[next_pid] = new
+            elem.pid = next_pid
+            pid, next_pid = next_pid, next_pid + 1
+        prop_values[pid] = values
+        return bdf.properties[pid]
+
+    tr, rot = u.force / u.length, u.moment
+    for item, old, (card, ident) in zip(model.springs, tmodel.springs, deck.spring_sources):
+        if (item.node_a, item.node_b) != (old.node_a, old.node_b) or not np.allclose(item.frame, old.frame):
+            raise ModelError(f"write_bdf: the spring from {card} {ident} changed its nodes or axes")
+        scale = np.r_[[tr] * 3, [rot] * 3]
+        k = np.asarray(item.stiffness) / scale
+        c = np.asarray(item.damping) / scale
+        elem = bdf.elements[ident]
+        if card in ("CELAS1", "CELAS2", "CDAMP1", "CDAMP2"):
+            comp = int(elem.c1 or elem.c2) - 1
+            if card == "CELAS1":
+                prop_for(elem, (k[comp],)).k = k[comp]
+            elif card == "CELAS2":
+                elem.k = k[comp]
+            elif card == "CDAMP1":
+                prop_for(elem, (c[comp],)).b = c[comp]
+            else:
+                elem.b = c[comp]
+        elif card == "CVISC":
+            p = prop_for(elem, (c[0], c[3]))
+            p.ce, p.cr = c[0], c[3]
+        elif card == "CBUSH":
+            p = prop_for(elem, tuple(k) + tuple(c))
+            if "K" in p.vars or np.any(k):
+                p.Ki = list(k)
+                if "K" not in p.vars:
+                    p.vars.append("K")
+            if "B" in p.vars or np.any(c):
+                p.Bi = list(c)
+                if "B" not in p.vars:
+                    p.vars.append("B")
+    if len(model.rigid_links) != len(deck.rigid_sources):
+        raise ModelError("write_bdf: rigid links differ from the template; write without template=")
+    _quiet_write(bdf, path, size)
+    return notes
+
+
+def _update_beam_property(bdf, prop, section, src, notes: list[str]) -> None:
+    """Write a (deck-unit) flexgvt section into a PBAR/PBARL/PBEAM/PBEAML card."""
+    where = f"{prop.type} {prop.pid}"
+    if prop.type in ("PBARL", "PBEAML"):
+        shape = prop.Type if prop.type == "PBARL" else prop.beam_type
+        dims = library_dims(section) if getattr(section, "shear", True) else None
+        if dims is not None and dims[0] == shape:
+            if prop.type == "PBARL":
+                prop.dim = list(dims[1])
+            else:
+                prop.dim = [list(dims[1]) for _ in prop.dim]
+            return
+        old = prop.dim if prop.type == "PBARL" else prop.dim[0]
+        if section == library_section(where, shape, old).section or (
+                isinstance(section, GeneralSection) and section.properties() ==
+                library_section(where, shape, old).section.properties()):
+            return
+        # Values no longer match the shape: replace by an equivalent PBAR / PBEAM.
+        vals = to_properties(section, src.principal)
+        nsm = prop.nsm if prop.type == "PBARL" else float(np.atleast_1d(prop.nsm)[0] if prop.nsm is not None else 0)
+        del bdf.properties[prop.pid]
+        if prop.type == "PBARL":
+            bdf.add_pbar(prop.pid, prop.mid, A=vals["A"], i1=vals["I1"], i2=vals["I2"], i12=vals["I12"], j=vals["J"],
+                         nsm=nsm or 0.0, k1=vals["K1"], k2=vals["K2"],
+                         comment=f"PBARL {prop.pid} ({shape}) replaced by flexgvt: updated section values")
+        else:
+            bdf.add_pbeam(prop.pid, prop.mid, [0.0], ["C"], [vals["A"]], [vals["I1"]], [vals["I2"]], [vals["I12"]],
+                          [vals["J"]], nsm=[nsm or 0.0], k1=vals["K1"] or 0.0, k2=vals["K2"] or 0.0,
+                          comment=f"PBEAML {prop.pid} ({shape}) replaced by flexgvt: updated section values")
+        notes.append(f"{where} ({shape}) was replaced by an equivalent "
+                     f"{'PBAR' if prop.type == 'PBARL' else 'PBEAM'}: its updated values are not those of a {shape}")
+        return
+    vals = to_properties(section, src.principal)
+    if prop.type == "PBAR":
+        prop.A, prop.i1, prop.i2, prop.i12, prop.j = vals["A"], vals["I1"], vals["I2"], vals["I12"], vals["J"]
+        prop.k1, prop.k2 = vals["K1"], vals["K2"]
+    else:  # PBEAM: constant along its stations
+        n = len(np.atleast_1d(prop.A))
+        prop.A = [vals["A"]] * n
+        prop.i1, prop.i2, prop.i12, prop.j = ([vals[k]] * n for k in ("I1", "I2", "I12", "J"))
+        prop.k1 = vals["K1"] or 0.0
+        prop.k2 = vals["K2"] or 0.0
+
+
+# --------------------------------------------------------------------------- compact
+def _write_compact(model: Model, path: Path, configurations, u: Units, size: int, n_modes: int) -> list[str]:
+    from pyNastran.bdf.bdf import BDF
+
+    from ._read import _QuietLog
+    notes: list[str] = []
+    bdf = BDF(log=_QuietLog())
+    bdf.sol = 103
+    bdf.executive_control_lines = ["SOL 103"]
+    node_ids = model.node_ids
+    for nid, x in zip(node_ids.tolist(), model.xyz / u.length):
+        bdf.add_grid(int(nid), [float(v) for v in x])
+    xyz = dict(zip(node_ids.tolist(), model.xyz))
+    mats: list[Material] = []
+    formulations = {g.mass for g in model.beams}
+    if len(formulations) > 1:
+        raise ModelError("write_bdf: beam groups mix lumped and consistent mass; Nastran's PARAM,COUPMASS is "
+                         "global. Use one formulation")
+    if formulations == {"consistent"}:
+        bdf.add_param("COUPMASS", [1])
+    if any(g.rotary_inertia for g in model.beams):
+        notes.append("beam rotary inertia (rotary_inertia=True) has no bulk data equivalent and is not written")
+    eid_used = set()
+    for pid, group in enumerate(model.beams, start=1):
+        try:
+            mid = next(i for i, m in enumerate(mats, start=1) if m == group.material)
+        except StopIteration:
+            mats.append(group.material)
+            mid = len(mats)
+            vals = _material_values(group.material, u, 1.0)
+            bdf.add_mat1(mid, vals["E"], vals["G"] if group.material.G is not None else None, vals["nu"],
+                         rho=vals["rho"], comment=f"flexgvt material '{group.material.name}'")
+        section = _scale_section(group.section, 1.0 / u.length)
+        comment = f"flexgvt beam group '{group.name}'" if group.name else ""
+        dims = library_dims(section) if getattr(section, "shear", False) else None
+        if dims is not None:
+            bdf.add_pbarl(pid, mid, dims[0], list(dims[1]), comment=comment)
+        else:
+            vals = to_properties(section)
+            p = section.properties()
+            if abs(p["Ip"] - (p["Iy"] + p["Iz"])) > 1e-9 * (p["Iy"] + p["Iz"]):
+                notes.append(f"beam group '{group.name}': polar moment Ip != Iy + Iz is not written (PBAR has none)")
+            bdf.add_pbar(pid, mid, A=vals["A"], i1=vals["I1"], i2=vals["I2"], i12=0.0, j=vals["J"],
+                         k1=vals["K1"], k2=vals["K2"], comment=comment)
+        a = np.array([xyz[n] for n in group.nodes[:, 0].tolist()])
+        b = np.array([xyz[n] for n in group.nodes[:, 1].tolist()])
+        ex = (b - a) / np.linalg.norm(b - a, axis=1, keepdims=True)
+        z = group.orientation - np.sum(group.orientation * ex, axis=1, keepdims=True) * ex
+        z /= np.linalg.norm(z, axis=1, keepdims=True)
+        v = np.cross(z, ex)  # Nastran v = element y, so that Nastran z = x cross v = flexgvt z
+        for eid, (na, nb), vv in zip(group.ids.tolist(), group.nodes.tolist(), v):
+            bdf.add_cbar(int(eid), pid, [int(na), int(nb)], [float(c) for c in vv], None)
+            eid_used.add(int(eid))
+    next_eid = max(eid_used | {0}) + 1
+    next_pid = len(model.beams) + 1
+    next_cid = 1
+    for item in model.masses:
+        J = np.asarray(item.inertia) / u.inertia
+        bdf.add_conm2(next_eid, item.node, item.mass / u.mass, cid=0, X=list(np.asarray(item.offset) / u.length),
+                      I=[J[0, 0], -J[1, 0], J[1, 1], -J[2, 0], -J[2, 1], J[2, 2]])
+        next_eid += 1
+    scale = np.r_[[u.force / u.length] * 3, [u.moment] * 3]
+    for s in model.springs:
+        k = np.asarray(s.stiffness) / scale
+        c = np.asarray(s.damping) / scale
+        nodes = [s.node_a, s.node_b]
+        if np.allclose(s.frame, np.eye(3), atol=1e-12):
+            for comp in range(6):
+                if k[comp]:
+                    bdf.add_celas2(next_eid, k[comp], nodes, c1=comp + 1, c2=comp + 1 if s.node_b else 0)
+                    next_eid += 1
+                if c[comp]:
+                    bdf.add_cdamp2(next_eid, c[comp], nodes, c1=comp + 1, c2=comp + 1 if s.node_b else 0)
+                    next_eid += 1
+            continue
+        if s.node_b is not None and np.linalg.norm(xyz[s.node_a] - xyz[s.node_b]) > 1e-9:
+            raise ModelError(f"write_bdf: spring between distinct nodes {s.node_a} and {s.node_b} with rotated axes "
+                             "has no exact bulk data card (CBUSH needs coincident nodes); use basic axes")
+        F = np.asarray(s.frame)
+        origin = xyz[s.node_a] / u.length
+        bdf.add_cord2r(next_cid, list(origin), list(origin + F[:, 2]), list(origin + F[:, 0]))
+        bdf.add_pbush(next_pid, list(k), list(c), [None] * 6)
+        bdf.add_cbush(next_eid, next_pid, nodes, None, None, cid=next_cid)
+        next_cid, next_pid, next_eid = next_cid + 1, next_pid + 1, next_eid + 1
+    for link in model.rigid_links:
+        bdf.add_rbe2(next_eid, link.independent, "123456", list(link.dependents))
+        next_eid += 1
+    elem_nodes = {int(e): (int(a), int(b)) for g in model.beams for e, (a, b) in zip(g.ids, g.nodes)}
+    _write_configurations(bdf, list(configurations or []), u, n_modes, elem_nodes)
+    _quiet_write(bdf, path, size)
+    return notes
+
+
+def _write_configurations(bdf, configurations: list[Configuration], u: Units, n_modes: int, elem_nodes) -> None:
+    from pyNastran.bdf.case_control_deck import CaseControlDeck
+
+    lines = ["ECHO = NONE", f"METHOD = 1"]
+    bdf.add_eigrl(1, nd=n_modes)
+    for i, cfg in enumerate(configurations, start=1):
+        if cfg.suspension or cfg.springs or cfg.masses:
+            raise ModelError(f"write_bdf: configuration '{cfg.name}' has cords, springs or masses of its own; bulk "
+                             "data has no per-subcase elements. Put them in the model before writing")
+        lines += [f"SUBCASE {i}", f"  LABEL = {cfg.name}"]
+        by_comp: dict[str, list[int]] = {}
+        for node, comps in cfg.fixed.items():
+            by_comp.setdefault("".join(sorted(comps)), []).append(int(node))
+        for comps, nodes in sorted(by_comp.items()):
+            bdf.add_spc1(i, comps, sorted(nodes))
+        if by_comp:
+            lines.append(f"  SPC = {i}")
+        factors, sets = [], []
+        if cfg.gravity:
+            d = np.asarray(cfg.gravity_direction, float)
+            bdf.add_grav(200 + i, cfg.g / u.length, list(d / np.linalg.norm(d)))
+            factors.append(cfg.gravity)
+            sets.append(200 + i)
+        have = False
+        for load in cfg.forces:
+            f = np.asarray(load.force, float) / u.force
+            m = np.asarray(load.moment, float) / u.moment
+            if np.any(f):
+                bdf.add_force(300 + i, load.node, 1.0, list(f))
+                have = True
+            if np.any(m):
+                bdf.add_moment(300 + i, load.node, 1.0, list(m))
+                have = True
+        for dist in cfg.distributed:
+            w = np.asarray(dist.per_length, float) * u.length / u.force
+            for e in dist.elements:
+                for k, axis in enumerate("XYZ"):
+                    if w[k]:
+                        bdf.add_pload1(300 + i, int(e), f"F{axis}", "FR", 0.0, w[k], 1.0, w[k])
+                        have = True
+        if have:
+            factors.append(1.0)
+            sets.append(300 + i)
+        if sets:
+            bdf.add_load(100 + i, 1.0, factors, sets)
+            lines.append(f"  LOAD = {100 + i}")
+    lines.append("BEGIN BULK")
+    bdf.case_control_deck = CaseControlDeck(lines, bdf.log)
+
+
+def write_bdf(model: Model, path, template: BdfDeck | None = None, *, configurations=None,
+              units: str | Units = "SI", size: int = 8, n_modes: int = 10) -> Path:
+    """Write ``model`` as Nastran bulk data to ``path``; returns the path.
+
+    template: a BdfDeck from read_bdf. Its deck is written back (case control, loads, constraints,
+    comments and every card flexgvt does not touch kept as pyNastran writes them; INCLUDEs are
+    merged into the one file) with the model's material, beam section, concentrated mass and
+    spring/damper values. A MAT1 or spring property shared by groups that now differ is split
+    into copies with new ids; a PBARL/PBEAML whose values no longer fit its shape becomes an
+    equivalent PBAR/PBEAM. The deck's units and PARAM,WTMASS are kept.
+    Without template: a compact deck (GRID, CBAR + PBAR/PBARL + MAT1, CONM2, CELAS2/CDAMP2 or
+    CBUSH, RBE2) in ``units``, with one SUBCASE per entry of ``configurations`` (SPC1, GRAV,
+    FORCE/MOMENT, PLOAD1 combined by LOAD) and an EIGRL for ``n_modes``.
+    size: 8 (small field) or 16 (large field).
+    """
+    path = Path(path)
+    if template is not None:
+        if configurations is not None:
+            raise ModelError("write_bdf: configurations= is for compact decks; a template keeps its own case "
+                             "control and loads")
+        notes = _write_into_template(model, path, template, size)
+    else:
+        notes = _write_compact(model, path, configurations, get_units(units), size, n_modes)
+    if notes:
+        warnings.warn(f"{path}: " + "; ".join(notes), stacklevel=2)
+    return path
