@@ -13,7 +13,7 @@ from pathlib import Path
 import numpy as np
 
 from ...errors import FileFormatError, FlexGVTError, ModelError
-from ...model import (STANDARD_GRAVITY, Configuration, DistributedLoad, Material, Model, NodalLoad)
+from ...model import Configuration, DistributedLoad, GeneralSection, Material, Model, NodalLoad
 from ._common import (CardIndex, UnsupportedCardsError, Units, absolute_include_lines, coord_axes, get_units,
                       split_first_fields, where_prefix)
 from ._sections import SectionData, from_properties, library_section
@@ -25,7 +25,7 @@ SUPPORTED_PROPERTIES = BEAM_PROPERTIES + ("PELAS", "PDAMP", "PVISC", "PBUSH")
 SUPPORTED_LOADS = ("FORCE", "MOMENT", "GRAV", "PLOAD1")
 # Cards that carry no structure or are read through the case control (methods, solution controls).
 IGNORED_CARDS = {"ENDDATA", "PARAM", "EIGRL", "EIGR", "NLPARM", "NLPCI", "MDLPRM", "DTI", "TSTEPNL", "TSTEP", "FREQ",
-                 "FREQ1", "FREQ2", "NLSTEP"}
+                 "FREQ1", "FREQ2", "NLSTEP", "USET", "USET1"}
 # Bulk cards flexgvt reads (anything else present in the deck is reported as unsupported).
 READ_CARDS = set(SUPPORTED_ELEMENTS + SUPPORTED_PROPERTIES + SUPPORTED_LOADS) | {
     "GRID", "MAT1", "CORD2R", "CORD2C", "CORD2S", "CORD1R", "CORD1C", "CORD1S", "SPC", "SPC1", "SPCADD", "LOAD"}
@@ -186,7 +186,9 @@ def _check_duplicates(path: Path, index: CardIndex) -> None:
 
 
 class _Reader:
-    def __init__(self, path: Path, units: Units, mass: str | None, rotary_inertia: bool):
+    def __init__(self, path: Path, units: Units, mass: str | None, rotary_inertia: bool,
+                 cbar_torsional_inertia: bool = True):
+        self.cbar_torsional_inertia = cbar_torsional_inertia
         self.path = path
         self.units = units
         self.index = CardIndex(path)
@@ -424,6 +426,10 @@ class _Reader:
                 continue
             sdata, nsm = got
             section = _scale_section(sdata.section, u.length)
+            if self.cbar_torsional_inertia is False and elems[0].type == "CBAR":
+                p = section.properties()
+                section = GeneralSection(A=p["A"], Iy=p["Iy"], Iz=p["Iz"], J=p["J"], Ay=p["Ay"] or None,
+                                         Az=p["Az"] or None, Ip=1e-9 * (p["Iy"] + p["Iz"]))
             pairs = np.array([e.node_ids[:2] for e in elems], int)
             ga = np.array([self.xyz[p[0]] for p in pairs])
             gb = np.array([self.xyz[p[1]] for p in pairs])
@@ -634,10 +640,23 @@ class _Reader:
 
     # ----------------------------------------------------------------- everything else
     def list_other_cards(self) -> None:
-        for name, count in self.bdf.card_count.items():
+        bdf = self.bdf
+        used_pids = {getattr(e, "pid", None) for e in bdf.elements.values()}
+        used_mids = {getattr(p, "mid", None) for p in bdf.properties.values() if getattr(p, "pid", None) in used_pids}
+        for p in bdf.properties.values():
+            used_mids.update(getattr(p, "mids", []) or [])
+        for name, count in bdf.card_count.items():
             if name in READ_CARDS or name in IGNORED_CARDS:
                 continue
             ids = sorted({ident for (n, ident) in self.index.places if n == name}, key=_natural)
+            if name in PROPERTY_NAMESPACE or name in MATERIAL_NAMESPACE:
+                used = used_pids if name in PROPERTY_NAMESPACE else used_mids
+                unused = [i for i in ids if i.isdigit() and int(i) not in used]
+                if unused:
+                    self.notes.append(f"{name} {', '.join(unused)} not used by any element: ignored")
+                ids = [i for i in ids if i not in unused]
+                if not ids:
+                    continue
             self.unsupported.setdefault(name, []).extend(ids or [f"{count} card(s)"])
         for card in getattr(self.bdf, "reject_cards", []) or []:
             name = str(card[0]).upper().rstrip("*") if card else "?"
@@ -646,6 +665,15 @@ class _Reader:
     # ----------------------------------------------------------------- configurations
     def read_configurations(self) -> None:
         bdf = self.bdf
+        connected = {int(n) for g in self.model.beams for n in g.nodes.ravel()}
+        connected |= {n for sp in self.model.springs for n in (sp.node_a, sp.node_b) if n is not None}
+        connected |= {n for link in self.model.rigid_links for n in (link.independent, *link.dependents)}
+        self.autospc = sorted(set(bdf.nodes) - connected)
+        if str(self.param("AUTOSPC", "YES")).upper() in ("NO", "N", "-1"):
+            self.autospc = []
+        if self.autospc:
+            self.notes.append(f"node(s) {self.autospc[:10]}{' ...' if len(self.autospc) > 10 else ''} have no "
+                              "element: fixed in every configuration (as Nastran's AUTOSPC does)")
         ccd = bdf.case_control_deck
         subcases = {} if ccd is None else dict(ccd.subcases)
         numbered = {k: v for k, v in subcases.items() if k > 0}
@@ -684,6 +712,8 @@ class _Reader:
         if mpc_id is not None:
             self.skip("MPC (case control MPC set)", mpc_id)
         fixed: dict[int, set[int]] = {}
+        for nid in self.autospc:
+            fixed.setdefault(int(nid), set()).update(range(6))
         for nid, node in bdf.nodes.items():
             if node.ps:
                 self._fix(fixed, nid, str(node.ps), f"{self.at('GRID', nid)} (PS)")
@@ -901,7 +931,7 @@ def _rigid_mass(M: np.ndarray, rtol: float = 1e-6):
 
 
 def read_bdf(path, *, units: str | Units = "SI", unsupported: str = "error", mass: str | None = None,
-             rotary_inertia: bool = False) -> BdfDeck:
+             rotary_inertia: bool = False, cbar_torsional_inertia: bool = True) -> BdfDeck:
     """Read a Nastran bulk data deck into a flexgvt Model and Configurations.
 
     path: .bdf/.dat/.nas file (INCLUDEs followed; executive and case control optional).
@@ -912,6 +942,9 @@ def read_bdf(path, *, units: str | Units = "SI", unsupported: str = "error", mas
     mass: 'lumped' or 'consistent' beam mass; default from PARAM,COUPMASS (lumped unless > 0).
     rotary_inertia: include bending rotary inertia of beams (Nastran's CBAR leaves it out, so the
     default False matches Nastran; torsional inertia is always kept).
+    cbar_torsional_inertia: False reproduces Nastran's lumped CBAR, which has no torsional
+    inertia (measured against Simcenter Nastran on tests/data/bdf/beam_modes); the default True
+    keeps rho*Ip, as flexgvt's beams (and physics) have it.
     Returns a BdfDeck with .model and .configurations (one per SUBCASE, named 'subcase_<id>', or
     one named after the file when there are no subcases).
     """
@@ -922,7 +955,7 @@ def read_bdf(path, *, units: str | Units = "SI", unsupported: str = "error", mas
         raise ModelError(f"read_bdf: unsupported={unsupported!r} must be 'error' or 'warn'")
     if mass not in (None, "lumped", "consistent"):
         raise ModelError(f"read_bdf: mass={mass!r} must be None (from COUPMASS), 'lumped' or 'consistent'")
-    reader = _Reader(path, get_units(units), mass, rotary_inertia)
+    reader = _Reader(path, get_units(units), mass, rotary_inertia, cbar_torsional_inertia)
     deck = reader.read()
     if deck.unsupported:
         listing = "; ".join(f"{card}: {', '.join(map(str, ids[:8]))}{', ...' if len(ids) > 8 else ''}"
