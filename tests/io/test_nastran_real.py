@@ -76,4 +76,4 @@ def test_beam_modes_with_a_crod_names_the_card(tmp_path):
     with pytest.raises(UnsupportedCardsError) as err:
         fg.io.read_bdf(path, units="in-lbf-s")
     assert "CROD: 99" in str(err.value) and "USET" not in str(err.value)
-    assert err.value.unsupported == {"CROD": ["99"]}
+    assert err.value.unsupported == {"CROD": ["99"], "PROD": ["2"]}  # PROD 2 is now used
