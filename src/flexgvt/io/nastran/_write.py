@@ -303,10 +303,17 @@ def _write_compact(model: Model, path: Path, configurations, u: Units, size: int
                     bdf.add_cdamp2(next_eid, c[comp], nodes, c1=comp + 1, c2=comp + 1 if s.node_b else 0)
                     next_eid += 1
             continue
-        if s.node_b is not None and np.linalg.norm(xyz[s.node_a] - xyz[s.node_b]) > 1e-9:
+        F = np.asarray(s.frame)
+        line = None if s.node_b is None else xyz[s.node_b] - xyz[s.node_a]
+        if line is not None and np.linalg.norm(line) > 1e-9:
+            along = abs(F[:, 0] @ line) / np.linalg.norm(line) > 1 - 1e-12
+            if along and not np.any(k) and not np.any(c[[1, 2, 4, 5]]):  # a dashpot along the line: CVISC
+                bdf.add_pvisc(next_pid, c[0], c[3])
+                bdf.add_cvisc(next_eid, next_pid, nodes)
+                next_pid, next_eid = next_pid + 1, next_eid + 1
+                continue
             raise ModelError(f"write_bdf: spring between distinct nodes {s.node_a} and {s.node_b} with rotated axes "
                              "has no exact bulk data card (CBUSH needs coincident nodes); use basic axes")
-        F = np.asarray(s.frame)
         origin = xyz[s.node_a] / u.length
         bdf.add_cord2r(next_cid, list(origin), list(origin + F[:, 2]), list(origin + F[:, 0]))
         bdf.add_pbush(next_pid, list(k), list(c), [None] * 6)
@@ -372,7 +379,7 @@ def _write_configurations(bdf, configurations: list[Configuration], u: Units, n_
 
 
 def write_bdf(model: Model, path, template: BdfDeck | None = None, *, configurations=None,
-              units: str | Units = "SI", size: int = 8, n_modes: int = 10) -> Path:
+              units: str | Units = "SI", size: int = 16, n_modes: int = 10) -> Path:
     """Write ``model`` as Nastran bulk data to ``path``; returns the path.
 
     template: a BdfDeck from read_bdf. Its deck is written back (case control, loads, constraints,
@@ -384,7 +391,7 @@ def write_bdf(model: Model, path, template: BdfDeck | None = None, *, configurat
     Without template: a compact deck (GRID, CBAR + PBAR/PBARL + MAT1, CONM2, CELAS2/CDAMP2 or
     CBUSH, RBE2) in ``units``, with one SUBCASE per entry of ``configurations`` (SPC1, GRAV,
     FORCE/MOMENT, PLOAD1 combined by LOAD) and an EIGRL for ``n_modes``.
-    size: 8 (small field) or 16 (large field).
+    size: 16 (large field, default: 12 significant digits, so updated values survive) or 8 (small field).
     """
     path = Path(path)
     if template is not None:
