@@ -77,3 +77,37 @@ def test_beam_modes_with_a_crod_names_the_card(tmp_path):
         fg.io.read_bdf(path, units="in-lbf-s")
     assert "CROD: 99" in str(err.value) and "USET" not in str(err.value)
     assert err.value.unsupported == {"CROD": ["99"], "PROD": ["2"]}  # PROD 2 is now used
+
+
+PYN = DATA / "pynastran"
+
+
+def test_patran_crod_deck_fails_naming_crod():
+    with pytest.raises(UnsupportedCardsError) as err:
+        fg.io.read_bdf(PYN / "sdof_crod.bdf")
+    assert err.value.unsupported == {"CROD": ["6"], "PROD": ["1"]}
+    assert "sdof_crod.bdf" in str(err.value)
+
+
+def test_patran_offset_cbeam_deck_fails_naming_the_feature():
+    with pytest.raises(UnsupportedCardsError) as err:
+        fg.io.read_bdf(PYN / "cantilever_2014.1.bdf")
+    assert list(err.value.unsupported) == ["CBEAM (offsets WA/WB)"]
+    assert len(err.value.unsupported["CBEAM (offsets WA/WB)"]) == 10
+
+
+def test_euler_column_reads_with_grdset_and_prestress_lowers_the_frequency():
+    """420 CBEAM (PBEAML ROD), GRDSET PS=345 (planar), SOL 105 deck in mm-N. Compression P lowers the
+    first pinned-pinned bending frequency by sqrt(1 - P/Pcr) (same mode shape as buckling)."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        deck = fg.io.read_bdf(PYN / "euler_column_linear_buckling.bdf", units="mm-N-t-s")
+    cfg = deck.configurations["subcase_1"]
+    assert cfg.fixed[1] == "12345" and cfg.fixed[421] == "2345" and cfg.fixed[200] == "345"
+    assert cfg.forces[0].force == pytest.approx((-1.0, 0, 0))
+    E, R, L = 207000e6, 0.010, 0.420
+    p_cr = np.pi**2 * E * (np.pi * R**4 / 4) / L**2
+    free = fg.solve_modes(fg.solve_static(deck.model, cfg.with_(forces=())), 1).frequencies_hz[0]
+    loaded_cfg = cfg.with_(forces=(fg.NodalLoad(421, force=(-0.5 * p_cr, 0.0, 0.0)),))
+    loaded = fg.solve_modes(fg.solve_static(deck.model, loaded_cfg), 1).frequencies_hz[0]
+    assert loaded / free == pytest.approx(np.sqrt(0.5), rel=1e-2)

@@ -26,14 +26,26 @@ SUPPORTED_LOADS = ("FORCE", "MOMENT", "GRAV", "PLOAD1")
 # Cards that carry no structure or are read through the case control (methods, solution controls).
 IGNORED_CARDS = {"ENDDATA", "PARAM", "EIGRL", "EIGR", "NLPARM", "NLPCI", "MDLPRM", "DTI", "TSTEPNL", "TSTEP", "FREQ",
                  "FREQ1", "FREQ2", "NLSTEP", "USET", "USET1"}
+# Cards that do not change the structure, its constraints or static loads (aerodynamics, design
+# optimisation, dynamic loading, output): ignored with one note naming them.
+NON_STRUCTURAL = {"AERO", "AEROS", "CAERO1", "CAERO2", "CAERO3", "CAERO4", "CAERO5", "PAERO1", "PAERO2", "PAERO3",
+                  "PAERO4", "PAERO5", "SPLINE1", "SPLINE2", "SPLINE3", "SPLINE4", "SPLINE5", "SET1", "SET2", "SET3",
+                  "AELIST", "AESURF", "AESURFS", "AESTAT", "AELINK", "AEPARM", "AEFACT", "TRIM", "TRIM2", "FLUTTER",
+                  "FLFACT", "MKAERO1", "MKAERO2", "MONPNT1", "MONPNT2", "MONPNT3", "CSSCHD", "GUST", "DIVERG",
+                  "DESVAR", "DVPREL1", "DVPREL2", "DVMREL1", "DVMREL2", "DVCREL1", "DVCREL2", "DVGRID", "DRESP1",
+                  "DRESP2", "DRESP3", "DCONSTR", "DCONADD", "DOPTPRM", "DEQATN", "DTABLE", "DLINK", "DSCREEN",
+                  "DLOAD", "TLOAD1", "TLOAD2", "RLOAD1", "RLOAD2", "TABLED1", "TABLED2", "TABLED3", "TABLED4",
+                  "TABDMP1", "DAREA", "DELAY", "DPHASE", "RANDPS", "NLCNTLG"}
 # Bulk cards flexgvt reads (anything else present in the deck is reported as unsupported).
 READ_CARDS = set(SUPPORTED_ELEMENTS + SUPPORTED_PROPERTIES + SUPPORTED_LOADS) | {
-    "GRID", "MAT1", "CORD2R", "CORD2C", "CORD2S", "CORD1R", "CORD1C", "CORD1S", "SPC", "SPC1", "SPCADD", "LOAD"}
+    "GRID", "GRDSET", "MAT1", "CORD2R", "CORD2C", "CORD2S", "CORD1R", "CORD1C", "CORD1S", "SPC", "SPC1", "SPCADD", "LOAD"}
 # Cards read by pyNastran into dictionaries we inspect, mapped to where unsupported ones are listed.
+# Id namespaces as pyNastran keeps them (Nastran accepts, e.g., an RBAR and a CONM2 with the same id).
 ELEMENT_NAMESPACE = ("CBAR", "CBEAM", "CROD", "CONROD", "CTUBE", "CQUAD4", "CTRIA3", "CQUAD8", "CTRIA6", "CQUADR",
-                     "CTRIAR", "CSHEAR", "CHEXA", "CPENTA", "CTETRA", "CONM1", "CONM2", "CMASS1", "CMASS2", "CMASS3",
-                     "CMASS4", "CELAS1", "CELAS2", "CELAS3", "CELAS4", "CDAMP1", "CDAMP2", "CDAMP3", "CDAMP4", "CVISC",
-                     "CBUSH", "CBUSH1D", "CGAP", "RBE2", "RBE3", "RBAR", "RBE1", "RROD", "RSPLINE")
+                     "CTRIAR", "CSHEAR", "CHEXA", "CPENTA", "CTETRA", "CELAS1", "CELAS2", "CELAS3", "CELAS4", "CDAMP1",
+                     "CDAMP2", "CDAMP3", "CDAMP4", "CVISC", "CBUSH", "CBUSH1D", "CGAP")
+MASS_NAMESPACE = ("CONM1", "CONM2", "CMASS1", "CMASS2", "CMASS3", "CMASS4")
+RIGID_NAMESPACE = ("RBE2", "RBE3", "RBAR", "RBE1", "RROD", "RSPLINE")
 PROPERTY_NAMESPACE = ("PBAR", "PBARL", "PBEAM", "PBEAML", "PROD", "PTUBE", "PSHELL", "PCOMP", "PCOMPG", "PSHEAR",
                       "PSOLID", "PELAS", "PDAMP", "PVISC", "PBUSH", "PBUSH1D", "PGAP", "PMASS")
 MATERIAL_NAMESPACE = ("MAT1", "MAT2", "MAT8", "MAT9")
@@ -174,7 +186,8 @@ def _parse_error(path: Path, index: CardIndex, exc: Exception, log: _QuietLog) -
 
 def _check_duplicates(path: Path, index: CardIndex) -> None:
     problems = []
-    for label, names in (("node", ("GRID",)), ("element", ELEMENT_NAMESPACE), ("property", PROPERTY_NAMESPACE),
+    for label, names in (("node", ("GRID",)), ("element", ELEMENT_NAMESPACE), ("mass element", MASS_NAMESPACE),
+                         ("rigid element", RIGID_NAMESPACE), ("property", PROPERTY_NAMESPACE),
                          ("material", MATERIAL_NAMESPACE), ("coordinate system", COORD_NAMESPACE)):
         for ident, hits in index.duplicates(names).items():
             places = ", ".join(f"{card} at {f}:{ln}" for card, f, ln in hits[:4])
@@ -263,6 +276,14 @@ class _Reader:
     # ----------------------------------------------------------------- main
     def read(self) -> BdfDeck:
         bdf = self.bdf
+        grdset = getattr(bdf, "grdset", None)
+        if grdset is not None:  # GRDSET defaults for blank GRID fields (pyNastran reads blanks as 0)
+            for node in bdf.nodes.values():
+                node.cp = node.cp or (grdset.cp or 0)
+                node.cd = node.cd or (grdset.cd or 0)
+                node.ps = node.ps or (grdset.ps or "")
+            bdf.grdset = None
+            self.notes.append("GRDSET defaults applied to GRID fields that are blank or 0")
         self.check_references()
         try:
             with contextlib.redirect_stdout(io.StringIO()):
@@ -645,8 +666,11 @@ class _Reader:
         used_mids = {getattr(p, "mid", None) for p in bdf.properties.values() if getattr(p, "pid", None) in used_pids}
         for p in bdf.properties.values():
             used_mids.update(getattr(p, "mids", []) or [])
+        skipped = sorted(name for name in bdf.card_count if name in NON_STRUCTURAL)
+        if skipped:
+            self.notes.append(f"non-structural cards ignored: {', '.join(skipped)}")
         for name, count in bdf.card_count.items():
-            if name in READ_CARDS or name in IGNORED_CARDS:
+            if name in READ_CARDS or name in IGNORED_CARDS or name in NON_STRUCTURAL or name in self.unsupported:
                 continue
             ids = sorted({ident for (n, ident) in self.index.places if n == name}, key=_natural)
             if name in PROPERTY_NAMESPACE or name in MATERIAL_NAMESPACE:
