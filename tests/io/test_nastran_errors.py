@@ -125,3 +125,11 @@ def test_bulk_only_file_without_case_control(tmp_path):
     got = fg.io.read_bdf(path)
     cfg = got.configurations["wing"]
     assert cfg.fixed == {1: "123456"} and cfg.forces[0].force == pytest.approx((0, 0, 10.0))
+
+
+def test_missing_include_file(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)  # pyNastran would drop a crash file in the working folder
+    path = deck(tmp_path, BEAM + "INCLUDE 'nowhere.inc'\n")
+    with pytest.raises(FileFormatError, match=r"deck.bdf:11: INCLUDE file .*nowhere.inc does not exist"):
+        fg.io.read_bdf(path)
+    assert not (tmp_path / "pyNastran_crash.bdf").exists()

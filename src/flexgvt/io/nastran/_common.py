@@ -79,6 +79,7 @@ class CardIndex:
     def __init__(self, path: Path):
         self.places: dict[tuple[str, str], list[tuple[str, int]]] = {}
         self.root = Path(path).resolve().parent
+        self.missing_includes: list[tuple[str, int, str]] = []
         self._scan(Path(path), depth=0)
 
     def _scan(self, path: Path, depth: int) -> None:
@@ -91,7 +92,10 @@ class CardIndex:
             match = _INCLUDE.match(line)
             if match:
                 inc = Path(match.group(1).strip())
-                self._scan(inc if inc.is_absolute() else self.root / inc, depth + 1)
+                target = inc if inc.is_absolute() else self.root / inc
+                if not target.is_file():
+                    self.missing_includes.append((str(path), lineno, str(target)))
+                self._scan(target, depth + 1)
                 continue
             if not line or not line[0].isalpha():
                 continue

@@ -131,6 +131,10 @@ def _open_bdf(path: Path, index: CardIndex):
     """pyNastran BDF of ``path`` (with or without executive/case control), errors as FileFormatError."""
     from pyNastran.bdf.bdf import BDF
 
+    if index.missing_includes:
+        f, ln, target = index.missing_includes[0]
+        raise FileFormatError(f"{f}:{ln}: INCLUDE file {target} does not exist; fix the path (relative paths are "
+                              "taken from the main deck's folder)")
     with open(path, "r", errors="replace") as handle:
         lines = handle.readlines()
     if not any(line.strip() and not line.lstrip().startswith("$") for line in lines):
