@@ -1,0 +1,642 @@
+"""Benchmark: geometrically nonlinear static (self-weight, 20 increments) + 20 pre-stressed modes
+of a cantilever beam with 150, 1,000 and 10,000 elements, beside
+
+* the floor: the sparse factorisations the Newton solve needs (one per Newton iteration, on the
+  very tangent matrices flexgvt factorised, captured in a separate run) plus the eigensolve alone
+  (scipy eigsh shift-invert, 20 modes, the same K and M), timed in this script;
+* other factorisation libraries on the same matrices (CHOLMOD via scikit-sparse, PARDISO via
+  pypardiso, LAPACK banded LU), when they are installed (they are not flexgvt dependencies);
+* a peer: OpenSeesPy, corotational elasticBeamColumn, the same nodal gravity loads in 20
+  LoadControl increments, then eigen about the deformed state (when openseespy imports).
+
+Usage:  python bench/bench_solver.py [--sizes 150 1000 10000] [--no-peer] [--no-write] [--quick]
+
+Prints tables and rewrites the section "## Nonlinear static + pre-stressed modes (beams)" of
+docs/benchmarks.md (other sections of that file are kept). Timings are wall-clock minima over
+repeats; the numba kernel's first-call cost (compile or cache load) is measured separately.
+"""
+
+from __future__ import annotations
+
+import argparse
+import gc
+import os
+import platform
+import re
+import subprocess
+import sys
+import time
+from collections import defaultdict
+from pathlib import Path
+
+import numpy as np
+import scipy
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+
+T_START = time.perf_counter()
+import flexgvt as fg  # noqa: E402
+from flexgvt.fem import static as fg_static  # noqa: E402
+
+T_IMPORT = time.perf_counter() - T_START
+
+ROOT = Path(__file__).resolve().parents[1]
+SECTION = "## Nonlinear static + pre-stressed modes (beams)"
+N_MODES = 20
+INCREMENTS = 20
+SETTINGS = fg.StaticSettings(increments=INCREMENTS, max_increment_growth=1.0)
+
+# The strip of METHOD.md 5.3 (1.5 m x 50 mm x 3 mm aluminium) as one uniform cantilever. Euler-Bernoulli
+# section (shear=False) so that the physics is the same as OpenSees' elasticBeamColumn; no bending
+# rotary inertia (as the strip case); torsional inertia rho*Ip kept. Self-weight gives a tip
+# deflection of about 20 % of the span: a genuinely nonlinear solve.
+LENGTH, WIDTH, THICK = 1.5, 0.05, 0.003
+MATERIAL = dict(E=70e9, nu=0.33, rho=2700.0)
+
+
+def strip_cantilever(n: int):
+    model = fg.Model(f"cantilever strip {n}")
+    y = np.linspace(0.0, LENGTH, n + 1)
+    ids = model.add_nodes(np.c_[np.zeros_like(y), y, np.zeros_like(y)])
+    mat = fg.Material("Al", **MATERIAL)
+    section = fg.RectangularSection(width=WIDTH, height=THICK, shear=False)
+    model.add_beams(np.c_[ids[:-1], ids[1:]], mat, section, orientation=(0.0, 0.0, 1.0), rotary_inertia=False)
+    cfg = fg.Configuration("self_weight", fixed={int(ids[0]): "123456"}, gravity=1.0)
+    return model, cfg, section, mat
+
+
+def best(fn, repeats: int):
+    """Minimum wall time of fn() over repeats (and the last result)."""
+    times, out = [], None
+    for _ in range(repeats):
+        gc.collect()
+        t = time.perf_counter()
+        out = fn()
+        times.append(time.perf_counter() - t)
+    return min(times), out
+
+
+def freqs_from_eigenvalues(lam):
+    lam = np.asarray(lam, float)
+    return np.sign(lam) * np.sqrt(np.abs(lam)) / (2 * np.pi)
+
+
+# ----------------------------------------------------------------------------- flexgvt
+def run_flexgvt(model, cfg):
+    state = fg.solve_static(model, cfg, settings=SETTINGS)
+    t = time.perf_counter()
+    modes = fg.solve_modes(state, n_modes=N_MODES)
+    return state, modes, time.perf_counter() - t
+
+
+def capture_tangents(model, cfg):
+    """Run once recording every matrix flexgvt factorises in the Newton solve."""
+    captured = []
+    original = fg_static._Factor.__init__
+
+    def recording(self, K, reference):
+        captured.append(K.copy())
+        original(self, K, reference)
+
+    fg_static._Factor.__init__ = recording
+    try:
+        state = fg.solve_static(model, cfg, settings=SETTINGS)
+    finally:
+        fg_static._Factor.__init__ = original
+    system = state.system
+    ev = system.evaluate(state.positions, state.rotations, state.load_factor)
+    K = (0.5 * (ev.tangent + ev.tangent.T)).tocsc()
+    M = system.mass_matrix(state.positions, state.rotations).tocsc()
+    return state, captured, K, M
+
+
+# ----------------------------------------------------------------------------- floors
+def superlu_like_flexgvt(K):
+    return spla.splu(K, permc_spec="COLAMD", options={"SymmetricMode": True})
+
+
+def floor_superlu(mats):
+    for K in mats:
+        superlu_like_flexgvt(K)
+
+
+def floor_superlu_default(mats):
+    for K in mats:
+        spla.splu(K)
+
+
+def eig_floor(K, M):
+    return spla.eigsh(K, k=N_MODES, M=M, sigma=0.0, which="LM")[0]
+
+
+def banded_lu(mats):
+    from scipy.linalg.lapack import dgbtrf
+    for K in mats:
+        c = K.tocoo()
+        bw = int(np.abs(c.row - c.col).max())
+        ab = np.zeros((3 * bw + 1, K.shape[0]), order="F")
+        ab[2 * bw + c.row - c.col, c.col] = c.data
+        lu, piv, info = dgbtrf(ab, bw, bw, overwrite_ab=True)
+        if info < 0:
+            raise RuntimeError("dgbtrf failed")
+    return bw
+
+
+def optional_libraries():
+    libs = {}
+    try:
+        from sksparse.cholmod import cholesky, analyze  # noqa: F401
+        import sksparse
+        libs["cholmod"] = getattr(sksparse, "__version__", "installed")
+    except Exception as exc:  # noqa: BLE001
+        libs["cholmod_error"] = f"{type(exc).__name__}: {exc}"
+    try:
+        import pypardiso  # noqa: F401
+        from importlib.metadata import version
+        libs["pardiso"] = f"pypardiso {version('pypardiso')}, mkl {version('mkl')}"
+    except Exception as exc:  # noqa: BLE001
+        libs["pardiso_error"] = f"{type(exc).__name__}: {exc}"
+    return libs
+
+
+def cholmod_full(mats):
+    from sksparse.cholmod import cholesky
+    for K in mats:
+        cholesky((0.5 * (K + K.T)).tocsc())  # LL^T of the symmetric part (the tangent is symmetric at equilibrium)
+
+
+def cholmod_refactor(mats):
+    from sksparse.cholmod import analyze
+    sym = [(0.5 * (K + K.T)).tocsc() for K in mats]
+    t = time.perf_counter()
+    f = analyze(max(sym, key=lambda S: S.nnz))  # the fullest pattern (the straight start has exact zeros)
+    for S in sym:
+        f.cholesky_inplace(S)
+    return time.perf_counter() - t
+
+
+def pardiso_full(mats):
+    import pypardiso
+    for K in mats:
+        s = pypardiso.PyPardisoSolver()
+        s.factorize(K.tocsr())
+
+
+def pardiso_refactor(mats):
+    import pypardiso
+    csr = [K.tocsr() for K in mats]
+    t = time.perf_counter()
+    s = pypardiso.PyPardisoSolver()
+    s.factorize(csr[0])
+    b = np.zeros((csr[0].shape[0], 1))
+    for A in csr[1:]:
+        s.set_phase(22)  # numerical factorisation only, reusing the analysis
+        s._call_pardiso(A, b)
+    return time.perf_counter() - t
+
+
+def eig_cholmod(K, M):
+    from sksparse.cholmod import cholesky
+    f = cholesky(K)
+    op = spla.LinearOperator(K.shape, matvec=f, dtype=float)
+    return spla.eigsh(K, k=N_MODES, M=M, sigma=0.0, which="LM", OPinv=op)[0]
+
+
+# ----------------------------------------------------------------------------- OpenSees peer
+def run_opensees(model, cfg, section, mat, system, consistent=True):
+    """Corotational elasticBeamColumn cantilever, the same nodal loads, 20 LoadControl steps, eigen."""
+    import openseespy.opensees as ops
+    times = {}
+    t0 = time.perf_counter()
+    ops.wipe()
+    ops.model("basic", "-ndm", 3, "-ndf", 6)
+    xyz = system.cm.xyz
+    n_nodes = len(xyz)
+    for i, p in enumerate(xyz):
+        ops.node(i + 1, *map(float, p))
+    ops.fix(1, 1, 1, 1, 1, 1, 1)
+    ops.geomTransf("Corotational", 1, 0.0, 0.0, 1.0)
+    p = section.properties()
+    G = mat.shear_modulus
+    # OpenSees' consistent mass gives torsional inertia rho*A*(J/A): pass J = Ip and G*J/Ip so that the
+    # torsional stiffness GJ and the torsional inertia rho*Ip both match flexgvt.
+    J_ops, G_ops = p["Ip"], G * p["J"] / p["Ip"]
+    rhoA = mat.rho * p["A"]
+    mass_args = ["-mass", rhoA] + (["-cMass"] if consistent else [])
+    for e in range(n_nodes - 1):
+        ops.element("elasticBeamColumn", e + 1, e + 1, e + 2, p["A"], mat.E, G_ops, J_ops, p["Iy"], p["Iz"], 1,
+                    *mass_args)
+    ops.timeSeries("Linear", 1)
+    ops.pattern("Plain", 1, 1)
+    f = system.applied.reshape(-1, 6)  # flexgvt's lumped self-weight loads at load factor 1
+    for i in range(1, n_nodes):
+        if np.any(f[i]):
+            ops.load(i + 1, *map(float, f[i]))
+    ops.constraints("Plain")
+    ops.numberer("RCM")
+    ops.system("BandGen")
+    ops.test("NormDispIncr", 1e-10, 50)
+    ops.algorithm("Newton")
+    ops.integrator("LoadControl", 1.0 / INCREMENTS)
+    ops.analysis("Static")
+    times["build"] = time.perf_counter() - t0
+    t = time.perf_counter()
+    iters = 0
+    for _ in range(INCREMENTS):
+        if ops.analyze(1) != 0:
+            raise RuntimeError("OpenSees static analysis failed")
+        iters += ops.testIter()
+    times["static"] = time.perf_counter() - t
+    tip = np.array(ops.nodeDisp(n_nodes)[:3])
+    t = time.perf_counter()
+    lam = np.array(ops.eigen("-genBandArpack", N_MODES))
+    times["modes"] = time.perf_counter() - t
+    ops.wipe()
+    return times, iters, tip, freqs_from_eigenvalues(lam)
+
+
+# ----------------------------------------------------------------------------- profile
+def profile_breakdown(model, cfg):
+    """Wall time of flexgvt's pieces in one static + modes solve (exclusive times), by wrapping them."""
+    from flexgvt.fem import labels as fg_labels
+    from flexgvt.fem import modes as fg_modes
+    from flexgvt.fem import system as fg_system
+
+    acc = defaultdict(float)
+    calls = defaultdict(int)
+    stack = []
+
+    def wrap(owner, name, key):
+        fn = getattr(owner, name)
+
+        def timed(*a, **k):
+            stack.append(0.0)
+            t = time.perf_counter()
+            try:
+                return fn(*a, **k)
+            finally:
+                dt = time.perf_counter() - t
+                inner = stack.pop()
+                acc[key] += dt - inner
+                calls[key] += 1
+                if stack:
+                    stack[-1] += dt
+
+        setattr(owner, name, timed)
+        return owner, name, fn
+
+    patches = [
+        wrap(fg_system, "beam_forces", "beam kernel (numba, forces + tangent)"),
+        wrap(fg_system._Pattern, "assemble", "sparse assembly (bincount -> csc)"),
+        wrap(fg_system.System, "evaluate", "evaluate: rest (np.add.at scatter, point loads, reduce)"),
+        wrap(fg_system.System, "update", "state update (expm_so3)"),
+        wrap(fg_system.System, "mass_matrix", "mass matrix: rest (corotated element matrices)"),
+        wrap(fg_system.System, "__init__", "System set-up (DOF map, loads, pattern)"),
+        wrap(fg_static, "_rigid_body_check", "rigid-body check"),
+        wrap(fg_static.spla, "splu", "splu (SuperLU factorisation)"),
+        wrap(fg_static._Factor, "__init__", "_Factor: rest (pivot check lu.U, stabilisation)"),
+        wrap(fg_static._Factor, "solve", "triangular solves"),
+        wrap(fg_modes.spla, "eigsh", "eigsh (shift-invert LU + ARPACK)"),
+        wrap(fg_labels, "label_modes", "mode labelling"),
+    ]
+    try:
+        gc.collect()
+        t = time.perf_counter()
+        state = fg.solve_static(model, cfg, settings=SETTINGS)
+        t_static = time.perf_counter() - t
+        t = time.perf_counter()
+        fg.solve_modes(state, n_modes=N_MODES)
+        t_modes = time.perf_counter() - t
+    finally:
+        for owner, name, fn in reversed(patches):
+            setattr(owner, name, fn)
+    total = t_static + t_modes
+    rows = sorted(acc.items(), key=lambda kv: -kv[1])
+    rows.append(("Python driver: Newton loop, predictor, states, eigen post-processing", total - sum(acc.values())))
+    return t_static, t_modes, [(k, v, calls.get(k, 0)) for k, v in rows]
+
+
+# ----------------------------------------------------------------------------- report
+def machine_info():
+    cpu = platform.processor()
+    try:
+        for line in Path("/proc/cpuinfo").read_text().splitlines():
+            if line.startswith("model name"):
+                cpu = line.split(":", 1)[1].strip()
+                break
+    except OSError:
+        pass
+    try:
+        commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=ROOT, capture_output=True, text=True,
+                                check=False).stdout.strip()
+        dirty = subprocess.run(["git", "status", "--porcelain", "src"], cwd=ROOT, capture_output=True, text=True,
+                               check=False).stdout.strip()
+        commit += " (+ uncommitted src changes)" if dirty else ""
+    except OSError:
+        commit = "?"
+    import numba
+    vers = {"python": platform.python_version(), "numpy": np.__version__, "scipy": scipy.__version__,
+            "numba": numba.__version__, "flexgvt": f"{fg.__version__} @ {commit}"}
+    try:
+        from importlib.metadata import version
+        vers["openseespy"] = version("openseespy")
+    except Exception:  # noqa: BLE001
+        pass
+    return cpu, len(os.sched_getaffinity(0)), vers
+
+
+def fmt(t):
+    return f"{t * 1e3:.0f} ms" if t < 10 else f"{t:.1f} s"
+
+
+def write_section(text: str, path: Path) -> None:
+    """Replace (or append) our section of docs/benchmarks.md, keeping every other section."""
+    old = path.read_text() if path.exists() else "# Benchmarks\n\nScripts in bench/ print these tables; numbers below are from their last run.\n"
+    pattern = re.compile(rf"^{re.escape(SECTION)}\n.*?(?=^## |\Z)", re.S | re.M)
+    if pattern.search(old):
+        new = pattern.sub(lambda _: text.rstrip() + "\n\n", old)
+    else:
+        new = old.rstrip() + "\n\n" + text.rstrip() + "\n"
+    path.write_text(new.rstrip() + "\n")
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--sizes", type=int, nargs="+", default=[150, 1000, 10000])
+    ap.add_argument("--no-peer", action="store_true", help="skip OpenSeesPy")
+    ap.add_argument("--no-write", action="store_true", help="do not rewrite docs/benchmarks.md")
+    ap.add_argument("--quick", action="store_true", help="one repeat everywhere")
+    args = ap.parse_args(argv)
+
+    cpu, ncores, vers = machine_info()
+    libs = optional_libraries()
+    print(f"machine: {cpu}, {ncores} cores; " + ", ".join(f"{k} {v}" for k, v in vers.items()))
+    print("optional solvers:", libs)
+
+    # First call: numba compiles the beam kernel (or loads it from its on-disk cache) and scipy warms up.
+    m0, c0, *_ = strip_cantilever(30)
+    t = time.perf_counter()
+    run_flexgvt(m0, c0)
+    t_first = time.perf_counter() - t
+    t_second, _ = best(lambda: run_flexgvt(m0, c0), 3)
+    warmup = t_first - t_second
+    print(f"import flexgvt {fmt(T_IMPORT)}; first call (30 elements) {fmt(t_first)}, steady {fmt(t_second)}: "
+          f"warm-up (numba compile/cache load) {fmt(warmup)}")
+
+    results = []
+    for n in args.sizes:
+        reps = 1 if (args.quick or n >= 5000) else (5 if n <= 300 else 3)
+        t = time.perf_counter()
+        model, cfg, section, mat = strip_cantilever(n)
+        t_build = time.perf_counter() - t
+        t = time.perf_counter()
+        try:
+            state0, mats, K, M = capture_tangents(model, cfg)  # also the per-size warm-up
+        except fg.errors.FlexGVTError as exc:
+            t_fail = time.perf_counter() - t
+            msg = f"{type(exc).__name__} after {len(getattr(exc, 'history', ()))} iterations ({fmt(t_fail)})"
+            print(f"n={n:6d} flexgvt FAILED: {msg}", flush=True)
+            peer = None
+            if not args.no_peer:
+                try:
+                    system = fg.fem.system.System(model, cfg)
+                    pt, pi, ptip, pf = run_opensees(model, cfg, section, mat, system)
+                    peer = dict(times=pt, iters=pi, tip=ptip, freqs=pf)
+                    print(f"          OpenSees {fmt(pt['static'] + pt['modes'])} ({pi} it)", flush=True)
+                except Exception as exc2:  # noqa: BLE001
+                    peer = dict(error=f"{type(exc2).__name__}: {exc2}")
+            results.append(dict(n=n, failed=msg, peer=peer, n_dof=6 * n))
+            continue
+        n_dof = K.shape[0]
+        n_iter = len(mats)
+
+        def ours():
+            t = time.perf_counter()
+            st = fg.solve_static(model, cfg, settings=SETTINGS)
+            ts = time.perf_counter() - t
+            t = time.perf_counter()
+            md = fg.solve_modes(st, n_modes=N_MODES)
+            return ts, time.perf_counter() - t, st, md
+
+        runs = [ours() for _ in range(reps)]
+        t_static = min(r[0] for r in runs)
+        t_modes = min(r[1] for r in runs)
+        state, modes = runs[-1][2], runs[-1][3]
+        assert state.converged_steps >= INCREMENTS, state.converged_steps  # step cutting may add steps
+        f_ours = freqs_from_eigenvalues(modes.eigenvalues)  # from the eigenvalues: see note on zeroed frequencies
+        n_zeroed = int(np.sum((modes.frequencies_hz == 0) & (f_ours > 1e-3)))
+        tip = state.displacements[-1, :3]
+
+        fl = {}
+        fl["splu"], _ = best(lambda: floor_superlu(mats), reps)
+        # Alternatives: every matrix up to 5,000 elements; beyond, 10 evenly spaced ones scaled to all (est.).
+        sample = mats if n < 5000 else [mats[i] for i in np.linspace(0, n_iter - 1, 10).astype(int)]
+        scale = n_iter / len(sample)
+        fl["splu_default"] = best(lambda: floor_superlu_default(sample), 1)[0] * scale
+        fl["eigsh"], lam_floor = best(lambda: eig_floor(K, M), reps)
+        fl["banded"], bw = best(lambda: banded_lu(mats), reps)
+        if "cholmod" in libs:
+            fl["cholmod"], _ = best(lambda: cholmod_full(mats), reps)
+            fl["cholmod_refactor"] = min(cholmod_refactor(mats) for _ in range(reps))
+            fl["eig_cholmod"], _ = best(lambda: eig_cholmod(K, M), reps)
+        if "pardiso" in libs:
+            fl["pardiso"] = best(lambda: pardiso_full(sample), 1)[0] * scale
+            fl["pardiso_refactor"] = pardiso_refactor(sample) * scale
+        floor = fl["splu"] + fl["eigsh"]
+        total = t_static + t_modes
+        f_floor = np.sort(freqs_from_eigenvalues(lam_floor))
+
+        peer = None
+        if not args.no_peer:
+            try:
+                p_runs = [run_opensees(model, cfg, section, mat, state.system) for _ in range(1 if n >= 5000 else 2)]
+                p_times = {k: min(r[0][k] for r in p_runs) for k in p_runs[0][0]}
+                peer = dict(times=p_times, iters=p_runs[-1][1], tip=p_runs[-1][2], freqs=p_runs[-1][3])
+                if n <= 300:
+                    lt, li, ltip, lf = run_opensees(model, cfg, section, mat, state.system, consistent=False)
+                    peer["lumped_freqs"] = lf
+            except Exception as exc:  # noqa: BLE001
+                peer = dict(error=f"{type(exc).__name__}: {exc}")
+        res = dict(n=n, n_dof=n_dof, n_iter=n_iter, steps=state.converged_steps, build=t_build, static=t_static, modes=t_modes, total=total,
+                   floor=floor, fl=fl, bw=bw, f_ours=f_ours, f_floor=f_floor, n_zeroed=n_zeroed, tip=tip,
+                   peer=peer, reps=reps)
+        results.append(res)
+        line = (f"n={n:6d} dof={n_dof:6d} steps={state.converged_steps} newton={n_iter:3d}  static {fmt(t_static):>8s} modes {fmt(t_modes):>8s} "
+                f"total {fmt(total):>8s} | floor splu x{n_iter} {fmt(fl['splu']):>8s} + eigsh {fmt(fl['eigsh']):>8s} "
+                f"= {fmt(floor):>8s}  ratio {total / floor:5.2f}")
+        if peer and "times" in peer:
+            pt = peer["times"]["static"] + peer["times"]["modes"]
+            line += f" | OpenSees {fmt(pt)} ({peer['iters']} it)  ours/OpenSees {total / pt:5.2f}"
+        elif peer:
+            line += f" | OpenSees failed: {peer['error']}"
+        print(line, flush=True)
+
+    prof = None
+    if 1000 in args.sizes:
+        model, cfg, *_ = strip_cantilever(1000)
+        fg.solve_modes(fg.solve_static(model, cfg, settings=SETTINGS), n_modes=N_MODES)
+        prof = profile_breakdown(model, cfg)
+        ts, tm, rows = prof
+        print(f"\nprofile, 1000 elements (one instrumented run: static {fmt(ts)}, modes {fmt(tm)}):")
+        for k, v, c in rows:
+            print(f"  {v * 1e3:8.1f} ms  {100 * v / (ts + tm):5.1f} %  {c:5d} calls  {k}")
+
+    text = render(results, prof, cpu, ncores, vers, libs, warmup, t_first, T_IMPORT)
+    print()
+    print(text)
+    if not args.no_write:
+        write_section(text, ROOT / "docs" / "benchmarks.md")
+        print(f"wrote {ROOT / 'docs' / 'benchmarks.md'}")
+
+
+def render(results, prof, cpu, ncores, vers, libs, warmup, t_first, t_import) -> str:
+    L = [SECTION, ""]
+    L.append("`python bench/bench_solver.py` (a few minutes). A uniform cantilever strip (aluminium, 1.5 m x 50 mm x "
+             "3 mm, Euler-Bernoulli section, clamped, no bending rotary inertia, torsional inertia kept) under "
+             f"self-weight: geometrically nonlinear static in {INCREMENTS} equal load increments "
+             f"(`StaticSettings(increments={INCREMENTS}, max_increment_growth=1.0)`; tip deflection about 0.31 m, "
+             f"20 % of the span), then {N_MODES} pre-stressed modes about the deformed state "
+             "(`solve_modes`). Wall-clock minima over repeats (10,000 elements: one run).")
+    L.append("")
+    L.append(f"Machine: {cpu}, {ncores} cores (shared; other jobs may run beside). " +
+             ", ".join(f"{k} {v}" for k, v in vers.items()) + ". Optional solvers measured (not dependencies): " +
+             ", ".join(f"{k}: {v}" for k, v in libs.items()) + ".")
+    L.append("")
+    L.append(f"Warm-up, excluded below: `import flexgvt` {fmt(t_import)}; first solve in a process {fmt(t_first)} "
+             f"for 30 elements, of which {fmt(warmup)} is numba compiling or loading the beam kernel from its cache "
+             "and first-call overheads. Each size is also run once untimed before timing.")
+    L.append("")
+    L.append("**Floor** = the sparse factorisations the Newton solve needs (one `splu` per Newton iteration, with "
+             "flexgvt's options, on the very tangent matrices flexgvt factorised) + the eigensolve alone "
+             f"(`eigsh(K, {N_MODES}, M, sigma=0)`, same K and M). **Peer** = OpenSeesPy, corotational "
+             "`elasticBeamColumn` with consistent mass, the same nodal weights in 20 `LoadControl` steps (Newton, "
+             "`BandGen`), `eigen -genBandArpack 20` about the deformed state, same process.")
+    L.append("")
+    L.append("| elements | DOF | load steps / Newton its | static | modes | **total** | floor: splu | floor: eigsh | **floor** | "
+             "**total / floor** | OpenSees static + eigen (its) | **total / OpenSees** |")
+    L.append("|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
+    for r in results:
+        p = r["peer"]
+        if "failed" in r:
+            ps = (f"{fmt(p['times']['static'])} + {fmt(p['times']['modes'])} ({p['iters']})" if p and "times" in p
+                  else ("failed: " + p["error"].splitlines()[0][:60]) if p else "not run")
+            L.append(f"| {r['n']:,} | {r['n_dof']:,} | **flexgvt failed: {r['failed']}** | | | | | | | | {ps} | |")
+            continue
+        if p and "times" in p:
+            pt = p["times"]["static"] + p["times"]["modes"]
+            ps = f"{fmt(p['times']['static'])} + {fmt(p['times']['modes'])} ({p['iters']})"
+            pr = f"{r['total'] / pt:.2f}"
+        else:
+            ps, pr = ("failed" if p else "not run"), "-"
+        L.append(f"| {r['n']:,} | {r['n_dof']:,} | {r['steps']} / {r['n_iter']} | {fmt(r['static'])} | {fmt(r['modes'])} | "
+                 f"**{fmt(r['total'])}** | {fmt(r['fl']['splu'])} | {fmt(r['fl']['eigsh'])} | **{fmt(r['floor'])}** | "
+                 f"**{r['total'] / r['floor']:.2f}** | {ps} | **{pr}** |")
+    L.append("")
+    r1 = next((r for r in results if r["n"] == 1000), None)
+    if r1:
+        ok_t = r1["total"] < 0.2
+        ok_r = r1["total"] / r1["floor"] <= 3.0
+        L.append(f"DESIGN.md target, 1,000-node model: total under 0.2 s -> **{fmt(r1['total'])}: "
+                 f"{'met' if ok_t else 'NOT met'}**; within 3x of the floor -> **{r1['total'] / r1['floor']:.2f}x: "
+                 f"{'met' if ok_r else 'NOT met'}**. The SuperLU floor alone is {fmt(r1['floor'])} "
+                 f"({r1['n_iter']} factorisations), so 0.2 s also needs a faster factorisation and/or fewer "
+                 "factorisations (see the next table).")
+        L.append("")
+    L.append("Factorisation alternatives on the same matrices (all Newton iterations' tangents; CHOLMOD and the "
+             "eigensolve with CHOLMOD factorise the symmetric part, which equals the tangent at equilibrium; "
+             "at 10,000 elements SuperLU-default and PARDISO are timed on 10 of the matrices and scaled):")
+    L.append("")
+    hdr = "| elements | SuperLU (flexgvt options) | SuperLU (scipy default) | LAPACK banded LU (dgbtrf) |"
+    sep = "|---:|---:|---:|---:|"
+    has_ch = any("cholmod" in r["fl"] for r in results)
+    has_pa = any("pardiso" in r["fl"] for r in results)
+    if has_ch:
+        hdr += " CHOLMOD (new each) | CHOLMOD (analyse once, refactor) |"
+        sep += "---:|---:|"
+    if has_pa:
+        hdr += " PARDISO (pypardiso factorize) | PARDISO (analyse once, phase 22) |"
+        sep += "---:|---:|"
+    hdr += " eigsh (SuperLU) |" + (" eigsh (CHOLMOD OPinv) |" if has_ch else "")
+    sep += "---:|" + ("---:|" if has_ch else "")
+    L += [hdr, sep]
+    ok = [r for r in results if "failed" not in r]
+    for r in ok:
+        f = r["fl"]
+        row = f"| {r['n']:,} | {fmt(f['splu'])} | {fmt(f['splu_default'])} | {fmt(f['banded'])} |"
+        if has_ch:
+            row += f" {fmt(f['cholmod'])} | {fmt(f['cholmod_refactor'])} |"
+        if has_pa:
+            row += f" {fmt(f['pardiso'])} | {fmt(f['pardiso_refactor'])} |"
+        row += f" {fmt(f['eigsh'])} |" + (f" {fmt(f['eig_cholmod'])} |" if has_ch else "")
+        L.append(row)
+    L.append("")
+    L.append("Accuracy cross-check (OpenSees peer, consistent mass; torsional inertia matched by passing J = Ip and "
+             "G' = G J / Ip, since OpenSees' consistent mass takes the torsional inertia as rho A J / A). "
+             "Tip displacement under self-weight and the pre-stressed frequencies [Hz]:")
+    L.append("")
+    for r in ok:
+        p = r["peer"]
+        L.append(f"- {r['n']:,} elements: tip (x, y, z) flexgvt ({', '.join(f'{v:.5f}' for v in r['tip'])}) m"
+                 + (f", OpenSees ({', '.join(f'{v:.5f}' for v in p['tip'])}) m" if p and "tip" in p else "") + ".")
+    L.append("")
+    for r in ok:
+        p = r["peer"]
+        if not p or "freqs" not in p:
+            continue
+        fo, fp = r["f_ours"], np.sort(p["freqs"])
+        k = min(len(fo), len(fp))
+        L.append(f"{r['n']:,} elements:")
+        L.append("")
+        L.append("| mode | flexgvt [Hz] | OpenSees consistent [Hz] | difference |" +
+                 (" OpenSees lumped [Hz] |" if "lumped_freqs" in p else ""))
+        L.append("|---:|---:|---:|---:|" + ("---:|" if "lumped_freqs" in p else ""))
+        lf = np.sort(p.get("lumped_freqs", np.zeros(0)))
+        for i in range(k):
+            row = f"| {i + 1} | {fo[i]:.4f} | {fp[i]:.4f} | {100 * (fp[i] - fo[i]) / fo[i]:+.3f} % |"
+            if "lumped_freqs" in p:
+                row += f" {lf[i]:.4f} |" if i < len(lf) else " - |"
+            L.append(row)
+        L.append("")
+    zero = [r for r in ok if r["n_zeroed"]]
+    if zero:
+        L.append("Note: `Modes.frequencies_hz` reports " + ", ".join(
+            f"{r['n_zeroed']} of {N_MODES} modes as 0 Hz at {r['n']:,} elements" for r in zero) +
+            " (a rigid-body threshold scaled by the mesh's stiffest DOF ratio); the frequencies above are computed "
+            "from `Modes.eigenvalues`, which are right. Reported as a solver issue.")
+        L.append("")
+    if any("failed" in r for r in results):
+        L.append("Failures at 10,000 elements: the 1.5 m strip then has 0.15 mm elements, 20 times shorter than the "
+                 "strip is thick, and its tangent's pivots span about 16 decades. flexgvt's singularity test "
+                 "(min/max SuperLU pivot below 1e-13) takes that healthy matrix for singular, adds a stabilising "
+                 "stiffness and the Newton iterations stall (reported as a solver issue; an older revision solved "
+                 "this case in 98 iterations: static 24-29 s, modes 14-21 s). OpenSees (BandGen) diverges in its "
+                 "first increment on the same model. A 10,000-element beam needs a longer structure (e.g. the "
+                 "16 m HALE wing) to be a meaningful benchmark.")
+        L.append("")
+    L.append("Unloaded (gravity 1e-9) the two codes agree to 1e-5 on all 20 frequencies, torsion included. Under "
+             "self-weight the equilibrium and the bending-dominated modes agree to 0.03 %; the torsion-coupled modes "
+             "(7, 9, 13, 15, 17, 19) are 0.8-2.6 % higher in OpenSees at both mesh sizes, so the difference is in "
+             "the moment-induced geometric stiffness (bending-torsion coupling) of the two corotational "
+             "formulations, not discretisation. flexgvt's tangent is the finite-difference-checked derivative of its "
+             "internal forces; a lateral-torsional buckling check (tip-loaded cantilever strip, "
+             "P_cr = 4.013 sqrt(EI_z GJ) / L^2) would settle which is right.")
+    L.append("")
+    L.append("Lumped mass (OpenSees default for elasticBeamColumn: translations only, no torsional or rotary "
+             "inertia) leaves torsion without inertia, so its torsion modes are missing, and its bending frequencies "
+             "converge from another side; consistent mass is the like-for-like comparison.")
+    L.append("")
+    if prof:
+        ts, tm, rows = prof
+        L.append(f"Where the time goes, 1,000 elements (one instrumented run, exclusive times; static {fmt(ts)}, "
+                 f"modes {fmt(tm)}):")
+        L.append("")
+        L.append("| part | time | share | calls |")
+        L.append("|---|---:|---:|---:|")
+        for k, v, c in rows:
+            L.append(f"| {k} | {v * 1e3:.1f} ms | {100 * v / (ts + tm):.0f} % | {c or ''} |")
+        L.append("")
+    return "\n".join(L)
+
+
+if __name__ == "__main__":
+    sys.exit(main())
