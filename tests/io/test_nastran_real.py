@@ -111,3 +111,15 @@ def test_euler_column_reads_with_grdset_and_prestress_lowers_the_frequency():
     loaded_cfg = cfg.with_(forces=(fg.NodalLoad(421, force=(-0.5 * p_cr, 0.0, 0.0)),))
     loaded = fg.solve_modes(fg.solve_static(deck.model, loaded_cfg), 1).frequencies_hz[0]
     assert loaded / free == pytest.approx(np.sqrt(0.5), rel=1e-2)
+
+
+def test_beam_modes_template_round_trip_keeps_frequencies(tmp_path):
+    """Write the real deck back through its template (PBARL and PBEAML ROD kept) and solve it again."""
+    deck = read_beam_modes(cbar_torsional_inertia=False)
+    out = fg.io.write_bdf(deck.model, tmp_path / "beam_modes_out.bdf", template=deck)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        again = fg.io.read_bdf(out, units="in-lbf-s", cbar_torsional_inertia=False)
+    assert again.bdf.properties[3].type == "PBEAML" and again.bdf.properties[1].type == "PBARL"
+    modes = fg.solve_modes(fg.solve_static(again.model, again.configurations["beam_modes_out"]), 10)
+    assert modes.frequencies_hz == pytest.approx(nastran_frequencies(), rel=1e-5)

@@ -30,6 +30,11 @@ def _same(a, b, rtol=1e-9) -> bool:
     return np.allclose(np.asarray(a, float), np.asarray(b, float), rtol=rtol, atol=0.0)
 
 
+def _same_section(a, b, rtol=1e-9) -> bool:
+    pa, pb = a.properties(), b.properties()
+    return all(np.isclose(pa[k], pb[k], rtol=rtol, atol=0.0) for k in ("A", "Iy", "Iz", "J", "Ay", "Az"))
+
+
 def _quiet_write(bdf, path: Path, size: int) -> None:
     with contextlib.redirect_stdout(io.StringIO()):
         bdf.write_bdf(str(path), size=size, is_double=False, enddata=True)
@@ -194,12 +199,11 @@ def _update_beam_property(bdf, prop, section, src, notes: list[str]) -> None:
             if prop.type == "PBARL":
                 prop.dim = list(dims[1])
             else:
-                prop.dim = [list(dims[1]) for _ in prop.dim]
+                prop.dim = np.array([list(dims[1]) for _ in range(len(prop.dim))], float)
             return
         old = prop.dim if prop.type == "PBARL" else prop.dim[0]
-        if section == library_section(where, shape, old).section or (
-                isinstance(section, GeneralSection) and section.properties() ==
-                library_section(where, shape, old).section.properties()):
+        ref = library_section(where, shape, old)
+        if _same_section(section, ref.section):  # unchanged (Ip is not a Nastran property: not compared)
             return
         # Values no longer match the shape: replace by an equivalent PBAR / PBEAM.
         vals = to_properties(section, src.principal)
