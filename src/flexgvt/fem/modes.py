@@ -54,19 +54,24 @@ class Modes:
                 for i, (f, z) in enumerate(zip(self.frequencies_hz, self.damping_ratio))]
 
 
-def _frequency_hz(lam: np.ndarray, scale: float) -> np.ndarray:
+def _frequency_hz(lam: np.ndarray) -> np.ndarray:
+    """Frequencies [Hz] of eigenvalues [rad^2/s^2]; round-off-sized ones (rigid-body modes) become 0."""
+    scale = max(np.abs(lam).max(initial=0.0), 1.0)
     lam = np.where(np.abs(lam) < 1e-10 * scale, 0.0, lam)
     return np.sign(lam) * np.sqrt(np.abs(lam)) / (2 * np.pi)
+
+
+# Default shift [rad^2/s^2]: just below zero, (2 pi 0.01 Hz)^2, so rigid-body modes (0) and the
+# lowest elastic modes of very flexible structures are nearest to it whatever the model's scale.
+DEFAULT_SHIFT = -(2 * np.pi * 0.01) ** 2
 
 
 def real_modes(K: sp.spmatrix, M: sp.spmatrix, n_modes: int, shift: float | None = None):
     """Lowest n_modes of K phi = lam M phi (K symmetric, possibly singular or indefinite)."""
     n = K.shape[0]
     k = min(n_modes, n)
-    dk = np.abs(K.diagonal())
     dm = np.abs(M.diagonal())
-    ratio = np.median(dk[dm > 0] / dm[dm > 0]) if np.any(dm > 0) else 1.0
-    sigma = -1e-6 * ratio if shift is None else shift
+    sigma = DEFAULT_SHIFT if shift is None else shift
     if n <= DENSE_LIMIT or k >= n - 1:
         A = K.toarray()
         B = M.toarray()
@@ -86,7 +91,7 @@ def real_modes(K: sp.spmatrix, M: sp.spmatrix, n_modes: int, shift: float | None
     else:
         try:
             # A margin of extra pairs: ARPACK can miss members of clusters such as six rigid-body modes.
-            k_run = min(n - 2, k + max(8, k // 2))
+            k_run = min(n - 2, k + max(6, k // 4))
             lam, phi = spla.eigsh(K.tocsc(), k=k_run, M=M.tocsc(), sigma=sigma, which="LM", mode="normal")
         except RuntimeError as exc:
             raise SolverError(f"eigensolver failed ({exc}); the model may have a mechanism with no mass") from exc
@@ -98,7 +103,7 @@ def real_modes(K: sp.spmatrix, M: sp.spmatrix, n_modes: int, shift: float | None
         raise SolverError("a mode has zero or negative modal mass: some DOFs carry stiffness but no mass and no "
                           "stiffness-free mass; check rotary inertia, lumped masses and constraints")
     phi = phi / np.sqrt(mm)
-    return lam, phi, ratio
+    return lam, phi
 
 
 def complex_modes(K, C, M, n_modes: int):
@@ -154,7 +159,7 @@ def solve_modes(state: State, n_modes: int = 15, *, damped: bool | None = None, 
     ev = system.evaluate(x, R, state.load_factor)
     K = (0.5 * (ev.tangent + ev.tangent.T)).tocsc()
     M = system.mass_matrix(x, R)
-    lam, phi, scale = real_modes(K, M, n_modes, shift)
+    lam, phi = real_modes(K, M, n_modes, shift)
     T = system.transformation(x) if system.has_links else None
     n = system.n_nodes
     use_damping = system.has_damping if damped is None else damped
@@ -162,7 +167,7 @@ def solve_modes(state: State, n_modes: int = 15, *, damped: bool | None = None, 
         C = system.damping_matrix(x, R)
         s, v = complex_modes(K, C, M, n_modes)
         wn = np.abs(s)
-        freq = np.where(np.abs(s) < 1e-8 * np.sqrt(scale), 0.0, wn / (2 * np.pi))
+        freq = np.where(wn < 1e-5 * max(wn.max(initial=0.0), 1.0), 0.0, wn / (2 * np.pi))
         zeta = np.where(wn > 0, -s.real / np.where(wn > 0, wn, 1), 0.0)
         wd = np.abs(s.imag) / (2 * np.pi)
         cshapes = system.expand(v, T).T.reshape(len(s), n, 6)
@@ -172,7 +177,7 @@ def solve_modes(state: State, n_modes: int = 15, *, damped: bool | None = None, 
         modes = Modes(freq, zeta, wd, real, system.cm.node_ids, complex_shapes=cshapes, eigenvalues=s, state=state)
     else:
         shapes = system.expand(phi, T).T.reshape(len(lam), n, 6)
-        f = _frequency_hz(lam, scale)
+        f = _frequency_hz(lam)
         modes = Modes(f, np.zeros(len(f)), f.copy(), shapes, system.cm.node_ids, eigenvalues=lam, state=state)
     if label:
         from .labels import label_modes

@@ -30,7 +30,7 @@ class IterationRecord:
     iteration: int
     residual: float  # ||r|| / reference force
     energy: float  # |du . r| / reference energy
-    stabilisation: float  # relative stabilising stiffness used in this iteration (0: none)
+    stabilisation: float  # diagonal stabilisation needed beyond the mass term in this iteration (0: none)
 
 
 @dataclass(frozen=True)
@@ -96,29 +96,38 @@ class StaticSettings:
     desired_iterations: int = 5
 
 
-class _Factor:
-    """LU of a sparse matrix with a stabilising diagonal added when it is singular."""
+# Pseudo-dynamic stabilisation [rad^2/s^2]: (2 pi 1 mHz)^2 times the mass matrix is added to the
+# tangent in every linear solve. It restrains mechanisms (a strip hung on its elastic axis) and is
+# negligible against any physical mode, so it slows Newton by a factor ~alpha/omega^2 at most and
+# vanishes at convergence (the residual is always that of the true system).
+STABILISATION = (2 * np.pi * 1e-3) ** 2
 
-    def __init__(self, K: sp.csc_matrix, reference: float):
+
+class _Factor:
+    """Factorised K + alpha M with iterative refinement on K; a diagonal term is added only if that fails."""
+
+    def __init__(self, K: sp.csc_matrix, M: sp.csc_matrix, reference: float):
+        self.K = K
         self.stabilisation = 0.0
         diag = np.abs(K.diagonal())
         scale = np.where(diag > 0, diag, reference)
+        base = (K + STABILISATION * M).tocsc()
         for alpha in (0.0, 1e-10, 1e-8, 1e-6, 1e-4, 1e-2):
-            A = K if alpha == 0 else (K + sp.diags(alpha * scale)).tocsc()
+            A = base if alpha == 0 else (base + sp.diags(alpha * scale)).tocsc()
             try:
-                lu = spla.splu(A, permc_spec="COLAMD", options={"SymmetricMode": True})
+                self.lu = spla.splu(A, permc_spec="COLAMD", options={"SymmetricMode": True})
             except RuntimeError:
                 continue
-            piv = np.abs(lu.U.diagonal())
-            if alpha == 0 and piv.min() <= 1e-13 * piv.max():
-                continue
-            self.lu, self.stabilisation = lu, alpha
+            self.stabilisation = alpha
             return
         raise SingularModelError("the tangent stiffness is singular even with a stabilising stiffness; "
-                                 "the model has an unrestrained mechanism")
+                                 "the model has an unrestrained mechanism without mass")
 
-    def solve(self, b: np.ndarray) -> np.ndarray:
-        return self.lu.solve(b)
+    def solve(self, b: np.ndarray, refine: int = 2) -> np.ndarray:
+        x = self.lu.solve(b)
+        for _ in range(refine):  # recover the solution of K x = b where K is regular
+            x = x + self.lu.solve(b - self.K @ x)
+        return x
 
 
 def _rigid_body_check(system: System, K: sp.csc_matrix, f_red: np.ndarray, x: np.ndarray) -> None:
@@ -189,6 +198,7 @@ def solve_static(model: Model, configuration: Configuration, *, settings: Static
                               and start.configuration == configuration) else System(model, configuration)
     x, R = system.undeformed
     history: list[IterationRecord] = []
+    mass = system.mass_matrix(x, R)
     ev0 = system.evaluate(x, R, 1.0, tangent=False)
     load_ref = max(np.linalg.norm(ev0.external), np.linalg.norm(ev0.internal), 1e-12)
     _rigid_body_check(system, system.evaluate(x, R, 0.0).tangent, ev0.external - ev0.internal, x)
@@ -221,7 +231,7 @@ def solve_static(model: Model, configuration: Configuration, *, settings: Static
                 history.append(IterationRecord(step, lam, it, res, 0.0, 0.0))
                 return x, R, ev, stabilised, fac  # the last factor serves the next step's predictor
             try:
-                fac = _Factor(ev.tangent, load_ref)
+                fac = _Factor(ev.tangent, mass, load_ref)
             except SingularModelError:
                 return None
             delta = -fac.solve(r)
@@ -318,9 +328,9 @@ def solve_linear_static(model: Model, configuration: Configuration) -> State:
     _rigid_body_check(system, ev.tangent, ev.external - ev.internal, x)
     r = ev.internal - ev.external
     ref = max(np.linalg.norm(ev.external), 1e-300)
-    fac = _Factor(ev.tangent, ref)
-    delta = -fac.solve(r) if np.any(r) else np.zeros_like(r)
-    if fac.stabilisation > 0 and np.linalg.norm(ev.tangent @ delta + r) > 1e-6 * ref:
+    fac = _Factor(ev.tangent, system.mass_matrix(x, R), ref)
+    delta = -fac.solve(r, refine=4) if np.any(r) else np.zeros_like(r)
+    if np.linalg.norm(ev.tangent @ delta + r) > 1e-6 * ref:
         raise SingularModelError(f"configuration '{configuration.name}': the stiffness matrix is singular and the loads "
                                  "excite the mechanism. Add constraints, springs or cords, or use solve_static for a "
                                  "suspended structure that needs its sagged equilibrium.")
