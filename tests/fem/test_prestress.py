@@ -98,3 +98,24 @@ def test_support_structure_system_damped_modes_match_method_formulas():
     zeta = modes.damping_ratio
     np.testing.assert_allclose(modes.damped_frequencies_hz * 2 * np.pi,
                                [w_sup * np.sqrt(1 - zeta[0] ** 2), w_m * np.sqrt(1 - zeta[1] ** 2)], rtol=1e-9)
+
+
+def test_lateral_torsional_buckling_of_a_tip_loaded_strip():
+    """In-plane tip force on the cantilever strip: the lowest eigenvalue of the pre-stressed tangent
+    vanishes at Timoshenko's P_cr = 4.013 sqrt(EI_weak GJ) / L^2, raised by the pre-buckling factor
+    1 / sqrt((1 - EI_weak/EI_strong)(1 - GJ/EI_strong)). This is the bending-torsion coupling that
+    self-weight produces on very flexible strips."""
+    p = SEC.properties()
+    A, B, C = AL.E * p["Iz"], AL.E * p["Iy"], AL.shear_modulus * p["J"]
+    p_cr = 4.013 * np.sqrt(B * C) / L**2 / np.sqrt((1 - B / A) * (1 - C / A))
+
+    def lowest_eigenvalue(P):
+        model, ids = straight_beam(60, L, SEC)
+        cfg = fg.Configuration("tip", fixed={int(ids[0]): "123456"},
+                               forces=[fg.NodalLoad(int(ids[-1]), force=(P, 0.0, 0.0))])
+        return fg.solve_modes(fg.solve_static(model, cfg), 2).eigenvalues[0]
+
+    loads = np.array([0.8, 0.9, 0.95]) * p_cr
+    fit = np.polyfit(loads, [lowest_eigenvalue(P) for P in loads], 2)
+    crossing = min(r.real for r in np.roots(fit) if abs(r.imag) < 1e-9 and r.real > 0.5 * p_cr)
+    assert crossing == pytest.approx(p_cr, rel=5e-3)
