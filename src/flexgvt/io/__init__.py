@@ -6,7 +6,8 @@ import importlib
 
 _EXPORTS = {
     "read_uff": ".uff", "write_uff": ".uff",
-    "read_bdf": ".nastran", "write_bdf": ".nastran",
+    "read_bdf": ".nastran", "write_bdf": ".nastran", "solve_deck": ".nastran", "BdfDeck": ".nastran",
+    "UnsupportedCardsError": ".nastran",
 }
 
 __all__ = sorted(_EXPORTS)
