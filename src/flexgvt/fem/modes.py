@@ -57,7 +57,7 @@ class Modes:
 def _frequency_hz(lam: np.ndarray) -> np.ndarray:
     """Frequencies [Hz] of eigenvalues [rad^2/s^2]; round-off-sized ones (rigid-body modes) become 0."""
     scale = max(np.abs(lam).max(initial=0.0), 1.0)
-    lam = np.where(np.abs(lam) < 1e-10 * scale, 0.0, lam)
+    lam = np.where(np.abs(lam) < 1e-9 * scale, 0.0, lam)
     return np.sign(lam) * np.sqrt(np.abs(lam)) / (2 * np.pi)
 
 

@@ -1,0 +1,202 @@
+"""The `flexgvt` command line."""
+
+from __future__ import annotations
+
+import json
+import time
+from pathlib import Path
+from typing import Optional
+
+import numpy as np
+import typer
+from rich.console import Console
+from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
+from rich.table import Table
+
+from ..errors import FlexGVTError
+
+app = typer.Typer(add_completion=False, no_args_is_help=True,
+                  help="GVT and FE model updating of very flexible aircraft.")
+console = Console()
+if not console.is_terminal:  # logs and CI: wide enough for the tables
+    console = Console(width=110)
+
+try:  # the EMA commands live in their own module
+    from .ema import app as ema_app
+except ImportError:  # not installed in this build
+    ema_app = None
+if ema_app is not None:
+    app.add_typer(ema_app, name="ema")
+
+
+def _fail(exc: Exception) -> None:
+    console.print(f"[bold red]error:[/] {exc}")
+    raise typer.Exit(code=2)
+
+
+def _solve_with_progress(model, cfg):
+    from ..fem import solve_static
+
+    with Progress(TextColumn(f"[cyan]{cfg.name}[/] nonlinear static"), BarColumn(), TextColumn("{task.percentage:>5.1f} %"),
+                  TimeElapsedColumn(), console=console, transient=True) as bar:
+        task = bar.add_task("solve", total=1.0)
+        return solve_static(model, cfg, progress=lambda lam: bar.update(task, completed=lam))
+
+
+def _result_record(state, modes, timings) -> dict:
+    from ..fem import mass_properties
+
+    mp = mass_properties(state)
+    u = state.displacements[:, :3]
+    return {"load_factor": state.load_factor, "max_displacement_m": float(np.linalg.norm(u, axis=1).max()),
+            "frequencies_hz": modes.frequencies_hz.tolist(), "damping_ratio": modes.damping_ratio.tolist(),
+            "labels": list(modes.labels), "mass_kg": mp.mass, "cg_m": mp.cg.tolist(), "timings_s": timings}
+
+
+def _modes_table(title: str, results: dict) -> Table:
+    """One column per configuration: frequency [Hz], damping ratio where non-zero, label."""
+    table = Table(title=title)
+    table.add_column("mode", justify="right")
+    for name in results:
+        table.add_column(f"{name}\nf [Hz]  zeta  label", justify="left")
+    n = max(len(r["frequencies_hz"]) for r in results.values())
+    for k in range(n):
+        row = [str(k + 1)]
+        for r in results.values():
+            if k >= len(r["frequencies_hz"]):
+                row.append("")
+                continue
+            z = r["damping_ratio"][k]
+            zeta = f"{100 * z:4.1f}%" if abs(z) >= 5e-4 else "     "
+            row.append(f"{r['frequencies_hz'][k]:8.4f} {zeta} {r['labels'][k]}")
+        table.add_row(*row)
+    return table
+
+
+def _tracking_table(title: str, tracking) -> Table:
+    """Each mode followed by MAC from the first to the last load level, with its shift."""
+    table = Table(title=title)
+    for col in ("mode", "at 0", "f [Hz]", f"at {tracking.load_factors[-1]:g}", "f [Hz]", "shift", "min MAC"):
+        table.add_column(col, justify="right")
+    last = tracking.modes[-1]
+    for j in range(tracking.frequencies_hz.shape[1]):
+        f0, f1 = tracking.frequencies_hz[0, j], tracking.frequencies_hz[-1, j]
+        label1 = last.labels[tracking.order[-1, j]] if last.labels else ""
+        table.add_row(str(j + 1), tracking.labels[j] if tracking.labels else "", f"{f0:.4f}", label1, f"{f1:.4f}",
+                      f"{100 * (f1 / f0 - 1):+.1f} %", f"{tracking.mac[:, j].min():.3f}")
+    return table
+
+
+@app.command()
+def solve(case: str = typer.Argument(..., help="built-in case (cantilever_strip, strip_366, hale_wing) or a .bdf deck"),
+          config: Optional[list[str]] = typer.Option(None, "--config", "-c", help="configuration name(s); default all"),
+          modes: int = typer.Option(10, help="number of modes"),
+          out: Optional[Path] = typer.Option(None, help="folder for figures"),
+          json_path: Optional[Path] = typer.Option(None, "--json", help="write results as JSON (layout: docs/cli.md)"),
+          units: str = typer.Option("SI", help="bulk data units: SI, mm-N-t-s, in-lbf-s"),
+          allow_unsupported: bool = typer.Option(False, help="bulk data: warn about unsupported cards instead of failing")):
+    """Static shape and pre-stressed modes of each configuration of a built-in case or a Nastran deck."""
+    try:
+        if case.lower().endswith((".bdf", ".dat", ".nas", ".blk")):
+            from ..io.nastran import read_bdf
+            deck = read_bdf(case, units=units, unsupported="warn" if allow_unsupported else "error")
+            model, configurations, title = deck.model, deck.configurations, Path(case).name
+        else:
+            from ..cases import get
+            c = get(case)
+            model, configurations, title = c.model, c.configurations, c.name
+        names = list(config) if config else list(configurations)
+        unknown = [n for n in names if n not in configurations]
+        if unknown:
+            raise FlexGVTError(f"no configuration {unknown} in '{title}'; choose from {list(configurations)}")
+        from ..fem import solve_modes
+        results, states, mode_sets = {}, {}, {}
+        for name in names:
+            t0 = time.perf_counter()
+            st = _solve_with_progress(model, configurations[name])
+            t1 = time.perf_counter()
+            md = solve_modes(st, modes)
+            t2 = time.perf_counter()
+            states[name], mode_sets[name] = st, md
+            results[name] = _result_record(st, md, {"static": t1 - t0, "modes": t2 - t1})
+            console.print(f"[green]{st.summary()}[/]  ({t1 - t0:.2f} s static, {t2 - t1:.2f} s modes)")
+        console.print(_modes_table(f"{title}: pre-stressed modes", results))
+        if out is not None:
+            _write_figures(out, title, states, mode_sets)
+        if json_path is not None:
+            json_path.write_text(json.dumps({"case": title, "configurations": results}, indent=2))
+            console.print(f"results written to {json_path}")
+    except FlexGVTError as exc:
+        _fail(exc)
+
+
+def _write_figures(out: Path, title: str, states: dict, mode_sets: dict) -> list[Path]:
+    from ..report import plots
+
+    out.mkdir(parents=True, exist_ok=True)
+    files = []
+    fig = plots.static_shape(states.values(), f"{title}: static shapes")
+    files.append(out / "static_shape.png")
+    fig.savefig(files[-1], dpi=120)
+    for name, md in mode_sets.items():
+        fig = plots.mode_shapes(md, 6, f"{title} - {name}")
+        files.append(out / f"modes_{name}.png")
+        fig.savefig(files[-1], dpi=120)
+    console.print("figures: " + ", ".join(str(f) for f in files))
+    return files
+
+
+@app.command()
+def demo(out: Path = typer.Option(Path("demo-output"), help="folder for figures"),
+         json_path: Optional[Path] = typer.Option(None, "--json", help="write the figures' numbers as JSON")):
+    """Solve the cantilever strip under self-weight and the suspended 3.66 m strip: static shapes,
+    pre-stressed modes and modes followed from 0 to 1 g."""
+    try:
+        from ..cases import cantilever_strip, strip_366
+        from ..fem import modes_versus_load, solve_modes
+        from ..report import plots
+
+        console.rule("[bold]flexgvt demo: very flexible strips[/]")
+        case = cantilever_strip()
+        console.print(case.description.splitlines()[0])
+        results, states, mode_sets = {}, {}, {}
+        for name in ("unloaded", "self_weight"):
+            st = _solve_with_progress(case.model, case.configurations[name])
+            md = solve_modes(st, 8)
+            states[name], mode_sets[name] = st, md
+            results[name] = _result_record(st, md, {"total": st.solve_time_s})
+        tip = states["self_weight"].displacements[-1, 2]
+        console.print(f"self-weight tip deflection {tip:.3f} m ({100 * abs(tip) / 1.5:.0f} % of the span)")
+        tracking = modes_versus_load(case.model, case.configurations["self_weight"], np.linspace(0, 1, 11), 8)
+        console.print(_tracking_table("Cantilever strip: modes followed by MAC from 0 to 1 g", tracking))
+        out.mkdir(parents=True, exist_ok=True)
+        files = _write_figures(out, "cantilever strip", states, mode_sets)
+        fig = plots.frequency_versus_load(tracking, "Cantilever strip: modes followed from 0 to 1 g")
+        files.append(out / "frequency_vs_load.png")
+        fig.savefig(files[-1], dpi=120)
+        console.print(f"frequency versus load: {files[-1]}")
+
+        strip = strip_366()
+        suspended = {}
+        for name in ("free_free", "outboard", "inboard"):
+            st = _solve_with_progress(strip.model, strip.configurations[name])
+            md = solve_modes(st, 10)
+            suspended[name] = _result_record(st, md, {"total": st.solve_time_s})
+            if name != "free_free":
+                states[f"strip_{name}"] = st
+        console.print(_modes_table("3.66 m strip: free-free and suspended (cords with damping)", suspended))
+        fig = plots.static_shape([states["strip_outboard"], states["strip_inboard"]], "3.66 m strip on two cords")
+        files.append(out / "strip_366_static_shape.png")
+        fig.savefig(files[-1], dpi=120)
+        console.print(f"figures written to {out}/")
+        if json_path is not None:
+            json_path.write_text(json.dumps({"case": "demo", "configurations": {**results, **suspended},
+                                             "tracking": {"load_factors": tracking.load_factors.tolist(),
+                                                          "frequencies_hz": tracking.frequencies_hz.tolist(),
+                                                          "labels": list(tracking.labels)}}, indent=2))
+    except FlexGVTError as exc:
+        _fail(exc)
+
+
+if __name__ == "__main__":
+    app()
