@@ -94,12 +94,15 @@ def solve(case: str = typer.Argument(..., help="built-in case (cantilever_strip,
           out: Optional[Path] = typer.Option(None, help="folder for figures"),
           json_path: Optional[Path] = typer.Option(None, "--json", help="write results as JSON (layout: docs/cli.md)"),
           units: str = typer.Option("SI", help="bulk data units: SI, mm-N-t-s, in-lbf-s"),
-          allow_unsupported: bool = typer.Option(False, help="bulk data: warn about unsupported cards instead of failing")):
+          allow_unsupported: bool = typer.Option(False, help="bulk data: warn about unsupported cards instead of failing"),
+          nastran_cbar_mass: bool = typer.Option(False, help="bulk data: CBAR lumped mass without torsional inertia, "
+                                                 "as Nastran does (flexgvt keeps rho*Ip by default)")):
     """Static shape and pre-stressed modes of each configuration of a built-in case or a Nastran deck."""
     try:
         if case.lower().endswith((".bdf", ".dat", ".nas", ".blk")):
             from ..io.nastran import read_bdf
-            deck = read_bdf(case, units=units, unsupported="warn" if allow_unsupported else "error")
+            deck = read_bdf(case, units=units, unsupported="warn" if allow_unsupported else "error",
+                            cbar_torsional_inertia=not nastran_cbar_mass)
             model, configurations, title = deck.model, deck.configurations, Path(case).name
         else:
             from ..cases import get
