@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import time
+import warnings
 from pathlib import Path
 from typing import Optional
 
@@ -101,8 +102,12 @@ def solve(case: str = typer.Argument(..., help="built-in case (cantilever_strip,
     try:
         if case.lower().endswith((".bdf", ".dat", ".nas", ".blk")):
             from ..io.nastran import read_bdf
-            deck = read_bdf(case, units=units, unsupported="warn" if allow_unsupported else "error",
-                            cbar_torsional_inertia=not nastran_cbar_mass)
+            with warnings.catch_warnings(record=True) as caught:
+                warnings.simplefilter("always")
+                deck = read_bdf(case, units=units, unsupported="warn" if allow_unsupported else "error",
+                                cbar_torsional_inertia=not nastran_cbar_mass)
+            for w in caught:
+                console.print(f"[yellow]note:[/] {w.message}")
             model, configurations, title = deck.model, deck.configurations, Path(case).name
         else:
             from ..cases import get
