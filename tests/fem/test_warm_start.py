@@ -23,3 +23,17 @@ def test_one_model_many_configurations_without_copying():
     assert tips[0] == 0.0 and tips[1] > tips[2] > tips[3]  # droop grows with the load factor (z negative)
     assert all(s.model is case.model for s in states.values())
     assert len({id(s.system.cm) for s in states.values()}) == 1  # the model's arrays are compiled once
+
+
+def test_cholmod_and_superlu_paths_reach_the_same_equilibrium():
+    import pytest
+
+    from flexgvt.fem.linsolve import HAVE_CHOLMOD
+
+    if not HAVE_CHOLMOD:
+        pytest.skip("scikit-sparse not installed: only the SuperLU path exists here")
+    case = fg.cases.strip_366()
+    cfg = case.configurations["outboard"]
+    a = fg.solve_static(case.model, cfg, settings=fg.StaticSettings(cholmod=True))
+    b = fg.solve_static(case.model, cfg, settings=fg.StaticSettings(cholmod=False))
+    np.testing.assert_allclose(a.positions, b.positions, atol=1e-8)

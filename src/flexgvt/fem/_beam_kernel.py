@@ -7,7 +7,7 @@ Forward differentiation by hand of every kinematic quantity along the 12 element
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
+from numba import njit, prange
 
 _FAST = dict(cache=True, fastmath=False, nogil=True)
 
@@ -201,10 +201,19 @@ def local_rotations(Rr, R1, R2, E0, t1, t2, A, tmp, q4):
     logm(A, t2, q4)
 
 
-@njit(**_FAST)
-def beam_kernel(x, R, nodes, E0s, L0s, stiff, want_tangent, g_out, K_out, N_out):
-    """Internal forces g_out (n, 12), tangent K_out (n, 12, 12) with K[a, b] = d g_a / d p_b, axial forces N_out."""
+@njit(cache=True, nogil=True, parallel=True)
+def beam_kernel(x, R, nodes, E0s, L0s, stiff, want_tangent, g_out, K_out, N_out, threads):
+    """All elements, in chunks over ``threads`` threads (elements are independent)."""
     n = nodes.shape[0]
+    chunks = min(max(n // 256, 1), threads)
+    for c in prange(chunks):
+        _beam_chunk(x, R, nodes, E0s, L0s, stiff, want_tangent, g_out, K_out, N_out,
+                    c * n // chunks, (c + 1) * n // chunks)
+
+
+@njit(**_FAST)
+def _beam_chunk(x, R, nodes, E0s, L0s, stiff, want_tangent, g_out, K_out, N_out, start, stop):
+    """Internal forces g_out (n, 12), tangent K_out (n, 12, 12) with K[a, b] = d g_a / d p_b, axial forces N_out."""
     Rr = np.empty((3, 3))
     q1 = np.empty(3)
     q2 = np.empty(3)
@@ -246,7 +255,7 @@ def beam_kernel(x, R, nodes, E0s, L0s, stiff, want_tangent, g_out, K_out, N_out)
     r3 = np.empty(3)
     BH = np.empty((12, 7))
     musum = np.empty(3)
-    for el in range(n):
+    for el in range(start, stop):
         i1, i2 = nodes[el, 0], nodes[el, 1]
         x1, x2 = x[i1], x[i2]
         R1, R2 = R[i1], R[i2]

@@ -15,6 +15,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+import numba
 import numpy as np
 
 from ._beam_kernel import beam_kernel
@@ -90,7 +91,7 @@ def beam_forces(x: np.ndarray, R: np.ndarray, data: BeamData, tangent: bool = Tr
     K = np.empty((n, 12, 12)) if tangent else np.empty((0, 12, 12))
     N = np.empty(n)
     beam_kernel(np.ascontiguousarray(x), np.ascontiguousarray(R), data.nodes, data.E0, data.L0, data.stiffness,
-                tangent, g, K, N)
+                tangent, g, K, N, numba.get_num_threads())
     return g, (K if tangent else None), N
 
 

@@ -18,6 +18,7 @@ import scipy.sparse.linalg as spla
 from ..errors import ConvergenceError, ModelError, SingularModelError
 from ..model import Configuration, Model
 from .rotations import expm_so3, logm_so3
+from .linsolve import HAVE_CHOLMOD, CholmodCache, superlu
 from .system import System
 
 
@@ -94,6 +95,7 @@ class StaticSettings:
     min_increment: float = 1e-5
     max_increment_growth: float = 1.5
     desired_iterations: int = 5
+    cholmod: bool = True  # use CHOLMOD when scikit-sparse is installed (else SuperLU)
 
 
 # Pseudo-dynamic stabilisation [rad^2/s^2]: (2 pi 1 mHz)^2 times the mass matrix is added to the
@@ -104,18 +106,24 @@ STABILISATION = (2 * np.pi * 1e-3) ** 2
 
 
 class _Factor:
-    """Factorised K + alpha M with iterative refinement on K; a diagonal term is added only if that fails."""
+    """Factorised K + alpha M (CHOLMOD on its symmetric part where available, else SuperLU), with
+    optional iterative refinement on K; a diagonal term is added only if every factorisation fails."""
 
-    def __init__(self, K: sp.csc_matrix, M: sp.csc_matrix, reference: float):
+    def __init__(self, K: sp.csc_matrix, M: sp.csc_matrix, reference: float, cholmod: CholmodCache | None = None):
         self.K = K
         self.stabilisation = 0.0
+        base = (K + STABILISATION * M).tocsc()
+        if cholmod is not None and HAVE_CHOLMOD:
+            chol = cholmod.factor(0.5 * (base + base.T))
+            if chol is not None:
+                self._solve = chol.solve_A
+                return
         diag = np.abs(K.diagonal())
         scale = np.where(diag > 0, diag, reference)
-        base = (K + STABILISATION * M).tocsc()
         for alpha in (0.0, 1e-10, 1e-8, 1e-6, 1e-4, 1e-2):
             A = base if alpha == 0 else (base + sp.diags(alpha * scale)).tocsc()
             try:
-                self.lu = spla.splu(A, permc_spec="COLAMD", options={"SymmetricMode": True})
+                self._solve = superlu(A).solve
             except RuntimeError:
                 continue
             self.stabilisation = alpha
@@ -129,9 +137,9 @@ class _Factor:
         Newton needs none (the mass term changes each step by at most alpha/omega^2 ~ 1e-5 for any
         mode above 0.3 Hz); the linear static solution refines to the exact K^-1 b.
         """
-        x = self.lu.solve(b)
+        x = self._solve(b)
         for _ in range(refine):  # recover the solution of K x = b where K is regular
-            x = x + self.lu.solve(b - self.K @ x)
+            x = x + self._solve(b - self.K @ x)
         return x
 
 
@@ -204,6 +212,7 @@ def solve_static(model: Model, configuration: Configuration, *, settings: Static
     x, R = system.undeformed
     history: list[IterationRecord] = []
     mass = system.mass_matrix(x, R)
+    cholmod = CholmodCache() if settings.cholmod else None
     ev0 = system.evaluate(x, R, 1.0, tangent=False)
     load_ref = max(np.linalg.norm(ev0.external), np.linalg.norm(ev0.internal), 1e-12)
     _rigid_body_check(system, system.evaluate(x, R, 0.0).tangent, ev0.external - ev0.internal, x)
@@ -236,7 +245,7 @@ def solve_static(model: Model, configuration: Configuration, *, settings: Static
                 history.append(IterationRecord(step, lam, it, res, 0.0, 0.0))
                 return x, R, ev, stabilised, fac  # the last factor serves the next step's predictor
             try:
-                fac = _Factor(ev.tangent, mass, load_ref)
+                fac = _Factor(ev.tangent, mass, load_ref, cholmod)
             except SingularModelError:
                 return None
             delta = -fac.solve(r)
