@@ -2,7 +2,6 @@
 convergence with mesh refinement."""
 
 import numpy as np
-import pytest
 
 import flexgvt as fg
 

@@ -76,7 +76,7 @@ def test_rotated_structure_has_the_same_frequencies_loaded_and_unloaded():
     case = fg.cases.cantilever_strip(n_elements=30)
     Q = expm_so3(np.array([0.4, 1.1, -0.8]))
     rotated = fg.Model("rotated strip")
-    ids = rotated.add_nodes(case.model.xyz @ Q.T, ids=case.model.node_ids)
+    rotated.add_nodes(case.model.xyz @ Q.T, ids=case.model.node_ids)
     for group in case.model.beams:
         rotated.add_beams(group.nodes, group.material, group.section, orientation=group.orientation @ Q.T,
                           rotary_inertia=group.rotary_inertia, name=group.name)

@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import warnings
 
-import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
@@ -55,8 +54,3 @@ class CholmodCache:
 def superlu(A: sp.csc_matrix):
     """SuperLU with the options that suit structural matrices (raises RuntimeError if singular)."""
     return spla.splu(A, permc_spec="COLAMD", options={"SymmetricMode": True})
-
-
-def is_nearly_symmetric(K: sp.csc_matrix, tol: float = 1e-6) -> bool:
-    skew = K - K.T
-    return skew.nnz == 0 or abs(skew).max() <= tol * abs(K).max()

@@ -150,10 +150,10 @@ def beam_parameter_derivative(state: State, group: str, parameter: str) -> Param
     return ParameterDerivative(parameter, group, d_res, dK, dM)
 
 
-def frequency_derivatives(modes, derivative: ParameterDerivative, state_sensitivity: np.ndarray | None = None):
+def frequency_derivatives(modes, derivative: ParameterDerivative) -> np.ndarray:
     """d(frequency_hz)/dp of real modes, d lambda = phi^T (dK - lambda dM) phi (mass-normalised phi),
-    holding the static state fixed (add the state's own change through ``state_sensitivity``
-    in the updating layer)."""
+    holding the static state fixed (the state's own change with p belongs to the updating layer:
+    du/dp = -K^-1 d(residual)/dp, then dK/du along it)."""
     system = modes.state.system
     T = system.transformation(modes.state.positions) if system.has_links else None
     phi = np.stack([system.reduce_vector(s.reshape(-1), T) for s in modes.shapes], axis=1)

@@ -13,11 +13,10 @@ from typing import Callable
 
 import numpy as np
 import scipy.sparse as sp
-import scipy.sparse.linalg as spla
 
 from ..errors import ConvergenceError, ModelError, SingularModelError
 from ..model import Configuration, Model
-from .rotations import expm_so3, logm_so3
+from .rotations import logm_so3
 from .linsolve import HAVE_CHOLMOD, CholmodCache, superlu
 from .system import System
 

@@ -19,7 +19,8 @@ def parse_dofs(spec, where: str) -> tuple[int, ...]:
     try:
         dofs = sorted({int(c) - 1 for c in items})
     except ValueError:
-        raise ModelError(f"{where}: DOF components {spec!r} must be digits 1-6 (1-3 translations, 4-6 rotations)")
+        raise ModelError(f"{where}: DOF components {spec!r} must be digits 1-6 (1-3 translations, 4-6 rotations)") \
+            from None
     if not dofs or dofs[0] < 0 or dofs[-1] > 5:
         raise ModelError(f"{where}: DOF components {spec!r} must be digits 1-6")
     return tuple(dofs)
