@@ -9,7 +9,6 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from functools import cached_property
-from weakref import WeakKeyDictionary
 
 import numpy as np
 import scipy.sparse as sp
@@ -20,9 +19,6 @@ from .beam import (BeamData, beam_forces, beam_mass_matrices, element_frames, ke
                    local_mass_matrices)
 from .points import cord_damping, cord_forces, mass_gravity, mass_matrix, spring_damping, spring_forces
 from .rotations import expm_so3, skew
-
-_COMPILED: "WeakKeyDictionary[Model, tuple[int, CompiledModel]]" = WeakKeyDictionary()
-
 
 @dataclass(frozen=True)
 class PointMasses:
@@ -57,8 +53,8 @@ class CompiledModel:
 
 
 def compile_model(model: Model) -> CompiledModel:
-    """Compile (and cache against the model's revision) the model's arrays."""
-    cached = _COMPILED.get(model)
+    """Compile the model's arrays, cached on the model itself against its revision."""
+    cached = model.solver_cache.get("compiled")
     if cached is not None and cached[0] == model.revision:
         return cached[1]
     if model.n_nodes == 0:
@@ -96,7 +92,7 @@ def compile_model(model: Model) -> CompiledModel:
         links[model.index_of(list(link.dependents))] = model.index_of([link.independent])[0]
     compiled = CompiledModel(model.node_ids, xyz, beams, local_mass_matrices(beams), cat(eids, (0,)).astype(int),
                              cat(names, (0,)), _masses(model, model.masses), _springs(model, model.springs), links)
-    _COMPILED[model] = (model.revision, compiled)
+    model.solver_cache["compiled"] = (model.revision, compiled)
     return compiled
 
 

@@ -53,6 +53,7 @@ class Model:
         self._next_node = 1
         self._next_element = 1
         self.revision = 0  # bumped by every change; solvers cache compiled arrays against it
+        self.solver_cache: dict = {}  # owned by the solvers, keyed entries tagged with the revision
 
     # ------------------------------------------------------------------ nodes
     def add_nodes(self, xyz: Sequence[Sequence[float]] | np.ndarray, ids: Iterable[int] | None = None) -> np.ndarray:
