@@ -1,0 +1,161 @@
+"""FRF estimation from time data: H1, H2, Hv with coherence, averaged over blocks or impacts;
+Hann, force and exponential windows; stepped-sine FRFs (one complex amplitude per step).
+
+Shapes: force (n_inputs, n_samples) or (n_samples,), response (n_outputs, n_samples); H is
+(n_freq, n_outputs, n_inputs) like every FRF in flexgvt.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import EMAError
+
+
+@dataclass(frozen=True)
+class FRFEstimate:
+    """frequencies_hz (n_freq,); H (n_freq, n_out, n_in); coherence (n_freq, n_out) (multiple
+    coherence for several inputs); n_averages; estimator ('H1', 'H2', 'Hv')."""
+
+    frequencies_hz: np.ndarray
+    H: np.ndarray
+    coherence: np.ndarray
+    n_averages: int
+    estimator: str
+
+
+def hann(n: int) -> np.ndarray:
+    """Periodic Hann window (random excitation)."""
+    return 0.5 - 0.5 * np.cos(2 * np.pi * np.arange(n) / n)
+
+
+def force_window(n: int, fs: float, duration_s: float, taper_s: float = 0.0) -> np.ndarray:
+    """Rectangular window over the impact (first duration_s seconds) with an optional cosine taper:
+    removes the noise the force channel records after the hammer has left [fs in Hz]."""
+    t = np.arange(n) / fs
+    w = (t <= duration_s).astype(float)
+    if taper_s > 0:
+        edge = (t > duration_s) & (t <= duration_s + taper_s)
+        w[edge] = 0.5 * (1 + np.cos(np.pi * (t[edge] - duration_s) / taper_s))
+    return w
+
+
+def exponential_window(n: int, fs: float, tau_s: float) -> np.ndarray:
+    """exp(-t/tau) on the response of an impact test so it decays within the record."""
+    return np.exp(-np.arange(n) / fs / tau_s)
+
+
+def exponential_window_damping(frequency_hz, tau_s: float):
+    """Damping ratio the exponential window adds to a mode, to subtract from identified values:
+    sigma_added = 1/tau, so zeta_added = 1 / (tau * omega)."""
+    return 1.0 / (tau_s * 2 * np.pi * np.asarray(frequency_hz, float))
+
+
+def _as_2d(a, name):
+    a = np.asarray(a, float)
+    a = a[None, :] if a.ndim == 1 else a
+    if a.ndim != 2:
+        raise EMAError(f"{name} must have shape (n_channels, n_samples), got {a.shape}")
+    if not np.all(np.isfinite(a)):
+        raise EMAError(f"{name} contains NaN or infinite samples; remove the bad channel or record")
+    return a
+
+
+def _blocks(x: np.ndarray, nperseg: int, overlap: float) -> np.ndarray:
+    step = max(int(round(nperseg * (1 - overlap))), 1)
+    n = 1 + (x.shape[-1] - nperseg) // step
+    if n < 1:
+        raise EMAError(f"records of {x.shape[-1]} samples are shorter than one block of {nperseg}")
+    idx = np.arange(nperseg)[None, :] + step * np.arange(n)[:, None]
+    return x[:, idx]  # (channels, blocks, nperseg)
+
+
+def spectra(force, response, fs: float, nperseg: int | None = None, overlap: float = 0.5, window="hann",
+            response_window=None, records: int | None = None):
+    """Averaged auto and cross spectra Gff (f, i, i), Gyf (f, o, i), Gyy (f, o).
+
+    records: the signals hold this many separate records end to end (impact tests: one per
+    hit; each is one block, no overlap); otherwise blocks of nperseg with overlap.
+    window: 'hann', 'rect', or an array applied to the force (and to the response unless
+    response_window is given, e.g. exponential for impacts).
+    """
+    f = _as_2d(force, "force")
+    y = _as_2d(response, "response")
+    if f.shape[1] != y.shape[1]:
+        raise EMAError(f"force and response have {f.shape[1]} and {y.shape[1]} samples; they must be simultaneous")
+    if records:
+        nperseg = f.shape[1] // records
+        fb = f[:, :records * nperseg].reshape(f.shape[0], records, nperseg)
+        yb = y[:, :records * nperseg].reshape(y.shape[0], records, nperseg)
+    else:
+        nperseg = nperseg or f.shape[1]
+        fb, yb = _blocks(f, nperseg, overlap), _blocks(y, nperseg, overlap)
+    if isinstance(window, str):
+        window = {"hann": hann(nperseg), "rect": np.ones(nperseg)}.get(window)
+        if window is None:
+            raise EMAError("window must be 'hann', 'rect' or an array")
+    wy = window if response_window is None else response_window
+    F = np.fft.rfft(fb * window, axis=-1)
+    Y = np.fft.rfft(yb * wy, axis=-1)
+    Gff = np.einsum("ibk,jbk->kij", F, F.conj()) / fb.shape[1]
+    Gyf = np.einsum("obk,ibk->koi", Y, F.conj()) / fb.shape[1]
+    Gyy = np.einsum("obk,obk->ko", Y, Y.conj()).real / fb.shape[1]
+    return np.fft.rfftfreq(nperseg, 1 / fs), Gff, Gyf, Gyy, fb.shape[1]
+
+
+def estimate_frf(force, response, fs: float, estimator: str = "H1", **kwargs) -> FRFEstimate:
+    """H1 (noise on the response), H2 (noise on the force, single input) or Hv (total least
+    squares, single input) with coherence. kwargs go to :func:`spectra`."""
+    if estimator not in ("H1", "H2", "Hv"):
+        raise EMAError(f"estimator '{estimator}' must be 'H1', 'H2' or 'Hv'")
+    freq, Gff, Gyf, Gyy, nav = spectra(force, response, fs, **kwargs)
+    n_in = Gff.shape[1]
+    if estimator != "H1" and n_in != 1:
+        raise EMAError(f"{estimator} is defined here for one input; use H1 for {n_in} references")
+    ok = np.abs(np.einsum("kii->k", Gff)) > 0
+    Gff_safe = np.where(ok[:, None, None], Gff, np.eye(n_in))
+    # H1 Gff = Gyf  ->  Gff^T H1^T = Gyf^T
+    try:
+        H1 = np.linalg.solve(np.swapaxes(Gff_safe, 1, 2), np.swapaxes(Gyf, 1, 2)).swapaxes(1, 2)
+    except np.linalg.LinAlgError:
+        raise EMAError("the force spectral matrix is singular: the references are fully correlated; excite "
+                       "with uncorrelated signals (independent random generators) or use one reference") from None
+    # Multiple (or ordinary) coherence: |H1 Gff H1^H| / Gyy per output.
+    explained = np.einsum("koi,kij,koj->ko", H1, Gff_safe, H1.conj()).real
+    coherence = np.clip(explained / np.where(Gyy > 0, Gyy, 1.0), 0.0, 1.0)
+    if estimator == "H1":
+        H = H1
+    else:
+        gff = Gff[:, 0, 0].real[:, None]
+        gyf = Gyf[:, :, 0]
+        if estimator == "H2":
+            H = (Gyy / np.where(np.abs(gyf.conj()) > 0, gyf.conj(), 1.0))[:, :, None]
+        else:
+            # Hv: the smallest-eigenvalue vector of [[Gff, Gfy], [Gyf, Gyy]] per output (total least squares).
+            d = gff - Gyy
+            root = np.sqrt(d * d + 4 * np.abs(gyf) ** 2)
+            H = ((Gyy - gff + root) / (2 * np.where(np.abs(gyf.conj()) > 0, gyf.conj(), 1.0)))[:, :, None]
+    return FRFEstimate(freq, H, coherence, nav, estimator)
+
+
+def stepped_sine_frf(steps) -> tuple[np.ndarray, np.ndarray]:
+    """FRF of a stepped-sine test: steps is an iterable of (frequency_hz, t, force, response) with
+    force (n_t,) and response (n_out, n_t) sampled at times t [s] over whole cycles of one step.
+    Each signal's complex amplitude at the step frequency is a least-squares fit of
+    a cos + b sin + c; returns (frequencies_hz (n_steps,), H (n_steps, n_out, 1))."""
+    freqs, rows = [], []
+    for fhz, t, force, response in steps:
+        t = np.asarray(t, float)
+        basis = np.column_stack([np.cos(2 * np.pi * fhz * t), np.sin(2 * np.pi * fhz * t), np.ones_like(t)])
+        y = np.vstack([np.asarray(force, float)[None, :], np.atleast_2d(np.asarray(response, float))])
+        if not np.all(np.isfinite(y)):
+            raise EMAError(f"stepped sine step at {fhz} Hz contains NaN samples")
+        coef, *_ = np.linalg.lstsq(basis, y.T, rcond=None)
+        amp = coef[0] - 1j * coef[1]  # a cos + b sin = Re((a - i b) e^{i w t})
+        if abs(amp[0]) == 0:
+            raise EMAError(f"no force at the step frequency {fhz} Hz")
+        freqs.append(fhz)
+        rows.append(amp[1:] / amp[0])
+    return np.array(freqs), np.array(rows)[:, :, None]
