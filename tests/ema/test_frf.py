@@ -50,7 +50,6 @@ def test_h1_and_h2_bias_as_theory_says():
     assert abs(np.median(r1[band]) - 1 / (1 + 0.25)) < 0.03
     assert abs(np.median(r2[band]) - 1) < 0.03
     ev = estimate_frf(x + nx, y + ny, FS, "Hv", nperseg=nperseg)
-    rv = np.abs(ev.H[:, 0, 0]) / np.abs(H)
     e1 = estimate_frf(x + nx, y + ny, FS, "H1", nperseg=nperseg)
     e2 = estimate_frf(x + nx, y + ny, FS, "H2", nperseg=nperseg)
     m1, m2, mv = (np.median(np.abs(e.H[:, 0, 0])[band] / np.abs(H)[band]) for e in (e1, e2, ev))
