@@ -29,7 +29,7 @@ def test_noise_level_matches_the_requested_snr():
     model = ModalModel(np.array([1.0, 5.0]), np.array([0.02, 0.05]), np.array([[1.0, 0.5], [0.3, -1.0]]))
     f = np.linspace(0.1, 10, 20000)
     clean = synthesize_frfs(model, f, [0, 1], [0])
-    noisy = synthesize_frfs(model, f, [0, 1], [0], snr_db=30, seed=4)
+    noisy = synthesize_frfs(model, f, [0, 1], [0], snr_db=30, seed=4, noise="uniform")
     snr = 10 * np.log10(np.mean(np.abs(clean.H) ** 2, axis=0) / np.mean(np.abs(noisy.H - clean.H) ** 2, axis=0))
     np.testing.assert_allclose(snr, 30, atol=0.2)
 

@@ -42,11 +42,13 @@ def modal_model_from_modes(modes, points) -> tuple[ModalModel, np.ndarray]:
 
 
 def synthesize_frfs(model: ModalModel, frequencies_hz, outputs, inputs, quantity: str = "receptance",
-                    snr_db: float | None = None, seed: int = 0) -> FRFs:
+                    snr_db: float | None = None, seed: int = 0, noise: str = "relative") -> FRFs:
     """FRFs H (n_freq, n_out, n_in) of a viscously (proportionally) damped modal model.
 
     outputs/inputs: indices into the model's DOFs. quantity: receptance, mobility or accelerance.
-    snr_db: complex Gaussian noise on every FRF at this signal-to-noise ratio (per FRF, by power).
+    snr_db: complex Gaussian noise at this signal-to-noise ratio; noise='relative' scales it with the
+    FRF's magnitude at each line (a measurement's noise floor follows its signal), 'uniform' uses
+    each FRF's mean power (then weak high-frequency modes drown).
     """
     if quantity not in _QUANTITY_POWER:
         raise EMAError(f"quantity '{quantity}' must be one of {sorted(_QUANTITY_POWER)}")
@@ -60,7 +62,9 @@ def synthesize_frfs(model: ModalModel, frequencies_hz, outputs, inputs, quantity
     H = H * (1j * w[:, None, None]) ** _QUANTITY_POWER[quantity]
     if snr_db is not None:
         rng = np.random.default_rng(seed)
-        power = np.mean(np.abs(H) ** 2, axis=0, keepdims=True)
+        if noise not in ("relative", "uniform"):
+            raise EMAError("noise must be 'relative' or 'uniform'")
+        power = np.abs(H) ** 2 if noise == "relative" else np.mean(np.abs(H) ** 2, axis=0, keepdims=True)
         sigma = np.sqrt(power / 10 ** (snr_db / 10) / 2)
         H = H + sigma * (rng.standard_normal(H.shape) + 1j * rng.standard_normal(H.shape))
     idx = np.arange(model.shapes.shape[1])

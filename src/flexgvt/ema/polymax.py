@@ -1,0 +1,223 @@
+"""PolyMAX (poly-reference least-squares complex frequency-domain, pLSCF) with a stabilisation
+diagram, automatic selection of physical poles, and LSFD mode shapes with residual terms.
+
+Model per output o: H_o(w) = B_o(w) A(w)^-1 with z-domain polynomials (basis exp(i w dt r),
+dt = 1 / (2 f_max)) and real matrix coefficients; the numerator coefficients are eliminated
+(reduced normal equations), alpha_p = I fixes the scale, poles come from the block companion
+matrix and participation factors from its eigenvectors.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..errors import EMAError
+
+
+@dataclass(frozen=True)
+class ModalSet:
+    """Identified modes: frequencies_hz, damping_ratio (n_modes,); shapes (n_modes, n_outputs)
+    complex (normalised to a unit largest component); participation (n_modes, n_inputs);
+    residues (n_modes, n_outputs, n_inputs); outputs/inputs as in the FRFs."""
+
+    frequencies_hz: np.ndarray
+    damping_ratio: np.ndarray
+    shapes: np.ndarray
+    participation: np.ndarray
+    residues: np.ndarray
+    outputs: np.ndarray = field(default_factory=lambda: np.zeros((0, 2)))
+    inputs: np.ndarray = field(default_factory=lambda: np.zeros((0, 2)))
+
+
+@dataclass
+class Stabilisation:
+    """Poles per model order with stability flags; `select()` picks the physical poles and fits shapes."""
+
+    frequencies_hz: np.ndarray  # FRF frequency axis
+    H: np.ndarray
+    orders: list
+    poles: list  # per order: complex s (n,) [rad/s]
+    participations: list  # per order: (n, n_inputs)
+    stable: list  # per order: bool (n,) stable in frequency, damping and participation
+    outputs: np.ndarray = field(default_factory=lambda: np.zeros((0, 2)))
+    inputs: np.ndarray = field(default_factory=lambda: np.zeros((0, 2)))
+    band: tuple = (0.0, np.inf)
+
+    def select(self, frequencies_hz=None, min_fraction: float = 0.3, tol_f: float = 0.01) -> ModalSet:
+        """Physical poles: clusters of stable poles (frequency within tol_f relative) present in at
+        least min_fraction of the orders; or, with frequencies_hz, the stable pole nearest each
+        given frequency at the highest order (selection by hand)."""
+        pts = [(s, L, k) for k, (ss, Ls, st) in enumerate(zip(self.poles, self.participations, self.stable))
+               for s, L, ok in zip(ss, Ls, st) if ok]
+        if not pts:
+            raise EMAError("no stable pole in the diagram: raise max_order or widen the frequency band")
+        f = np.array([abs(s) / (2 * np.pi) for s, _, _ in pts])
+        if frequencies_hz is not None:
+            chosen = []
+            for target in np.atleast_1d(frequencies_hz):
+                near = [i for i in range(len(pts)) if abs(f[i] / target - 1) < 0.05]
+                if not near:
+                    raise EMAError(f"no stable pole within 5 % of {target} Hz")
+                chosen.append(max(near, key=lambda i: (pts[i][2], -abs(f[i] - target))))
+            picks = [pts[i] for i in chosen]
+        else:
+            order = np.argsort(f)
+            clusters, current = [], [order[0]]
+            for i in order[1:]:
+                if f[i] - f[current[-1]] <= tol_f * f[current[-1]]:
+                    current.append(i)
+                else:
+                    clusters.append(current)
+                    current = [i]
+            clusters.append(current)
+            need = max(2, int(np.ceil(min_fraction * len(self.orders))))
+            picks = []
+            for c in clusters:
+                c = sorted(c, key=lambda i: f[i])
+                # A cluster holding k poles of one order is k modes: split it at its k - 1 largest gaps.
+                per_order = {}
+                for i in c:
+                    per_order[pts[i][2]] = per_order.get(pts[i][2], 0) + 1
+                k = max(per_order.values())
+                cuts = sorted(np.argsort(np.diff(f[c]))[::-1][:k - 1] + 1) if k > 1 else []
+                for sub in np.split(np.array(c), cuts):
+                    if len({pts[i][2] for i in sub}) < need:
+                        continue
+                    med = np.median(f[sub])
+                    best = min(sub, key=lambda i: (abs(f[i] - med), -pts[i][2]))
+                    picks.append(pts[best])
+        s = np.array([p[0] for p in picks])
+        L = np.array([p[1] for p in picks])
+        f_lo, f_hi = self.band
+        band = (self.frequencies_hz >= f_lo) & (self.frequencies_hz <= f_hi)
+        return lsfd(self.frequencies_hz[band], self.H[band], s, L, self.outputs, self.inputs)
+
+
+def _stability(prev_s, prev_L, s, L, tol_f=0.01, tol_z=0.05, tol_mac=0.98):
+    if prev_s is None or len(prev_s) == 0:
+        return np.zeros(len(s), bool)
+    fp, zp = np.abs(prev_s), -prev_s.real / np.abs(prev_s)
+    out = np.zeros(len(s), bool)
+    for k in range(len(s)):
+        f, z = abs(s[k]), -s[k].real / abs(s[k])
+        j = int(np.argmin(np.abs(fp - f)))
+        mac = abs(np.vdot(prev_L[j], L[k])) ** 2 / max(np.vdot(prev_L[j], prev_L[j]).real * np.vdot(L[k], L[k]).real,
+                                                       1e-300)
+        out[k] = abs(fp[j] - f) <= tol_f * f and abs(zp[j] - z) <= tol_z * max(z, 1e-12) and mac >= tol_mac
+    return out
+
+
+def polymax(frfs, max_order: int = 40, frequency_band=None, orders=None, weighting: str = "unit") -> Stabilisation:
+    """Stabilisation diagram of pLSCF poles for model orders 1..max_order (or ``orders``).
+
+    frfs: an FRFs container (flexgvt.io.uff) or a tuple (frequencies_hz, H (n_freq, n_out, n_in)).
+    frequency_band: (f_min, f_max) [Hz] to fit (default: the whole axis above 0).
+    """
+    if isinstance(frfs, tuple):
+        freq, H = frfs
+        outputs, inputs = np.zeros((0, 2)), np.zeros((0, 2))
+    else:
+        freq, H, outputs, inputs = frfs.frequencies_hz, frfs.H, frfs.outputs, frfs.inputs
+    freq = np.asarray(freq, float)
+    H = np.asarray(H)
+    if H.ndim != 3 or H.shape[0] != len(freq):
+        raise EMAError(f"H must have shape (n_freq, n_outputs, n_inputs) matching {len(freq)} frequencies, got {H.shape}")
+    if not np.all(np.isfinite(H)):
+        raise EMAError("the FRFs contain NaN or infinite values; remove the bad channels first")
+    lo, hi = frequency_band if frequency_band is not None else (freq[freq > 0].min(), freq.max())
+    keep = (freq >= lo) & (freq <= hi) & (freq > 0)
+    fk, Hk = freq[keep], H[keep]
+    n_i = Hk.shape[2]
+    dt = 1.0 / (2 * fk.max())
+    P = int(max_order)
+    orders = list(range(1, P + 1)) if orders is None else list(orders)
+    lags = np.arange(-P, P + 1)
+    Om = np.exp(1j * 2 * np.pi * fk[:, None] * dt * lags[None, :])  # (n_f, 2P+1)
+    # Weights: each output's lines by 1/|H_o| so every mode counts whatever its amplitude (receptances
+    # of very flexible structures span decades). Toeplitz ingredients per lag d = s - r:
+    # R_o(d) = sum_k w_o^2 Om_d, g_o(d) = sum_k w_o^2 Om_d H_o, G(d) = sum_k Om_d sum_o w_o^2 H_o^H H_o.
+    mag = np.sqrt(np.sum(np.abs(Hk) ** 2, axis=2))  # (n_f, n_o)
+    if weighting == "unit":
+        w2 = np.ones_like(mag)
+    elif weighting == "inverse":
+        w2 = 1.0 / np.maximum(mag, 1e-12 * mag.max()) ** 2
+        w2 /= w2.mean(axis=0, keepdims=True)
+    else:
+        raise EMAError(f"weighting '{weighting}' must be 'unit' or 'inverse'")
+    r = np.einsum("kd,ko->od", Om, w2).real
+    g = np.einsum("kd,ko,koi->doi", Om, w2, Hk)
+    G = np.einsum("kd,ko,koj,kol->djl", Om, w2, Hk.conj(), Hk)
+    stab = Stabilisation(freq, H, orders, [], [], [], outputs, inputs, (lo, hi))
+    prev_s = prev_L = None
+    for p in orders:
+        idx = np.arange(p + 1)
+        D = idx[None, :] - idx[:, None] + P  # lag s - r
+        R = r[:, D]  # (n_o, p+1, p+1)
+        S = -np.real(g[D])  # (p+1, p+1, n_o, n_i): S_o[r, (s, j)]
+        S = np.transpose(S, (2, 0, 1, 3)).reshape(Hk.shape[1], p + 1, (p + 1) * n_i)
+        T = np.real(np.transpose(G[D], (0, 2, 1, 3))).reshape((p + 1) * n_i, (p + 1) * n_i)
+        Rinv_S = np.linalg.solve(R, S)  # (n_o, p+1, (p+1) n_i)
+        M = 2 * (T - np.einsum("orc,ord->cd", S, Rinv_S))
+        m = p * n_i
+        try:
+            alpha = -np.linalg.solve(M[:m, :m], M[:m, m:])  # (p n_i, n_i), alpha_p = I
+        except np.linalg.LinAlgError:
+            stab.poles.append(np.zeros(0, complex))
+            stab.participations.append(np.zeros((0, n_i), complex))
+            stab.stable.append(np.zeros(0, bool))
+            continue
+        C = np.zeros((m, m))
+        if p > 1:
+            C[:-n_i, n_i:] = np.eye(m - n_i)
+        # Companion of A^T(z) = sum alpha_r^T z^r: same poles, and its eigenvectors' first block are the
+        # left null vectors of A(s), i.e. the participation factors (H = B A^-1 ~ B v w^T / (s - lambda)).
+        C[-n_i:, :] = -np.hstack([alpha[r * n_i:(r + 1) * n_i].T for r in range(p)])
+        z, V = np.linalg.eig(C)
+        s = np.log(z.astype(complex)) / dt
+        L = V[:n_i].T  # participation factors (n, n_i)
+        ok = (s.imag > 0) & (s.real < 0)
+        s, L = s[ok], L[ok]
+        L = L / np.linalg.norm(L, axis=1, keepdims=True)
+        order = np.argsort(np.abs(s))
+        s, L = s[order], L[order]
+        stab.poles.append(s)
+        stab.participations.append(L)
+        stab.stable.append(_stability(prev_s, prev_L, s, L))
+        prev_s, prev_L = s, L
+    return stab
+
+
+def lsfd(frequencies_hz, H, poles, participation=None, outputs=None, inputs=None, residuals: bool = True) -> ModalSet:
+    """Least-squares frequency-domain residues for given poles s (rad/s, upper half plane), with
+    lower (1/w^2) and upper (constant) residual terms per FRF; one linear least-squares problem
+    with every FRF as a right-hand side. Each mode's shape is the dominant left singular vector of
+    its residue matrix (n_outputs x n_inputs), which uses all references and separates close
+    modes; the right singular vector is its participation unless ``participation`` is given.
+    """
+    w = 2 * np.pi * np.asarray(frequencies_hz, float)
+    keep = w > 0
+    w, Hk = w[keep], np.asarray(H)[keep]
+    n_f, n_o, n_i = Hk.shape
+    iw = 1j * w[:, None]
+    s = np.asarray(poles)
+    nm = len(s)
+    P = 1 / (iw - s[None, :])
+    Pc = 1 / (iw - s.conj()[None, :])
+    cols = [P + Pc, 1j * P - 1j * Pc]
+    if residuals:
+        cols += [(-1 / w**2)[:, None].astype(complex), np.ones((n_f, 1), complex)]
+    A = np.hstack(cols)
+    B = Hk.reshape(n_f, n_o * n_i)
+    x, *_ = np.linalg.lstsq(np.vstack([A.real, A.imag]), np.vstack([B.real, B.imag]), rcond=None)
+    Rres = (x[:nm] + 1j * x[nm:2 * nm]).reshape(nm, n_o, n_i)
+    U, sv, Vh = np.linalg.svd(Rres)
+    shapes = U[:, :, 0]
+    shapes = shapes / shapes[np.arange(nm), np.argmax(np.abs(shapes), axis=1)][:, None]
+    L = np.asarray(participation) if participation is not None else Vh[:, 0, :].conj()
+    f = np.abs(s) / (2 * np.pi)
+    zeta = -s.real / np.abs(s)
+    o = outputs if outputs is not None else np.zeros((0, 2))
+    i = inputs if inputs is not None else np.zeros((0, 2))
+    return ModalSet(f, zeta, shapes, L, Rres, o, i)
