@@ -1,10 +1,11 @@
 """Experimental modal analysis: FRF estimation, PolyMAX with stabilisation and automatic pole selection, LSFD,
-synthetic GVT data. (Not written yet: CMIF, free-decay identification, figures, `flexgvt ema` command.)"""
+synthetic GVT data. free-decay identification. (Not written yet: CMIF, figures, `flexgvt ema` command.)"""
 
+from .free_decay import FreeDecay, free_decay, free_decay_from_peaks
 from .polymax import ModalSet, Stabilisation, lsfd, polymax
 from .synthetic import ModalModel, modal_model_from_modes, synthesize_frfs, synthesize_time_data
 from .frf import (FRFEstimate, estimate_frf, exponential_window, exponential_window_damping, force_window, hann,
                   spectra, stepped_sine_frf)
 
-__all__ = ["ModalSet", "Stabilisation", "lsfd", "polymax", "ModalModel", "modal_model_from_modes", "synthesize_frfs", "synthesize_time_data", "FRFEstimate", "estimate_frf", "exponential_window", "exponential_window_damping", "force_window", "hann",
+__all__ = ["FreeDecay", "free_decay", "free_decay_from_peaks", "ModalSet", "Stabilisation", "lsfd", "polymax", "ModalModel", "modal_model_from_modes", "synthesize_frfs", "synthesize_time_data", "FRFEstimate", "estimate_frf", "exponential_window", "exponential_window_damping", "force_window", "hann",
            "spectra", "stepped_sine_frf"]
