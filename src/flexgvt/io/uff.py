@@ -208,6 +208,20 @@ def _modes(sets, path) -> ModalResults | None:
     return ModalResults(np.array(freqs), np.array(damps), np.array(shapes), ids)
 
 
+def shapes_at_points(shapes: np.ndarray, outputs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Channel shapes (n_modes, n_outputs) -> per-point translations (n_modes, n_points, 3) using each
+    channel's (point id, direction code +-1..3); returns (point ids, shapes)."""
+    outputs = np.asarray(outputs).astype(int)
+    points = np.unique(outputs[:, 0])
+    out = np.zeros((shapes.shape[0], len(points), 3), dtype=shapes.dtype)
+    for k, (pt, d) in enumerate(outputs):
+        if abs(d) not in (1, 2, 3):
+            raise FileFormatError(f"output {k} (point {pt}, direction {d}) is not a translation; UFF 55 export "
+                                  "of rotational channels is not supported")
+        out[:, np.searchsorted(points, pt), abs(d) - 1] += np.sign(d) * shapes[:, k]
+    return points, out
+
+
 def write_uff(path: str | Path, *, geometry: TestGeometry | None = None, frfs: FRFs | None = None,
               modes: ModalResults | None = None, binary: bool = False) -> Path:
     """Write geometry (15), units (164, SI), FRFs (58, complex) and modes (55) to a new UFF file."""

@@ -1,0 +1,73 @@
+"""Report figures of experimental modal analysis: stabilisation diagram over the sum FRF, CMIF, FRF fits."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .indicators import cmif, synthesize_from_modes
+
+
+def _figure(**kw):
+    import matplotlib
+
+    matplotlib.use("Agg", force=False)
+    import matplotlib.pyplot as plt
+
+    return plt.figure(**kw)
+
+
+def stabilisation_diagram(stab, modes=None, title: str = "Stabilisation diagram"):
+    """Poles per model order (stable: filled) over the sum of |FRF| in the fitted band."""
+    fig = _figure(figsize=(9, 5))
+    ax = fig.subplots()
+    lo, hi = stab.band
+    band = (stab.frequencies_hz >= lo) & (stab.frequencies_hz <= hi)
+    for p, s, st in zip(stab.orders, stab.poles, stab.stable):
+        f = np.abs(s) / (2 * np.pi)
+        keep = (f >= lo) & (f <= hi)
+        ax.plot(f[keep & ~st], np.full((keep & ~st).sum(), p), "o", ms=2.5, mfc="none", color="0.6")
+        ax.plot(f[keep & st], np.full((keep & st).sum(), p), "o", ms=3, color="tab:green")
+    ax.set_xlabel("frequency [Hz]")
+    ax.set_ylabel("model order")
+    ax2 = ax.twinx()
+    ax2.semilogy(stab.frequencies_hz[band], np.abs(stab.H[band]).sum(axis=(1, 2)), color="tab:blue", lw=1)
+    ax2.set_ylabel("sum |FRF|")
+    if modes is not None:
+        for f in modes.frequencies_hz:
+            ax.axvline(f, color="tab:red", lw=0.8, ls="--")
+    ax.set_title(title)
+    fig.tight_layout()
+    return fig
+
+
+def cmif_plot(frequencies_hz, H, modes=None, title: str = "CMIF"):
+    fig = _figure(figsize=(9, 4))
+    ax = fig.subplots()
+    sv = cmif(H)
+    for k in range(sv.shape[1]):
+        ax.semilogy(frequencies_hz, sv[:, k], lw=1, label=f"singular value {k + 1}")
+    if modes is not None:
+        for f in modes.frequencies_hz:
+            ax.axvline(f, color="tab:red", lw=0.8, ls="--")
+    ax.set_xlabel("frequency [Hz]")
+    ax.legend(fontsize=8)
+    ax.set_title(title)
+    fig.tight_layout()
+    return fig
+
+
+def frf_fit(frequencies_hz, H, modes, output: int, reference: int = 0, title: str = ""):
+    """Measured FRF against the one synthesised from the identified modes: magnitude and phase."""
+    fig = _figure(figsize=(8, 5))
+    mag, ph = fig.subplots(2, 1, sharex=True)
+    Hs = synthesize_from_modes(modes, frequencies_hz)
+    mag.semilogy(frequencies_hz, np.abs(H[:, output, reference]), lw=1, label="measured")
+    mag.semilogy(frequencies_hz, np.abs(Hs[:, output, reference]), "--", lw=1, label="identified modes")
+    ph.plot(frequencies_hz, np.degrees(np.angle(H[:, output, reference])), lw=1)
+    ph.plot(frequencies_hz, np.degrees(np.angle(Hs[:, output, reference])), "--", lw=1)
+    mag.legend(fontsize=8)
+    mag.set_title(title or f"FRF output {output + 1} / reference {reference + 1}")
+    ph.set_xlabel("frequency [Hz]")
+    ph.set_ylabel("phase [deg]")
+    fig.tight_layout()
+    return fig
