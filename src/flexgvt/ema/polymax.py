@@ -158,8 +158,14 @@ def polymax(frfs, max_order: int = 40, frequency_band=None, orders=None, weighti
         S = -np.real(g[D])  # (p+1, p+1, n_o, n_i): S_o[r, (s, j)]
         S = np.transpose(S, (2, 0, 1, 3)).reshape(Hk.shape[1], p + 1, (p + 1) * n_i)
         T = np.real(np.transpose(G[D], (0, 2, 1, 3))).reshape((p + 1) * n_i, (p + 1) * n_i)
-        Rinv_S = np.linalg.solve(R, S)  # (n_o, p+1, (p+1) n_i)
-        M = 2 * (T - np.einsum("orc,ord->cd", S, Rinv_S))
+        if weighting == "unit":  # one R for every output: a single solve
+            Rinv_S = np.linalg.solve(R[0], S.transpose(1, 0, 2).reshape(p + 1, -1))
+            Rinv_S = Rinv_S.reshape(p + 1, S.shape[0], -1).transpose(1, 0, 2)
+        else:
+            Rinv_S = np.linalg.solve(R, S)  # (n_o, p+1, (p+1) n_i)
+        # sum_o S_o^T R_o^-1 S_o as one matrix product over the stacked outputs (BLAS).
+        c = (p + 1) * n_i
+        M = 2 * (T - S.reshape(-1, c).T @ Rinv_S.reshape(-1, c))
         m = p * n_i
         try:
             alpha = -np.linalg.solve(M[:m, :m], M[:m, m:])  # (p n_i, n_i), alpha_p = I
