@@ -107,9 +107,9 @@ def capture_tangents(model, cfg):
     captured = []
     original = fg_static._Factor.__init__
 
-    def recording(self, K, M, reference, cholmod=None):
+    def recording(self, system, K, M, reference, cholmod=None):
         captured.append((K + fg_static.STABILISATION * M).tocsc())  # the matrix flexgvt factorises
-        original(self, K, M, reference, cholmod)
+        original(self, system, K, M, reference, cholmod)
 
     fg_static._Factor.__init__ = recording
     try:

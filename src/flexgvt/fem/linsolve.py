@@ -30,7 +30,8 @@ class CholmodCache:
         self.nnz = -1
 
     def factor(self, A: sp.csc_matrix):
-        """Numeric Cholesky of symmetric A (in place, same symbolic analysis), or None if not positive definite.
+        """Numeric Cholesky of symmetric A (only its lower triangle is read; in place, same symbolic
+        analysis), or None if not positive definite.
 
         The returned object is only valid until the next call.
         """

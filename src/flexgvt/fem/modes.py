@@ -12,6 +12,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from ..errors import SolverError
+from .linsolve import HAVE_CHOLMOD, CholmodCache
 from .static import State
 
 DENSE_LIMIT = 200  # reduced DOFs below which dense eigensolvers are used
@@ -66,6 +67,17 @@ def _frequency_hz(lam: np.ndarray) -> np.ndarray:
 DEFAULT_SHIFT = -(2 * np.pi * 0.01) ** 2
 
 
+def _cholesky_inverse(K: sp.spmatrix, M: sp.spmatrix, sigma: float) -> spla.LinearOperator | None:
+    """(K - sigma M)^-1 through CHOLMOD when it is installed and K - sigma M is positive definite
+    (below every eigenvalue); None lets eigsh factorise with SuperLU."""
+    if not HAVE_CHOLMOD:
+        return None
+    factor = CholmodCache().factor(sp.tril(K - sigma * M).tocsc())
+    if factor is None:
+        return None
+    return spla.LinearOperator(K.shape, matvec=factor.solve_A, dtype=float)
+
+
 def real_modes(K: sp.spmatrix, M: sp.spmatrix, n_modes: int, shift: float | None = None):
     """Lowest n_modes of K phi = lam M phi (K symmetric, possibly singular or indefinite)."""
     n = K.shape[0]
@@ -92,7 +104,8 @@ def real_modes(K: sp.spmatrix, M: sp.spmatrix, n_modes: int, shift: float | None
         try:
             # A margin of extra pairs: ARPACK can miss members of clusters such as six rigid-body modes.
             k_run = min(n - 2, k + max(6, k // 4))
-            lam, phi = spla.eigsh(K.tocsc(), k=k_run, M=M.tocsc(), sigma=sigma, which="LM", mode="normal")
+            lam, phi = spla.eigsh(K.tocsc(), k=k_run, M=M.tocsc(), sigma=sigma, which="LM", mode="normal",
+                                  OPinv=_cholesky_inverse(K, M, sigma))
         except RuntimeError as exc:
             raise SolverError(f"eigensolver failed ({exc}); the model may have a mechanism with no mass") from exc
         order = np.argsort(lam)[:k]

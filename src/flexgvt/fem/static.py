@@ -81,8 +81,15 @@ class StaticSettings:
     """Settings of the nonlinear static solver.
 
     increments: initial number of equal load increments; max_iterations per increment;
-    tolerance: residual norm relative to the applied-load norm; min_increment: smallest load
-    increment before giving up; max_increment_growth: largest growth of an increment after an
+    tolerance: residual norm relative to the applied-load norm; relative_energy_tolerance: an
+    increment is also converged once a Newton correction's energy |du . r| falls below this
+    fraction of the increment's first one (quadratic convergence: the correction is then applied
+    and its residual only checked, which saves the iterations that would otherwise be spent at
+    the round-off floor of stiff axial members); intermediate_energy_tolerance: the same for
+    load levels on the way (their state only seeds the next increment; the problem is elastic,
+    so nothing accumulates and the final and requested levels keep the strict tolerance);
+    min_increment: smallest load increment before
+    giving up; max_increment_growth: largest growth of an increment after an
     easy step (1.0 keeps every increment equal); desired_iterations: the increment is scaled by
     sqrt(desired / taken) after each step.
     """
@@ -91,6 +98,8 @@ class StaticSettings:
     max_iterations: int = 25
     tolerance: float = 1e-8
     energy_tolerance: float = 1e-14
+    relative_energy_tolerance: float = 1e-12
+    intermediate_energy_tolerance: float = 1e-6
     min_increment: float = 1e-5
     max_increment_growth: float = 1.5
     desired_iterations: int = 5
@@ -108,15 +117,16 @@ class _Factor:
     """Factorised K + alpha M (CHOLMOD on its symmetric part where available, else SuperLU), with
     optional iterative refinement on K; a diagonal term is added only if every factorisation fails."""
 
-    def __init__(self, K: sp.csc_matrix, M: sp.csc_matrix, reference: float, cholmod: CholmodCache | None = None):
+    def __init__(self, system: System, K: sp.csc_matrix, M: sp.csc_matrix, reference: float,
+                 cholmod: CholmodCache | None = None):
         self.K = K
         self.stabilisation = 0.0
-        base = (K + STABILISATION * M).tocsc()
         if cholmod is not None and HAVE_CHOLMOD:
-            chol = cholmod.factor(0.5 * (base + base.T))
+            chol = cholmod.factor(system.stabilised_tangent(K, M, STABILISATION, part="lower"))
             if chol is not None:
                 self._solve = chol.solve_A
                 return
+        base = system.stabilised_tangent(K, M, STABILISATION)
         diag = np.abs(K.diagonal())
         scale = np.where(diag > 0, diag, reference)
         for alpha in (0.0, 1e-10, 1e-8, 1e-6, 1e-4, 1e-2):
@@ -223,7 +233,7 @@ def solve_static(model: Model, configuration: Configuration, *, settings: Static
                      ev.axial_forces, ev.cord_tension, ev.cord_length, stabilised,
                      time.perf_counter() - t0, system)
 
-    def newton(x, R, lam, step):
+    def newton(x, R, lam, step, energy_tolerance=settings.relative_energy_tolerance):
         """Iterate to equilibrium at load factor lam.
 
         Returns (x, R, ev, stabilised, factor-or-None) or None. The residual is checked before
@@ -233,8 +243,10 @@ def solve_static(model: Model, configuration: Configuration, *, settings: Static
         previous = np.inf
         growth = 0
         fac = None
-        for it in range(settings.max_iterations):
-            ev = system.evaluate(x, R, lam)
+        first_energy = None
+        it = 0
+        ev = system.evaluate(x, R, lam)
+        while it < settings.max_iterations:
             r = ev.internal - ev.external
             ref = max(np.linalg.norm(ev.external), load_ref * lam, 1e-300)
             res = np.linalg.norm(r) / ref
@@ -244,7 +256,7 @@ def solve_static(model: Model, configuration: Configuration, *, settings: Static
                 history.append(IterationRecord(step, lam, it, res, 0.0, 0.0))
                 return x, R, ev, stabilised, fac  # the last factor serves the next step's predictor
             try:
-                fac = _Factor(ev.tangent, mass, load_ref, cholmod)
+                fac = _Factor(system, ev.tangent, mass, load_ref, cholmod)
             except SingularModelError:
                 return None
             delta = -fac.solve(r)
@@ -263,6 +275,18 @@ def solve_static(model: Model, configuration: Configuration, *, settings: Static
                 return None
             previous = res
             x, R = system.update(x, R, _limit_rotation(delta, system))
+            it += 1
+            if first_energy is None:
+                first_energy = energy
+            elif energy <= energy_tolerance * first_energy:
+                # Converged in energy: check the corrected state's residual without a tangent.
+                ev = system.evaluate(x, R, lam, tangent=False)
+                r = ev.internal - ev.external
+                res_new = np.linalg.norm(r) / ref
+                if np.isfinite(res_new) and res_new <= max(res, settings.tolerance):
+                    history.append(IterationRecord(step, lam, it, res_new, 0.0, 0.0))
+                    return x, R, ev, stabilised, fac
+            ev = system.evaluate(x, R, lam)
         return None
 
     def predict(x, R, lam, target, fac, ev_a):
@@ -302,9 +326,11 @@ def solve_static(model: Model, configuration: Configuration, *, settings: Static
             target = nxt[0]
         step += 1
         xs, Rs = predict(x, R, lam, target, factor, last_ev)
-        got = newton(xs, Rs, target, step)
+        strict = target >= 1.0 - 1e-12 or any(abs(target - lv) < 1e-12 for lv in levels)
+        tol = settings.relative_energy_tolerance if strict else settings.intermediate_energy_tolerance
+        got = newton(xs, Rs, target, step, tol)
         if got is None:
-            got = newton(x, R, target, step)
+            got = newton(x, R, target, step, tol)
         if got is None:
             increment *= 0.5
             if increment < settings.min_increment:
@@ -341,7 +367,7 @@ def solve_linear_static(model: Model, configuration: Configuration) -> State:
     _rigid_body_check(system, ev.tangent, ev.external - ev.internal, x)
     r = ev.internal - ev.external
     ref = max(np.linalg.norm(ev.external), 1e-300)
-    fac = _Factor(ev.tangent, system.mass_matrix(x, R), ref)
+    fac = _Factor(system, ev.tangent, system.mass_matrix(x, R), ref)
     delta = -fac.solve(r, refine=4) if np.any(r) else np.zeros_like(r)
     if np.linalg.norm(ev.tangent @ delta + r) > 1e-6 * ref:
         raise SingularModelError(f"configuration '{configuration.name}': the stiffness matrix is singular and the loads "

@@ -15,6 +15,7 @@ import scipy.sparse as sp
 
 from ..errors import ModelError
 from ..model import Configuration, Model, parse_dofs
+from .assembly import Pattern
 from .beam import (BeamData, beam_forces, beam_mass_matrices, element_frames, kernel_coefficients,
                    local_mass_matrices)
 from .points import cord_damping, cord_forces, mass_gravity, mass_matrix, spring_damping, spring_forces
@@ -125,29 +126,6 @@ def _merge_springs(a: Springs, b: Springs) -> Springs:
                      for f in ("a", "b", "stiffness", "damping", "frame")))
 
 
-class _Pattern:
-    """Sparse pattern of element blocks mapped to reduced DOFs; assembly is one bincount."""
-
-    def __init__(self, blocks: list[np.ndarray], dof_map: np.ndarray, n: int):
-        rows, cols = [], []
-        for dofs in blocks:
-            rows.append(np.repeat(dofs, dofs.shape[1], axis=1).ravel())
-            cols.append(np.tile(dofs, (1, dofs.shape[1])).ravel())
-        rows = dof_map[np.concatenate(rows)] if rows else np.zeros(0, int)
-        cols = dof_map[np.concatenate(cols)] if cols else np.zeros(0, int)
-        self.keep = (rows >= 0) & (cols >= 0)
-        keys = cols[self.keep].astype(np.int64) * n + rows[self.keep]
-        uniq, self.inverse = np.unique(keys, return_inverse=True)
-        self.indices = (uniq % n).astype(np.int32)
-        self.indptr = np.searchsorted(uniq // n, np.arange(n + 1)).astype(np.int32)
-        self.n = n
-
-    def assemble(self, values: list[np.ndarray]) -> sp.csc_matrix:
-        data = np.concatenate([v.reshape(-1) for v in values])[self.keep] if values else np.zeros(0)
-        data = np.bincount(self.inverse, weights=data, minlength=len(self.indices))
-        return sp.csc_matrix((data, self.indices, self.indptr), shape=(self.n, self.n))
-
-
 @dataclass
 class Evaluation:
     """Residual pieces and tangent at one state (reduced DOFs)."""
@@ -233,9 +211,9 @@ class System:
                   self._spring_dofs()]
         self._blocks = blocks
         if self.has_links:
-            self.pattern = _Pattern(blocks, np.arange(6 * n), 6 * n)
+            self.pattern = Pattern(blocks, np.arange(6 * n), 6 * n)
         else:
-            self.pattern = _Pattern(blocks, self.dof_map, self.n_free)
+            self.pattern = Pattern(blocks, self.dof_map, self.n_free)
 
     # ------------------------------------------------------------------ DOF helpers
     def _beam_dofs(self) -> np.ndarray:
@@ -367,6 +345,28 @@ class System:
             R_new[deps] = R_new[ind]
         return x_new, R_new
 
+    def stabilised_tangent(self, K: sp.csc_matrix, M: sp.csc_matrix, alpha: float,
+                           part: str = "full") -> sp.csc_matrix:
+        """The matrix Newton factorises, K + alpha M for K and M of this system's evaluate() and
+        mass_matrix(): part "full", "symmetric" (its symmetric part) or "lower" (the lower triangle
+        of the symmetric part, all a Cholesky factorisation reads). Without rigid links K and M
+        live on one pattern and this is elementwise on their data.
+        """
+        p = self.pattern
+        if not self.has_links and K.nnz == M.nnz == p.nnz:
+            if part == "full":
+                return p.matrix(K.data + alpha * M.data)
+            if part == "symmetric":
+                return p.matrix(0.5 * (K.data + K.data[p.transpose]) + alpha * M.data)
+            entries, indices, indptr = p.lower
+            data = 0.5 * (K.data[entries] + K.data[p.transpose[entries]]) + alpha * M.data[entries]
+            return sp.csc_matrix((data, indices, indptr), shape=K.shape)
+        A = (K + alpha * M).tocsc()
+        if part == "full":
+            return A
+        A = 0.5 * (A + A.T)
+        return (sp.tril(A) if part == "lower" else A).tocsc()
+
     # ------------------------------------------------------------------ mass and damping
     def mass_matrix(self, x: np.ndarray, R: np.ndarray) -> sp.csc_matrix:
         """Reduced mass matrix about the state (beam mass in corotated frames, offset masses rotated)."""
@@ -375,7 +375,7 @@ class System:
     def full_mass_matrix(self, x: np.ndarray, R: np.ndarray) -> sp.csc_matrix:
         """(6n, 6n) mass matrix about the state over all DOFs (constraints not applied)."""
         if not hasattr(self, "_full_pattern"):
-            self._full_pattern = _Pattern(self._blocks, np.arange(6 * self.n_nodes), 6 * self.n_nodes)
+            self._full_pattern = Pattern(self._blocks, np.arange(6 * self.n_nodes), 6 * self.n_nodes)
         return self._full_pattern.assemble(self._mass_values(x, R))
 
     def _mass_values(self, x, R) -> list[np.ndarray]:

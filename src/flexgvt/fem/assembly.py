@@ -1,0 +1,82 @@
+"""Sparse assembly onto a fixed pattern: element blocks scattered into CSC data in one pass.
+
+The pattern (which element entry lands in which stored entry of the global CSC matrix) is
+computed once per system; every tangent, mass or damping matrix then shares its index arrays,
+so sums such as K + alpha M and the symmetric part of K are elementwise operations on data.
+"""
+
+from __future__ import annotations
+
+import numba
+import numpy as np
+import scipy.sparse as sp
+
+
+@numba.njit(cache=True)
+def _scatter_add(out, target, values):  # pragma: no cover - compiled
+    for k in range(values.size):
+        t = target[k]
+        if t >= 0:
+            out[t] += values[k]
+
+
+class Pattern:
+    """Sparse pattern of element blocks mapped to (reduced) DOFs.
+
+    blocks: one (n_elements, n_dofs) array of global DOF numbers per element type; dof_map maps
+    them to matrix rows (-1: dropped, e.g. fixed DOFs); n: matrix size.
+    """
+
+    def __init__(self, blocks: list[np.ndarray], dof_map: np.ndarray, n: int):
+        rows, cols, sizes = [], [], []
+        for dofs in blocks:
+            rows.append(np.repeat(dofs, dofs.shape[1], axis=1).ravel())
+            cols.append(np.tile(dofs, (1, dofs.shape[1])).ravel())
+            sizes.append(rows[-1].size)
+        rows = dof_map[np.concatenate(rows)] if rows else np.zeros(0, int)
+        cols = dof_map[np.concatenate(cols)] if cols else np.zeros(0, int)
+        keep = (rows >= 0) & (cols >= 0)
+        keys = cols.astype(np.int64) * n + rows
+        uniq, inverse = np.unique(keys[keep], return_inverse=True)
+        target = np.full(len(keys), -1, np.int64)
+        target[keep] = inverse
+        self._targets = np.split(target, np.cumsum(sizes)[:-1]) if sizes else []
+        self._uniq = uniq
+        self.indices = (uniq % n).astype(np.int32)
+        self.indptr = np.searchsorted(uniq // n, np.arange(n + 1)).astype(np.int32)
+        self.n = n
+        self.nnz = len(uniq)
+
+    def data(self, values: list[np.ndarray]) -> np.ndarray:
+        """Stored-entry values (nnz,) from one array of element matrices per block type."""
+        out = np.zeros(self.nnz)
+        for target, v in zip(self._targets, values):
+            if v.size:
+                _scatter_add(out, target, np.ascontiguousarray(v, dtype=float).reshape(-1))
+        return out
+
+    def matrix(self, data: np.ndarray) -> sp.csc_matrix:
+        return sp.csc_matrix((data, self.indices, self.indptr), shape=(self.n, self.n))
+
+    def assemble(self, values: list[np.ndarray]) -> sp.csc_matrix:
+        return self.matrix(self.data(values))
+
+    @property
+    def transpose(self) -> np.ndarray:
+        """Permutation p with data[p] the data of the transposed matrix (the pattern is symmetric)."""
+        if not hasattr(self, "_transpose"):
+            n = self.n
+            swapped = (self._uniq % n) * n + self._uniq // n
+            self._transpose = np.searchsorted(self._uniq, swapped)
+        return self._transpose
+
+    @property
+    def lower(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(entries, indices, indptr) of the lower triangle (row >= column) as a CSC pattern."""
+        if not hasattr(self, "_lower"):
+            n = self.n
+            rows, cols = self._uniq % n, self._uniq // n
+            entries = np.flatnonzero(rows >= cols)
+            indptr = np.searchsorted(cols[entries], np.arange(n + 1)).astype(np.int32)
+            self._lower = entries, self.indices[entries], indptr
+        return self._lower
