@@ -9,7 +9,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit, prange
 
-_FAST = dict(cache=True, fastmath=False, nogil=True)
+_FAST = dict(cache=True, fastmath={"contract", "reassoc", "arcp", "nsz"}, nogil=True)
 
 
 @njit(**_FAST, inline="always")
@@ -255,6 +255,10 @@ def _beam_chunk(x, R, nodes, E0s, L0s, stiff, want_tangent, g_out, K_out, N_out,
     r3 = np.empty(3)
     BH = np.empty((12, 7))
     musum = np.empty(3)
+    val_k = np.empty(12)
+    w_k = np.empty(12)
+    p2_k = np.empty(12)
+    p3_k = np.empty(12)
     for el in range(start, stop):
         i1, i2 = nodes[el, 0], nodes[el, 1]
         x1, x2 = x[i1], x[i2]
@@ -347,30 +351,31 @@ def _beam_chunk(x, R, nodes, E0s, L0s, stiff, want_tangent, g_out, K_out, N_out,
         f0 = f[0]
         for i in range(3):
             musum[i] = mu[0, i] + mu[1, i]
+        # Column j of the geometric part; the k-dependent picks of the sparse D[k] and spin rows
+        # first go into small arrays so the loop over k has no branches.
         for j in range(12):
             _cross(mu[0], om[j], tmp)
             _cross(mu[1], om[j], tmp2)
             for k in range(12):
-                val = _dot(nu[0, j], wb[0, k]) + _dot(nu[1, j], wb[1, k])
-                if 3 <= k < 6:
-                    val -= _dot(tmp, Rr[k - 3])
-                    w = da1[j, k - 3]
-                elif k >= 9:
-                    val -= _dot(tmp2, Rr[k - 9])
-                    w = da2[j, k - 9]
-                else:
-                    w = 0.0
-                # D[k] is -e_i (k < 3), +e_i (6 <= k < 9) or zero: its dot products are signed picks.
-                if k < 3 or 6 <= k < 9:
-                    i = k % 3
-                    sg = -1.0 if k < 3 else 1.0
-                    val += f0 * sg * dr1[j, i]
-                    p2 = sg * dr2[j, i] / ln
-                    p3 = sg * dr3[j, i] / ln
-                else:
-                    p2 = p3 = 0.0
-                d3 = p2 - om[k, 2] * dln[j] / ln
-                d2 = -p3 - om[k, 1] * dln[j] / ln
-                d1 = (dqb1[j] * om[k, 1] + qb1 * d2 + 0.5 * w - om[k, 0] * dqb2[j]) / qb2
-                val -= musum[0] * d1 + musum[1] * d2 + musum[2] * d3
-                K[k, j] += val  # stored as K[a, b] = d g_a / d p_b
+                val_k[k] = _dot(nu[0, j], wb[0, k]) + _dot(nu[1, j], wb[1, k])
+                w_k[k] = 0.0
+                p2_k[k] = 0.0
+                p3_k[k] = 0.0
+            for i in range(3):
+                val_k[3 + i] -= _dot(tmp, Rr[i])
+                w_k[3 + i] = da1[j, i]
+                val_k[9 + i] -= _dot(tmp2, Rr[i])
+                w_k[9 + i] = da2[j, i]
+                # D[k] = -e_i (k < 3), +e_i (6 <= k < 9)
+                val_k[i] -= f0 * dr1[j, i]
+                val_k[6 + i] += f0 * dr1[j, i]
+                p2_k[i] = -dr2[j, i] / ln
+                p2_k[6 + i] = dr2[j, i] / ln
+                p3_k[i] = -dr3[j, i] / ln
+                p3_k[6 + i] = dr3[j, i] / ln
+            dl = dln[j] / ln
+            for k in range(12):
+                d3 = p2_k[k] - om[k, 2] * dl
+                d2 = -p3_k[k] - om[k, 1] * dl
+                d1 = (dqb1[j] * om[k, 1] + qb1 * d2 + 0.5 * w_k[k] - om[k, 0] * dqb2[j]) / qb2
+                K[k, j] += val_k[k] - (musum[0] * d1 + musum[1] * d2 + musum[2] * d3)  # K[a, b] = d g_a / d p_b
