@@ -20,6 +20,13 @@ def _scatter_add(out, target, values):  # pragma: no cover - compiled
             out[t] += values[k]
 
 
+@numba.njit(cache=True)
+def _symmetric_lower(K, M, entries, mirror, alpha, out):  # pragma: no cover - compiled
+    for k in range(entries.size):
+        e = entries[k]
+        out[k] = 0.5 * (K[e] + K[mirror[k]]) + alpha * M[e]
+
+
 class Pattern:
     """Sparse pattern of element blocks mapped to (reduced) DOFs.
 
@@ -56,7 +63,9 @@ class Pattern:
         return out
 
     def matrix(self, data: np.ndarray) -> sp.csc_matrix:
-        return sp.csc_matrix((data, self.indices, self.indptr), shape=(self.n, self.n))
+        A = sp.csc_matrix((data, self.indices, self.indptr), shape=(self.n, self.n))
+        A.has_sorted_indices = True  # by construction (spares CHOLMOD's callers a check)
+        return A
 
     def assemble(self, values: list[np.ndarray]) -> sp.csc_matrix:
         return self.matrix(self.data(values))
@@ -70,13 +79,17 @@ class Pattern:
             self._transpose = np.searchsorted(self._uniq, swapped)
         return self._transpose
 
-    @property
-    def lower(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """(entries, indices, indptr) of the lower triangle (row >= column) as a CSC pattern."""
+    def symmetric_lower(self, K_data: np.ndarray, M_data: np.ndarray, alpha: float) -> sp.csc_matrix:
+        """Lower triangle of the symmetric part of K + alpha M (data of two matrices on this pattern)."""
         if not hasattr(self, "_lower"):
             n = self.n
             rows, cols = self._uniq % n, self._uniq // n
             entries = np.flatnonzero(rows >= cols)
             indptr = np.searchsorted(cols[entries], np.arange(n + 1)).astype(np.int32)
-            self._lower = entries, self.indices[entries], indptr
-        return self._lower
+            self._lower = entries, self.transpose[entries], self.indices[entries], indptr
+        entries, mirror, indices, indptr = self._lower
+        data = np.empty(len(entries))
+        _symmetric_lower(K_data, M_data, entries, mirror, alpha, data)
+        A = sp.csc_matrix((data, indices, indptr), shape=(self.n, self.n))
+        A.has_sorted_indices = True
+        return A

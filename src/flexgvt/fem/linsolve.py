@@ -37,8 +37,9 @@ class CholmodCache:
         """
         if _cholmod is None:
             return None
-        A = sp.csc_matrix(A)
-        A.sort_indices()
+        if not (sp.isspmatrix_csc(A) and A.has_sorted_indices):
+            A = sp.csc_matrix(A)
+            A.sort_indices()
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             try:

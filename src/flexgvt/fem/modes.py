@@ -78,8 +78,12 @@ def _cholesky_inverse(K: sp.spmatrix, M: sp.spmatrix, sigma: float) -> spla.Line
     return spla.LinearOperator(K.shape, matvec=factor.solve_A, dtype=float)
 
 
-def real_modes(K: sp.spmatrix, M: sp.spmatrix, n_modes: int, shift: float | None = None):
-    """Lowest n_modes of K phi = lam M phi (K symmetric, possibly singular or indefinite)."""
+def real_modes(K: sp.spmatrix, M: sp.spmatrix, n_modes: int, shift: float | None = None, clamped: bool = False):
+    """Lowest n_modes of K phi = lam M phi (K symmetric, possibly singular or indefinite).
+
+    clamped: the constraints restrain every rigid-body motion (no cluster of near-zero modes), so
+    the sparse eigensolver runs with a smaller margin of extra pairs.
+    """
     n = K.shape[0]
     k = min(n_modes, n)
     dm = np.abs(M.diagonal())
@@ -103,9 +107,9 @@ def real_modes(K: sp.spmatrix, M: sp.spmatrix, n_modes: int, shift: float | None
     else:
         try:
             # A margin of extra pairs: ARPACK can miss members of clusters such as six rigid-body modes.
-            k_run = min(n - 2, k + max(6, k // 4))
+            k_run = min(n - 2, k + (max(2, k // 10) if clamped else max(6, k // 4)))
             lam, phi = spla.eigsh(K.tocsc(), k=k_run, M=M.tocsc(), sigma=sigma, which="LM", mode="normal",
-                                  OPinv=_cholesky_inverse(K, M, sigma))
+                                  OPinv=_cholesky_inverse(K, M, sigma), tol=1e-12)
         except RuntimeError as exc:
             raise SolverError(f"eigensolver failed ({exc}); the model may have a mechanism with no mass") from exc
         order = np.argsort(lam)[:k]
@@ -172,7 +176,8 @@ def solve_modes(state: State, n_modes: int = 15, *, damped: bool | None = None, 
     ev = system.evaluate(x, R, state.load_factor)
     K = (0.5 * (ev.tangent + ev.tangent.T)).tocsc()
     M = system.mass_matrix(x, R)
-    lam, phi = real_modes(K, M, n_modes, shift)
+    clamped = system.unrestrained_rigid_motions(system.cm.xyz)[1].shape[1] == 0
+    lam, phi = real_modes(K, M, n_modes, shift, clamped)
     T = system.transformation(x) if system.has_links else None
     n = system.n_nodes
     use_damping = system.has_damping if damped is None else damped

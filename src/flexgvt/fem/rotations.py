@@ -6,6 +6,7 @@ Rotations are updated by spatial spins: R <- exp(skew(phi)) R.
 
 from __future__ import annotations
 
+import numba
 import numpy as np
 
 
@@ -24,6 +25,37 @@ def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     a0, a1, a2 = a[..., 0], a[..., 1], a[..., 2]
     b0, b1, b2 = b[..., 0], b[..., 1], b[..., 2]
     return np.stack([a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0], axis=-1)
+
+
+@numba.njit(cache=True)
+def _spin_rotations(phi, R, out):  # pragma: no cover - compiled
+    for n in range(phi.shape[0]):
+        p0, p1, p2 = phi[n, 0], phi[n, 1], phi[n, 2]
+        t2 = p0 * p0 + p1 * p1 + p2 * p2
+        if t2 < 1e-12:
+            a, b = 1.0 - t2 / 6.0, 0.5 - t2 / 24.0
+        else:
+            t = np.sqrt(t2)
+            a, b = np.sin(t) / t, (1.0 - np.cos(t)) / t2
+        # Q = I + a S + b S^2 with S = skew(phi); S^2 = phi phi^T - t2 I
+        q00 = 1.0 + b * (p0 * p0 - t2)
+        q11 = 1.0 + b * (p1 * p1 - t2)
+        q22 = 1.0 + b * (p2 * p2 - t2)
+        q01, q10 = b * p0 * p1 - a * p2, b * p0 * p1 + a * p2
+        q02, q20 = b * p0 * p2 + a * p1, b * p0 * p2 - a * p1
+        q12, q21 = b * p1 * p2 - a * p0, b * p1 * p2 + a * p0
+        for j in range(3):
+            r0, r1, r2 = R[n, 0, j], R[n, 1, j], R[n, 2, j]
+            out[n, 0, j] = q00 * r0 + q01 * r1 + q02 * r2
+            out[n, 1, j] = q10 * r0 + q11 * r1 + q12 * r2
+            out[n, 2, j] = q20 * r0 + q21 * r1 + q22 * r2
+
+
+def spin(R: np.ndarray, phi: np.ndarray) -> np.ndarray:
+    """exp(skew(phi)) @ R for stacks (n, 3, 3) and spatial spins (n, 3) [rad]."""
+    out = np.empty_like(R, dtype=float)
+    _spin_rotations(np.ascontiguousarray(phi, dtype=float), np.ascontiguousarray(R, dtype=float), out)
+    return out
 
 
 def expm_so3(phi: np.ndarray) -> np.ndarray:

@@ -154,25 +154,9 @@ class _Factor:
 
 def _rigid_body_check(system: System, K: sp.csc_matrix, f_red: np.ndarray, x: np.ndarray) -> None:
     """Raise a clear error if the loads push along a rigid-body motion that nothing restrains."""
-    n = system.n_nodes
-    c = x.mean(axis=0)
-    modes = np.zeros((n, 6, 6))
     names = ["translation along x", "translation along y", "translation along z",
              "rotation about x", "rotation about y", "rotation about z"]
-    for a in range(3):
-        e = np.zeros(3)
-        e[a] = 1.0
-        modes[:, a, a] = 1.0
-        modes[:, :3, 3 + a] = np.cross(e, x - c)
-        modes[:, 3 + a, 3 + a] = 1.0
-    modes = modes.reshape(6 * n, 6)
-    fixed_rows = modes[system.fixed]
-    if len(fixed_rows):
-        _, sv, vt = np.linalg.svd(fixed_rows, full_matrices=True)
-        rank = int(np.sum(sv > 1e-9 * max(sv.max(), 1e-300)))
-        basis = vt[rank:].T
-    else:
-        basis = np.eye(6)
+    modes, basis = system.unrestrained_rigid_motions(x)
     if basis.shape[1] == 0:
         return
     T = system.transformation(x) if system.has_links else None
@@ -289,20 +273,18 @@ def solve_static(model: Model, configuration: Configuration, *, settings: Static
             ev = system.evaluate(x, R, lam)
         return None
 
-    def predict(x, R, lam, target, fac, ev_a):
+    def predict(x, R, lam, target, fac):
         """Tangent predictor with the last Newton factor; the residual is affine in the load factor."""
         if fac is None:
             return x, R
-        ev_b = system.evaluate(x, R, lam + 1.0, tangent=False)
-        drdl = (ev_b.internal - ev_b.external) - (ev_a.internal - ev_a.external)
-        delta = -(target - lam) * fac.solve(drdl)
+        delta = -(target - lam) * fac.solve(system.residual_rate(x, R, lam))
         if not np.all(np.isfinite(delta)):
             return x, R
         return system.update(x, R, _limit_rotation(delta, system))
 
     lam = 0.0
     step = 0
-    factor = last_ev = None
+    factor = None
     if start is not None:
         if start.system is not system and (start.positions.shape != x.shape):
             raise ModelError("solve_static(start=...): the start state belongs to a model of another size")
@@ -325,7 +307,7 @@ def solve_static(model: Model, configuration: Configuration, *, settings: Static
         if nxt:
             target = nxt[0]
         step += 1
-        xs, Rs = predict(x, R, lam, target, factor, last_ev)
+        xs, Rs = predict(x, R, lam, target, factor)
         strict = target >= 1.0 - 1e-12 or any(abs(target - lv) < 1e-12 for lv in levels)
         tol = settings.relative_energy_tolerance if strict else settings.intermediate_energy_tolerance
         got = newton(xs, Rs, target, step, tol)
@@ -344,7 +326,6 @@ def solve_static(model: Model, configuration: Configuration, *, settings: Static
                 raise err
             continue
         x, R, ev, stab, factor = got
-        last_ev = ev
         lam = target
         last = make_state(x, R, lam, ev, stab or last.stabilised_mechanism)
         if any(abs(lam - lv) < 1e-12 for lv in levels):

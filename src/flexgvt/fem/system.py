@@ -19,7 +19,7 @@ from .assembly import Pattern
 from .beam import (BeamData, beam_forces, beam_mass_matrices, element_frames, kernel_coefficients,
                    local_mass_matrices)
 from .points import cord_damping, cord_forces, mass_gravity, mass_matrix, spring_damping, spring_forces
-from .rotations import expm_so3, skew
+from .rotations import skew, spin
 
 @dataclass(frozen=True)
 class PointMasses:
@@ -229,6 +229,26 @@ class System:
         a = np.where(s.a >= 0, s.a, s.b)  # grounded springs: node a block is zeroed below
         return np.concatenate([6 * a[:, None] + np.arange(6), 6 * s.b[:, None] + np.arange(6)], axis=1)
 
+    def unrestrained_rigid_motions(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Rigid-body motions about the centroid of positions x, (6n, 6), and a basis (6, k) of
+        their combinations that the fixed DOFs leave free (k = 0 for a clamped structure)."""
+        n = self.n_nodes
+        c = x.mean(axis=0)
+        modes = np.zeros((n, 6, 6))
+        for a in range(3):
+            e = np.zeros(3)
+            e[a] = 1.0
+            modes[:, a, a] = 1.0
+            modes[:, :3, 3 + a] = np.cross(e, x - c)
+            modes[:, 3 + a, 3 + a] = 1.0
+        modes = modes.reshape(6 * n, 6)
+        fixed_rows = modes[self.fixed]
+        if not len(fixed_rows):
+            return modes, np.eye(6)
+        _, sv, vt = np.linalg.svd(fixed_rows, full_matrices=True)
+        rank = int(np.sum(sv > 1e-9 * max(sv.max(), 1e-300)))
+        return modes, vt[rank:].T
+
     @property
     def undeformed(self) -> tuple[np.ndarray, np.ndarray]:
         return self.cm.xyz.copy(), np.broadcast_to(np.eye(3), (self.n_nodes, 3, 3)).copy()
@@ -277,11 +297,30 @@ class System:
         """Unstretched cord lengths along the load ramp: unstrained at lam = 0, nominal at lam = 1."""
         return self.cord_lgeom + lam * (self.cord_l0 - self.cord_lgeom)
 
+    @cached_property
+    def _scatter_dofs(self) -> np.ndarray:
+        return np.concatenate([blk.reshape(-1) for blk in self._blocks])
+
     def _scatter(self, vectors: list[np.ndarray]) -> np.ndarray:
         """Sum element vectors (one array per block of self._blocks) into a full DOF vector."""
-        dofs = np.concatenate([blk.reshape(-1) for blk in self._blocks])
         vals = np.concatenate([v.reshape(-1) for v in vectors])
-        return np.bincount(dofs, weights=vals, minlength=6 * self.n_nodes)
+        return np.bincount(self._scatter_dofs, weights=vals, minlength=6 * self.n_nodes)
+
+    def residual_rate(self, x: np.ndarray, R: np.ndarray, lam: float) -> np.ndarray:
+        """r(lam + 1) - r(lam) at a state (reduced), r = internal - external: only the load-dependent
+        parts (applied loads, weights of offset masses, cord pre-tension ramp) are evaluated."""
+        m = self.masses
+        gm, _ = mass_gravity(R[m.nodes], m.offset, self.mass_weight)  # linear in the weight
+        gc = np.zeros((0, 6))
+        if len(self.cord_nodes):
+            cn = self.cord_nodes
+            args = (x[cn], R[cn], self.cord_offset, self.cord_anchor, self.cord_k)
+            gc = cord_forces(*args, self.cord_l0_at(lam + 1.0))[0] - cord_forces(*args, self.cord_l0_at(lam))[0]
+        if not len(gc):
+            gc = np.zeros((len(self.cord_nodes), 6))
+        zero = [np.zeros(blk.shape) for blk in (self._blocks[0], self._blocks[3])]
+        r_full = self._scatter([zero[0], gm, gc, zero[1]]) - self.applied
+        return self.reduce_vector(r_full, self.transformation(x) if self.has_links else None)
 
     def evaluate(self, x: np.ndarray, R: np.ndarray, lam: float, tangent: bool = True) -> Evaluation:
         """Internal and applied forces (reduced) and the consistent tangent at a state and load factor."""
@@ -336,7 +375,7 @@ class System:
         T = self.transformation(x) if self.has_links else None
         d = self.expand(delta_red, T).reshape(-1, 6)
         x_new = x + d[:, :3]
-        R_new = expm_so3(d[:, 3:]) @ R
+        R_new = spin(R, d[:, 3:])
         if self.has_links:
             deps = np.flatnonzero(self.dependent)
             ind = self.cm.links[deps]
@@ -358,9 +397,7 @@ class System:
                 return p.matrix(K.data + alpha * M.data)
             if part == "symmetric":
                 return p.matrix(0.5 * (K.data + K.data[p.transpose]) + alpha * M.data)
-            entries, indices, indptr = p.lower
-            data = 0.5 * (K.data[entries] + K.data[p.transpose[entries]]) + alpha * M.data[entries]
-            return sp.csc_matrix((data, indices, indptr), shape=K.shape)
+            return p.symmetric_lower(K.data, M.data, alpha)
         A = (K + alpha * M).tocsc()
         if part == "full":
             return A
