@@ -81,17 +81,19 @@ class StaticSettings:
     """Settings of the nonlinear static solver.
 
     increments: initial number of equal load increments; max_iterations per increment;
-    tolerance: residual norm relative to the applied-load norm; relative_energy_tolerance: an
-    increment is also converged once a Newton correction's energy |du . r| falls below this
-    fraction of the increment's first one (quadratic convergence: the correction is then applied
-    and its residual only checked, which saves the iterations that would otherwise be spent at
-    the round-off floor of stiff axial members); intermediate_energy_tolerance: the same for
-    load levels on the way (their state only seeds the next increment; the problem is elastic,
-    so nothing accumulates and the final and requested levels keep the strict tolerance);
-    min_increment: smallest load increment before
-    giving up; max_increment_growth: largest growth of an increment after an
-    easy step (1.0 keeps every increment equal); desired_iterations: the increment is scaled by
-    sqrt(desired / taken) after each step.
+    tolerance: residual norm relative to the applied-load norm; energy_tolerance: absolute
+    energy norm accepted when the residual has stagnated at its round-off floor;
+    relative_energy_tolerance: an increment is also converged once a Newton correction's energy
+    |du . r| falls below this fraction of the increment's first one (quadratic convergence: the
+    correction is applied and its residual only checked, which saves the iterations otherwise
+    spent at the round-off floor of stiff axial members); intermediate_energy_tolerance: the
+    same for load levels on the way, whose state only seeds the next increment (the problem is
+    elastic, nothing accumulates; the final and requested levels keep the strict tolerance);
+    there up to chord_steps steps with the last factor finish the increment when the first of
+    them already meets it; min_increment: smallest load increment before giving up;
+    max_increment_growth: largest growth of an increment after an easy step (1.0 keeps every
+    increment equal); desired_iterations: the increment is scaled by sqrt(desired / taken)
+    after each step.
     """
 
     increments: int = 20
@@ -100,6 +102,7 @@ class StaticSettings:
     energy_tolerance: float = 1e-14
     relative_energy_tolerance: float = 1e-12
     intermediate_energy_tolerance: float = 1e-6
+    chord_steps: int = 3
     min_increment: float = 1e-5
     max_increment_growth: float = 1.5
     desired_iterations: int = 5
@@ -262,6 +265,10 @@ def solve_static(model: Model, configuration: Configuration, *, settings: Static
             it += 1
             if first_energy is None:
                 first_energy = energy
+                if energy_tolerance >= settings.intermediate_energy_tolerance and settings.chord_steps > 0:
+                    got = chord_finish(x, R, lam, fac, energy_tolerance * first_energy, step, it, stabilised)
+                    if got is not None:
+                        return got
             elif energy <= energy_tolerance * first_energy:
                 # Converged in energy: check the corrected state's residual without a tangent.
                 ev = system.evaluate(x, R, lam, tangent=False)
@@ -273,18 +280,65 @@ def solve_static(model: Model, configuration: Configuration, *, settings: Static
             ev = system.evaluate(x, R, lam)
         return None
 
-    def predict(x, R, lam, target, fac):
-        """Tangent predictor with the last Newton factor; the residual is affine in the load factor."""
-        if fac is None:
+    def chord_finish(x, R, lam, fac, energy_limit, step, it, stabilised):
+        """Finish an intermediate increment with chord steps (the last factor, no new tangent) when
+        the first one's correction energy is already below the limit.
+
+        After the first Newton step of an increment has removed the predictor's axial stretch the
+        remaining correction is small and the old factor describes it well; chord steps go on
+        while each cuts the energy tenfold (at most ``settings.chord_steps``). Returns None if the
+        first is not good enough (the caller goes on with Newton from x, R).
+        """
+        ev = system.evaluate(x, R, lam, tangent=False)
+        r = ev.internal - ev.external
+        ref = max(np.linalg.norm(ev.external), load_ref * lam, 1e-300)
+        res = np.linalg.norm(r) / ref
+        scale = max(ref * (np.abs(system.cm.xyz).max() + 1.0), 1e-300)
+        last = None
+        done = 0
+        for _ in range(settings.chord_steps):
+            delta = -fac.solve(r)
+            energy = abs(delta @ r) / scale
+            if not (np.isfinite(energy) and energy <= (energy_limit if last is None else 0.1 * last)):
+                break
+            x_new, R_new = system.update(x, R, _limit_rotation(delta, system))
+            ev_new = system.evaluate(x_new, R_new, lam, tangent=False)
+            r_new = ev_new.internal - ev_new.external
+            res_new = np.linalg.norm(r_new) / ref
+            if not (np.isfinite(res_new) and res_new <= max(res, settings.tolerance)):
+                break
+            history.append(IterationRecord(step, lam, it + done, res, energy, fac.stabilisation))
+            x, R, ev, r, res, last = x_new, R_new, ev_new, r_new, res_new, energy
+            done += 1
+            if energy <= 1e-6 * energy_limit:
+                break
+        if last is None:
+            return None
+        history.append(IterationRecord(step, lam, it + done, res, 0.0, 0.0))
+        return x, R, ev, stabilised, fac
+
+    def predict(x, R, lam, target, fac, previous):
+        """Secant predictor (the last converged increment extrapolated) when there is one, else the
+        tangent predictor with the last Newton factor (the residual is affine in the load factor).
+
+        The secant needs no factor, so an increment finished by chord steps, whose last factor is
+        that of the stretched predicted state, does not spoil the next prediction.
+        """
+        if previous is not None and previous[2] < lam:
+            xp, Rp, lp = previous
+            d = np.concatenate([x - xp, logm_so3(R @ np.swapaxes(Rp, 1, 2))], axis=1).reshape(-1)
+            delta = (target - lam) / (lam - lp) * d[system.dof_map >= 0]
+        elif fac is not None:
+            delta = -(target - lam) * fac.solve(system.residual_rate(x, R, lam))
+        else:
             return x, R
-        delta = -(target - lam) * fac.solve(system.residual_rate(x, R, lam))
         if not np.all(np.isfinite(delta)):
             return x, R
         return system.update(x, R, _limit_rotation(delta, system))
 
     lam = 0.0
     step = 0
-    factor = None
+    factor = previous = None
     if start is not None:
         if start.system is not system and (start.positions.shape != x.shape):
             raise ModelError("solve_static(start=...): the start state belongs to a model of another size")
@@ -307,7 +361,7 @@ def solve_static(model: Model, configuration: Configuration, *, settings: Static
         if nxt:
             target = nxt[0]
         step += 1
-        xs, Rs = predict(x, R, lam, target, factor)
+        xs, Rs = predict(x, R, lam, target, factor, previous)
         strict = target >= 1.0 - 1e-12 or any(abs(target - lv) < 1e-12 for lv in levels)
         tol = settings.relative_energy_tolerance if strict else settings.intermediate_energy_tolerance
         got = newton(xs, Rs, target, step, tol)
@@ -325,6 +379,7 @@ def solve_static(model: Model, configuration: Configuration, *, settings: Static
                     state=last, history=tuple(history))
                 raise err
             continue
+        previous = (x, R, lam)
         x, R, ev, stab, factor = got
         lam = target
         last = make_state(x, R, lam, ev, stab or last.stabilised_mechanism)
