@@ -108,7 +108,7 @@ def real_modes(K: sp.spmatrix, M: sp.spmatrix, n_modes: int, shift: float | None
         try:
             # A margin of extra pairs: ARPACK can miss members of clusters such as six rigid-body modes.
             k_run = min(n - 2, k + (max(2, k // 10) if clamped else max(6, k // 4)))
-            lam, phi = spla.eigsh(K.tocsc(), k=k_run, M=M.tocsc(), sigma=sigma, which="LM", mode="normal",
+            lam, phi = spla.eigsh(K.tocsc(), k=k_run, M=M.tocsr(), sigma=sigma, which="LM", mode="normal",
                                   OPinv=_cholesky_inverse(K, M, sigma), tol=1e-12)
         except RuntimeError as exc:
             raise SolverError(f"eigensolver failed ({exc}); the model may have a mechanism with no mass") from exc
