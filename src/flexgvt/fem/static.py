@@ -223,8 +223,7 @@ def solve_static(model: Model, configuration: Configuration, *, settings: Static
     def newton(x, R, lam, step, energy_tolerance=settings.relative_energy_tolerance):
         """Iterate to equilibrium at load factor lam.
 
-        Returns (x, R, ev, stabilised, factor-or-None) or None. The residual is checked before
-        factorising, and a factor of the converged tangent is handed back when one was computed.
+        Returns (x, R, ev, stabilised) or None. The residual is checked before factorising.
         """
         stabilised = False
         previous = np.inf
@@ -241,7 +240,7 @@ def solve_static(model: Model, configuration: Configuration, *, settings: Static
                 return None
             if res < settings.tolerance:
                 history.append(IterationRecord(step, lam, it, res, 0.0, 0.0))
-                return x, R, ev, stabilised, fac  # the last factor serves the next step's predictor
+                return x, R, ev, stabilised
             try:
                 fac = _Factor(system, ev.tangent, mass, load_ref, cholmod)
             except SingularModelError:
@@ -254,7 +253,7 @@ def solve_static(model: Model, configuration: Configuration, *, settings: Static
             # (very stiff structures on soft supports): the correction would change nothing.
             stagnant = res > 0.5 * previous or res < 1e3 * settings.tolerance
             if it > 0 and energy < settings.energy_tolerance and stagnant:
-                return x, R, ev, stabilised, fac
+                return x, R, ev, stabilised
             if not np.all(np.isfinite(delta)):
                 return None
             growth = growth + 1 if res > previous else 0
@@ -276,7 +275,7 @@ def solve_static(model: Model, configuration: Configuration, *, settings: Static
                 res_new = np.linalg.norm(r) / ref
                 if np.isfinite(res_new) and res_new <= max(res, settings.tolerance):
                     history.append(IterationRecord(step, lam, it, res_new, 0.0, 0.0))
-                    return x, R, ev, stabilised, fac
+                    return x, R, ev, stabilised
             ev = system.evaluate(x, R, lam)
         return None
 
@@ -315,36 +314,30 @@ def solve_static(model: Model, configuration: Configuration, *, settings: Static
         if last is None:
             return None
         history.append(IterationRecord(step, lam, it + done, res, 0.0, 0.0))
-        return x, R, ev, stabilised, fac
+        return x, R, ev, stabilised
 
-    def predict(x, R, lam, target, fac, previous):
-        """Secant predictor (the last converged increment extrapolated) when there is one, else the
-        tangent predictor with the last Newton factor (the residual is affine in the load factor).
-
-        The secant needs no factor, so an increment finished by chord steps, whose last factor is
-        that of the stretched predicted state, does not spoil the next prediction.
-        """
-        if previous is not None and previous[2] < lam:
-            xp, Rp, lp = previous
-            d = np.concatenate([x - xp, logm_so3(R @ np.swapaxes(Rp, 1, 2))], axis=1).reshape(-1)
-            delta = (target - lam) / (lam - lp) * d[system.dof_map >= 0]
-        elif fac is not None:
-            delta = -(target - lam) * fac.solve(system.residual_rate(x, R, lam))
-        else:
+    def predict(x, R, lam, target, previous):
+        """Secant predictor: the last converged increment extrapolated to the target load factor
+        (none for the first increment). It needs no factor, so an increment finished by chord
+        steps, whose last factor is that of the stretched predicted state, cannot spoil it."""
+        if previous is None or previous[2] >= lam:
             return x, R
+        xp, Rp, lp = previous
+        d = np.concatenate([x - xp, logm_so3(R @ np.swapaxes(Rp, 1, 2))], axis=1).reshape(-1)
+        delta = (target - lam) / (lam - lp) * d[system.dof_map >= 0]
         if not np.all(np.isfinite(delta)):
             return x, R
         return system.update(x, R, _limit_rotation(delta, system))
 
     lam = 0.0
     step = 0
-    factor = previous = None
+    previous = None
     if start is not None:
         if start.system is not system and (start.positions.shape != x.shape):
             raise ModelError("solve_static(start=...): the start state belongs to a model of another size")
         got = newton(start.positions.copy(), start.rotations.copy(), 1.0, 0)
         if got is not None:
-            xs, Rs, ev, stab, _ = got
+            xs, Rs, ev, stab = got
             state = make_state(xs, Rs, 1.0, ev, stab)
             return (state, saved) if keep_steps else state
     if not np.any(system.applied) and not np.any(system.mass_weight) and not len(system.cord_nodes):
@@ -361,7 +354,7 @@ def solve_static(model: Model, configuration: Configuration, *, settings: Static
         if nxt:
             target = nxt[0]
         step += 1
-        xs, Rs = predict(x, R, lam, target, factor, previous)
+        xs, Rs = predict(x, R, lam, target, previous)
         strict = target >= 1.0 - 1e-12 or any(abs(target - lv) < 1e-12 for lv in levels)
         tol = settings.relative_energy_tolerance if strict else settings.intermediate_energy_tolerance
         got = newton(xs, Rs, target, step, tol)
@@ -380,7 +373,7 @@ def solve_static(model: Model, configuration: Configuration, *, settings: Static
                 raise err
             continue
         previous = (x, R, lam)
-        x, R, ev, stab, factor = got
+        x, R, ev, stab = got
         lam = target
         last = make_state(x, R, lam, ev, stab or last.stabilised_mechanism)
         if any(abs(lam - lv) < 1e-12 for lv in levels):

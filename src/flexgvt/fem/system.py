@@ -306,22 +306,6 @@ class System:
         vals = np.concatenate([v.reshape(-1) for v in vectors])
         return np.bincount(self._scatter_dofs, weights=vals, minlength=6 * self.n_nodes)
 
-    def residual_rate(self, x: np.ndarray, R: np.ndarray, lam: float) -> np.ndarray:
-        """r(lam + 1) - r(lam) at a state (reduced), r = internal - external: only the load-dependent
-        parts (applied loads, weights of offset masses, cord pre-tension ramp) are evaluated."""
-        m = self.masses
-        gm, _ = mass_gravity(R[m.nodes], m.offset, self.mass_weight)  # linear in the weight
-        gc = np.zeros((0, 6))
-        if len(self.cord_nodes):
-            cn = self.cord_nodes
-            args = (x[cn], R[cn], self.cord_offset, self.cord_anchor, self.cord_k)
-            gc = cord_forces(*args, self.cord_l0_at(lam + 1.0))[0] - cord_forces(*args, self.cord_l0_at(lam))[0]
-        if not len(gc):
-            gc = np.zeros((len(self.cord_nodes), 6))
-        zero = [np.zeros(blk.shape) for blk in (self._blocks[0], self._blocks[3])]
-        r_full = self._scatter([zero[0], gm, gc, zero[1]]) - self.applied
-        return self.reduce_vector(r_full, self.transformation(x) if self.has_links else None)
-
     def evaluate(self, x: np.ndarray, R: np.ndarray, lam: float, tangent: bool = True) -> Evaluation:
         """Internal and applied forces (reduced) and the consistent tangent at a state and load factor."""
         gb, Kb, N = beam_forces(x, R, self.cm.beams, tangent)
