@@ -9,6 +9,8 @@ from __future__ import annotations
 import numpy as np
 from numba import njit, prange
 
+from .rotations import logm3 as logm
+
 _FAST = dict(cache=True, fastmath={"contract", "reassoc", "arcp", "nsz"}, nogil=True)
 
 
@@ -22,47 +24,6 @@ def _cross(a, b, out):
 @njit(**_FAST, inline="always")
 def _dot(a, b):
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-
-
-@njit(**_FAST)
-def logm(R, out, q):
-    """Rotation vector of R (Shepperd quaternion, q: scratch (4,)), angle in [0, pi]."""
-    tr = R[0, 0] + R[1, 1] + R[2, 2]
-    if tr >= R[0, 0] and tr >= R[1, 1] and tr >= R[2, 2]:
-        s = 2.0 * np.sqrt(1.0 + tr)
-        q[0] = 0.25 * s
-        q[1] = (R[2, 1] - R[1, 2]) / s
-        q[2] = (R[0, 2] - R[2, 0]) / s
-        q[3] = (R[1, 0] - R[0, 1]) / s
-    elif R[0, 0] >= R[1, 1] and R[0, 0] >= R[2, 2]:
-        s = 2.0 * np.sqrt(max(1.0 + 2 * R[0, 0] - tr, 1e-300))
-        q[0] = (R[2, 1] - R[1, 2]) / s
-        q[1] = 0.25 * s
-        q[2] = (R[0, 1] + R[1, 0]) / s
-        q[3] = (R[0, 2] + R[2, 0]) / s
-    elif R[1, 1] >= R[2, 2]:
-        s = 2.0 * np.sqrt(max(1.0 + 2 * R[1, 1] - tr, 1e-300))
-        q[0] = (R[0, 2] - R[2, 0]) / s
-        q[1] = (R[0, 1] + R[1, 0]) / s
-        q[2] = 0.25 * s
-        q[3] = (R[1, 2] + R[2, 1]) / s
-    else:
-        s = 2.0 * np.sqrt(max(1.0 + 2 * R[2, 2] - tr, 1e-300))
-        q[0] = (R[1, 0] - R[0, 1]) / s
-        q[1] = (R[0, 2] + R[2, 0]) / s
-        q[2] = (R[1, 2] + R[2, 1]) / s
-        q[3] = 0.25 * s
-    if q[0] < 0:
-        for i in range(4):
-            q[i] = -q[i]
-    sn = np.sqrt(q[1] ** 2 + q[2] ** 2 + q[3] ** 2)
-    if sn < 1e-8:
-        f = 2.0 / q[0] * (1.0 - sn * sn / (3.0 * q[0] * q[0]))
-    else:
-        f = 2.0 * np.arctan2(sn, q[0]) / sn
-    out[0] = f * q[1]
-    out[1] = f * q[2]
-    out[2] = f * q[3]
 
 
 @njit(**_FAST)

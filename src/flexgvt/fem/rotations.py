@@ -71,6 +71,65 @@ def expm_so3(phi: np.ndarray) -> np.ndarray:
     return np.eye(3) + a[..., None, None] * S + b[..., None, None] * (S @ S)
 
 
+@numba.njit(cache=True)
+def logm3(R, out, q):  # pragma: no cover - compiled
+    """Rotation vector of R (Shepperd quaternion, q: scratch (4,)), angle in [0, pi]."""
+    tr = R[0, 0] + R[1, 1] + R[2, 2]
+    if tr >= R[0, 0] and tr >= R[1, 1] and tr >= R[2, 2]:
+        s = 2.0 * np.sqrt(1.0 + tr)
+        q[0] = 0.25 * s
+        q[1] = (R[2, 1] - R[1, 2]) / s
+        q[2] = (R[0, 2] - R[2, 0]) / s
+        q[3] = (R[1, 0] - R[0, 1]) / s
+    elif R[0, 0] >= R[1, 1] and R[0, 0] >= R[2, 2]:
+        s = 2.0 * np.sqrt(max(1.0 + 2 * R[0, 0] - tr, 1e-300))
+        q[0] = (R[2, 1] - R[1, 2]) / s
+        q[1] = 0.25 * s
+        q[2] = (R[0, 1] + R[1, 0]) / s
+        q[3] = (R[0, 2] + R[2, 0]) / s
+    elif R[1, 1] >= R[2, 2]:
+        s = 2.0 * np.sqrt(max(1.0 + 2 * R[1, 1] - tr, 1e-300))
+        q[0] = (R[0, 2] - R[2, 0]) / s
+        q[1] = (R[0, 1] + R[1, 0]) / s
+        q[2] = 0.25 * s
+        q[3] = (R[1, 2] + R[2, 1]) / s
+    else:
+        s = 2.0 * np.sqrt(max(1.0 + 2 * R[2, 2] - tr, 1e-300))
+        q[0] = (R[1, 0] - R[0, 1]) / s
+        q[1] = (R[0, 2] + R[2, 0]) / s
+        q[2] = (R[1, 2] + R[2, 1]) / s
+        q[3] = 0.25 * s
+    if q[0] < 0:
+        for i in range(4):
+            q[i] = -q[i]
+    sn = np.sqrt(q[1] ** 2 + q[2] ** 2 + q[3] ** 2)
+    if sn < 1e-8:
+        f = 2.0 / q[0] * (1.0 - sn * sn / (3.0 * q[0] * q[0]))
+    else:
+        f = 2.0 * np.arctan2(sn, q[0]) / sn
+    out[0] = f * q[1]
+    out[1] = f * q[2]
+    out[2] = f * q[3]
+
+
+@numba.njit(cache=True)
+def _relative_spins(R, Rp, out):  # pragma: no cover - compiled
+    A = np.empty((3, 3))
+    q = np.empty(4)
+    for n in range(R.shape[0]):
+        for i in range(3):
+            for j in range(3):
+                A[i, j] = R[n, i, 0] * Rp[n, j, 0] + R[n, i, 1] * Rp[n, j, 1] + R[n, i, 2] * Rp[n, j, 2]
+        logm3(A, out[n], q)
+
+
+def relative_spins(R: np.ndarray, Rp: np.ndarray) -> np.ndarray:
+    """Spatial rotation vectors log(R Rp^T) (n, 3) [rad] taking rotations Rp to R, (n, 3, 3) each."""
+    out = np.empty((len(R), 3))
+    _relative_spins(np.ascontiguousarray(R, dtype=float), np.ascontiguousarray(Rp, dtype=float), out)
+    return out
+
+
 def logm_so3(R: np.ndarray) -> np.ndarray:
     """Rotation vectors (..., 3) of rotation matrices (..., 3, 3), angle in [0, pi]."""
     R = np.asarray(R, dtype=float)

@@ -16,7 +16,7 @@ import scipy.sparse as sp
 
 from ..errors import ConvergenceError, ModelError, SingularModelError
 from ..model import Configuration, Model
-from .rotations import logm_so3
+from .rotations import logm_so3, relative_spins
 from .linsolve import HAVE_CHOLMOD, CholmodCache, superlu
 from .system import System
 
@@ -323,7 +323,7 @@ def solve_static(model: Model, configuration: Configuration, *, settings: Static
         if previous is None or previous[2] >= lam:
             return x, R
         xp, Rp, lp = previous
-        d = np.concatenate([x - xp, logm_so3(R @ np.swapaxes(Rp, 1, 2))], axis=1).reshape(-1)
+        d = np.concatenate([x - xp, relative_spins(R, Rp)], axis=1).reshape(-1)
         delta = (target - lam) / (lam - lp) * d[system.dof_map >= 0]
         if not np.all(np.isfinite(delta)):
             return x, R

@@ -310,7 +310,8 @@ class System:
         """Internal and applied forces (reduced) and the consistent tangent at a state and load factor."""
         gb, Kb, N = beam_forces(x, R, self.cm.beams, tangent)
         m = self.masses
-        gm, Km = mass_gravity(R[m.nodes], m.offset, lam * self.mass_weight)
+        gm, Km = mass_gravity(R[m.nodes], m.offset, lam * self.mass_weight) if len(m.nodes) else \
+            (np.zeros((0, 6)), np.zeros((0, 6, 6)))
         tension = length = np.zeros(0)
         gc, Kc = np.zeros((0, 6)), np.zeros((0, 6, 6))
         if len(self.cord_nodes):
