@@ -20,21 +20,17 @@ from __future__ import annotations
 
 import argparse
 import gc
-import os
-import platform
-import re
-import subprocess
 import sys
 import time
 from collections import defaultdict
 from pathlib import Path
 
 import numpy as np
-import scipy
 import scipy.sparse.linalg as spla
 
 T_START = time.perf_counter()
 import flexgvt as fg  # noqa: E402
+from benchdoc import machine_info, write_section  # noqa: E402
 from flexgvt.fem import assembly as fg_assembly  # noqa: E402
 from flexgvt.fem import linsolve as fg_linsolve  # noqa: E402
 from flexgvt.fem import static as fg_static  # noqa: E402
@@ -333,47 +329,8 @@ def profile_breakdown(model, cfg):
 
 
 # ----------------------------------------------------------------------------- report
-def machine_info():
-    cpu = platform.processor()
-    try:
-        for line in Path("/proc/cpuinfo").read_text().splitlines():
-            if line.startswith("model name"):
-                cpu = line.split(":", 1)[1].strip()
-                break
-    except OSError:
-        pass
-    try:
-        commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=ROOT, capture_output=True, text=True,
-                                check=False).stdout.strip()
-        dirty = subprocess.run(["git", "status", "--porcelain", "src"], cwd=ROOT, capture_output=True, text=True,
-                               check=False).stdout.strip()
-        commit += " (+ uncommitted src changes)" if dirty else ""
-    except OSError:
-        commit = "?"
-    import numba
-    vers = {"python": platform.python_version(), "numpy": np.__version__, "scipy": scipy.__version__,
-            "numba": numba.__version__, "flexgvt": f"{fg.__version__} @ {commit}"}
-    try:
-        from importlib.metadata import version
-        vers["openseespy"] = version("openseespy")
-    except Exception:  # noqa: BLE001
-        pass
-    return cpu, len(os.sched_getaffinity(0)), vers
-
-
 def fmt(t):
     return f"{t * 1e3:.0f} ms" if t < 10 else f"{t:.1f} s"
-
-
-def write_section(text: str, path: Path) -> None:
-    """Replace (or append) our section of docs/benchmarks.md, keeping every other section."""
-    old = path.read_text() if path.exists() else "# Benchmarks\n\nScripts in bench/ print these tables; numbers below are from their last run.\n"
-    pattern = re.compile(rf"^{re.escape(SECTION)}\n.*?(?=^## |\Z)", re.S | re.M)
-    if pattern.search(old):
-        new = pattern.sub(lambda _: text.rstrip() + "\n\n", old)
-    else:
-        new = old.rstrip() + "\n\n" + text.rstrip() + "\n"
-    path.write_text(new.rstrip() + "\n")
 
 
 def main(argv=None):
@@ -507,7 +464,7 @@ def main(argv=None):
     print()
     print(text)
     if not args.no_write:
-        write_section(text, ROOT / "docs" / "benchmarks.md")
+        write_section(SECTION, text)
         print(f"wrote {ROOT / 'docs' / 'benchmarks.md'}")
 
 

@@ -12,6 +12,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
+from scipy.linalg import cholesky, solve_triangular
 
 from ..errors import EMAError
 
@@ -96,17 +97,59 @@ class Stabilisation:
 
 
 def _stability(prev_s, prev_L, s, L, tol_f=0.01, tol_z=0.05, tol_mac=0.98):
-    if prev_s is None or len(prev_s) == 0:
+    """Stable flags of poles s (participations L) against the nearest pole of the previous order:
+    frequency within tol_f, damping within tol_z (relative) and participation MAC >= tol_mac."""
+    if prev_s is None or len(prev_s) == 0 or len(s) == 0:
         return np.zeros(len(s), bool)
+    f, z = np.abs(s), -s.real / np.abs(s)
     fp, zp = np.abs(prev_s), -prev_s.real / np.abs(prev_s)
-    out = np.zeros(len(s), bool)
-    for k in range(len(s)):
-        f, z = abs(s[k]), -s[k].real / abs(s[k])
-        j = int(np.argmin(np.abs(fp - f)))
-        mac = abs(np.vdot(prev_L[j], L[k])) ** 2 / max(np.vdot(prev_L[j], prev_L[j]).real * np.vdot(L[k], L[k]).real,
-                                                       1e-300)
-        out[k] = abs(fp[j] - f) <= tol_f * f and abs(zp[j] - z) <= tol_z * max(z, 1e-12) and mac >= tol_mac
-    return out
+    j = np.argmin(np.abs(fp[None, :] - f[:, None]), axis=1)
+    num = np.abs(np.sum(prev_L[j].conj() * L, axis=1)) ** 2
+    den = np.maximum(np.sum(np.abs(prev_L[j]) ** 2, axis=1) * np.sum(np.abs(L) ** 2, axis=1), 1e-300)
+    return (np.abs(fp[j] - f) <= tol_f * f) & (np.abs(zp[j] - z) <= tol_z * np.maximum(z, 1e-12)) & (num / den >= tol_mac)
+
+
+def _reduced_normal_matrices(Om, w2, Hk, P):
+    """Reduced normal matrices M_p = 2 (T - sum_o S_o^T R_o^-1 S_o) of every order p = 1..P.
+
+    Every entry of R_o, S_o and T depends only on the lag s - r of the basis powers, so all are
+    built for order P from 2P + 1 lag sums (matrix products over the lines). With R_o = L_o L_o^T,
+    S_o^T R_o^-1 S_o = X_o^T X_o for X_o = L_o^-1 S_o; the Cholesky factor of a leading block is
+    the leading block of the factor and the leading rows of X_o depend only on the leading rows
+    of S_o, so order p takes the first p + 1 rows and (p + 1) n_i columns of the order-P X_o: a
+    running sum over rows gives every order for about the cost of order P alone. Yields (p, M_p).
+    """
+    n_f, n_o, n_i = Hk.shape
+    # Lag sums: r_o(d) = sum_k w_o^2 Om_d, g_o(d) = sum_k w_o^2 Om_d H_o, G(d) = sum_k Om_d sum_o w_o^2 H_o^H H_o.
+    r = (Om.T @ w2).real  # (2P+1, n_o)
+    g = (Om.T @ (w2[:, :, None] * Hk).reshape(n_f, n_o * n_i)).reshape(-1, n_o, n_i)
+    HH = np.einsum("ko,koj,kol->kjl", w2, Hk.conj(), Hk).reshape(n_f, n_i * n_i)
+    G = (Om.T @ HH).reshape(-1, n_i, n_i)
+    idx = np.arange(P + 1)
+    D = idx[None, :] - idx[:, None] + P  # lag s - r
+    c = (P + 1) * n_i
+    S = -np.real(np.transpose(g[D], (2, 0, 1, 3))).reshape(n_o, P + 1, c)  # S_o[r, (s, j)]
+    T = np.real(np.transpose(G[D], (0, 2, 1, 3))).reshape(c, c)  # T[(r, i), (s, j)]
+    X = np.empty_like(S)
+    same = bool(np.all(w2 == w2[:, :1]))  # unit weighting: one R for every output
+    try:
+        if same:
+            Lc = cholesky(r[D, 0], lower=True)
+            X[:] = solve_triangular(Lc, S.transpose(1, 0, 2).reshape(P + 1, -1), lower=True) \
+                .reshape(P + 1, n_o, c).transpose(1, 0, 2)
+        else:
+            for o in range(n_o):
+                X[o] = solve_triangular(cholesky(r[D, o], lower=True), S[o], lower=True)
+    except np.linalg.LinAlgError as exc:
+        raise EMAError(f"PolyMAX: the normal equations are singular at model order {P} ({exc}); use fewer "
+                       "model orders than frequency lines, or a wider frequency band") from None
+    N = np.zeros((c, c))
+    for p in range(P + 1):
+        Y = X[:, p, :]
+        N += Y.T @ Y
+        if p >= 1:
+            m = (p + 1) * n_i
+            yield p, 2 * (T[:m, :m] - N[:m, :m])
 
 
 def polymax(frfs, max_order: int = 40, frequency_band=None, orders=None, weighting: str = "unit") -> Stabilisation:
@@ -114,6 +157,8 @@ def polymax(frfs, max_order: int = 40, frequency_band=None, orders=None, weighti
 
     frfs: an FRFs container (flexgvt.io.uff) or a tuple (frequencies_hz, H (n_freq, n_out, n_in)).
     frequency_band: (f_min, f_max) [Hz] to fit (default: the whole axis above 0).
+    weighting: "unit", or "inverse" (each output's lines by 1/|H_o|, so every mode counts whatever
+    its amplitude: receptances of very flexible structures span decades).
     """
     if isinstance(frfs, tuple):
         freq, H = frfs
@@ -131,13 +176,15 @@ def polymax(frfs, max_order: int = 40, frequency_band=None, orders=None, weighti
     fk, Hk = freq[keep], H[keep]
     n_i = Hk.shape[2]
     dt = 1.0 / (2 * fk.max())
-    P = int(max_order)
-    orders = list(range(1, P + 1)) if orders is None else list(orders)
+    orders = list(range(1, int(max_order) + 1)) if orders is None else sorted({int(p) for p in orders})
+    if not orders or orders[0] < 1:
+        raise EMAError("model orders must be positive integers")
+    P = orders[-1]
+    if (P + 1) * n_i > len(fk):
+        raise EMAError(f"model order {P} needs more than {len(fk)} frequency lines in the band {lo:g}-{hi:g} Hz; "
+                       "lower max_order or widen the band")
     lags = np.arange(-P, P + 1)
     Om = np.exp(1j * 2 * np.pi * fk[:, None] * dt * lags[None, :])  # (n_f, 2P+1)
-    # Weights: each output's lines by 1/|H_o| so every mode counts whatever its amplitude (receptances
-    # of very flexible structures span decades). Toeplitz ingredients per lag d = s - r:
-    # R_o(d) = sum_k w_o^2 Om_d, g_o(d) = sum_k w_o^2 Om_d H_o, G(d) = sum_k Om_d sum_o w_o^2 H_o^H H_o.
     mag = np.sqrt(np.sum(np.abs(Hk) ** 2, axis=2))  # (n_f, n_o)
     if weighting == "unit":
         w2 = np.ones_like(mag)
@@ -146,26 +193,12 @@ def polymax(frfs, max_order: int = 40, frequency_band=None, orders=None, weighti
         w2 /= w2.mean(axis=0, keepdims=True)
     else:
         raise EMAError(f"weighting '{weighting}' must be 'unit' or 'inverse'")
-    r = np.einsum("kd,ko->od", Om, w2).real
-    g = np.einsum("kd,ko,koi->doi", Om, w2, Hk)
-    G = np.einsum("kd,ko,koj,kol->djl", Om, w2, Hk.conj(), Hk)
     stab = Stabilisation(freq, H, orders, [], [], [], outputs, inputs, (lo, hi))
+    wanted = set(orders)
     prev_s = prev_L = None
-    for p in orders:
-        idx = np.arange(p + 1)
-        D = idx[None, :] - idx[:, None] + P  # lag s - r
-        R = r[:, D]  # (n_o, p+1, p+1)
-        S = -np.real(g[D])  # (p+1, p+1, n_o, n_i): S_o[r, (s, j)]
-        S = np.transpose(S, (2, 0, 1, 3)).reshape(Hk.shape[1], p + 1, (p + 1) * n_i)
-        T = np.real(np.transpose(G[D], (0, 2, 1, 3))).reshape((p + 1) * n_i, (p + 1) * n_i)
-        if weighting == "unit":  # one R for every output: a single solve
-            Rinv_S = np.linalg.solve(R[0], S.transpose(1, 0, 2).reshape(p + 1, -1))
-            Rinv_S = Rinv_S.reshape(p + 1, S.shape[0], -1).transpose(1, 0, 2)
-        else:
-            Rinv_S = np.linalg.solve(R, S)  # (n_o, p+1, (p+1) n_i)
-        # sum_o S_o^T R_o^-1 S_o as one matrix product over the stacked outputs (BLAS).
-        c = (p + 1) * n_i
-        M = 2 * (T - S.reshape(-1, c).T @ Rinv_S.reshape(-1, c))
+    for p, M in _reduced_normal_matrices(Om, w2, Hk, P):
+        if p not in wanted:
+            continue
         m = p * n_i
         try:
             alpha = -np.linalg.solve(M[:m, :m], M[:m, m:])  # (p n_i, n_i), alpha_p = I
@@ -179,7 +212,7 @@ def polymax(frfs, max_order: int = 40, frequency_band=None, orders=None, weighti
             C[:-n_i, n_i:] = np.eye(m - n_i)
         # Companion of A^T(z) = sum alpha_r^T z^r: same poles, and its eigenvectors' first block are the
         # left null vectors of A(s), i.e. the participation factors (H = B A^-1 ~ B v w^T / (s - lambda)).
-        C[-n_i:, :] = -np.hstack([alpha[r * n_i:(r + 1) * n_i].T for r in range(p)])
+        C[-n_i:, :] = -alpha.reshape(p, n_i, n_i).transpose(0, 2, 1).transpose(1, 0, 2).reshape(n_i, m)
         z, V = np.linalg.eig(C)
         s = np.log(z.astype(complex)) / dt
         L = V[:n_i].T  # participation factors (n, n_i)
