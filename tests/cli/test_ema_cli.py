@@ -38,3 +38,22 @@ def test_identify_reports_a_file_without_frfs(tmp_path):
     geometry_only = Path(__file__).parents[1] / "data" / "uff" / "mesh_Oros-modal_uff15_uff2412.uff"
     result = runner.invoke(app, ["ema", "identify", str(geometry_only), "--out", str(tmp_path)])
     assert result.exit_code == 2 and "no FRF" in result.output
+
+
+def test_identify_wide_band_from_the_command_line(tmp_path):
+    rng = np.random.default_rng(5)
+    f = np.array([0.3, 0.5, 2.0, 9.0, 40.0])
+    model = ModalModel(f, np.array([0.08, 0.06, 0.01, 0.01, 0.01]), rng.standard_normal((5, 8)))
+    frfs = synthesize_frfs(model, np.linspace(0.01, 60, 6000), list(range(8)), [0, 1], snr_db=40, seed=3)
+    uff = write_uff(tmp_path / "wide.uff", frfs=frfs)
+    out = tmp_path / "out"
+    result = runner.invoke(app, ["ema", "identify", str(uff), "--wide", "--band", "0.1", "--band", "60",
+                                 "--out", str(out), "--json", str(tmp_path / "w.json")])
+    assert result.exit_code == 0, result.output
+    got = json.loads((tmp_path / "w.json").read_text())["frequencies_hz"]
+    # The command gives what the library gives on the file (accuracy itself: tests/ema/test_wideband.py).
+    direct = fg.ema.identify_wide_band(fg.io.read_uff(uff).frfs, frequency_band=(0.1, 60.0), max_order=30)
+    np.testing.assert_allclose(got, direct.frequencies_hz, rtol=1e-12)
+    np.testing.assert_allclose(got, f, rtol=5e-3)  # all five found, none spurious
+    bad = runner.invoke(app, ["ema", "identify", str(uff), "--wide", "--poles", "2.0", "--out", str(out)])
+    assert bad.exit_code == 2 and "--poles" in bad.output

@@ -22,20 +22,27 @@ def identify(path: Path = typer.Argument(..., help="UFF file with FRFs (dataset 
              band: Optional[list[float]] = typer.Option(None, "--band", help="fit band: --band F_MIN --band F_MAX [Hz]"),
              max_order: int = typer.Option(30, help="highest model order of the stabilisation diagram"),
              poles: Optional[str] = typer.Option(None, help="pick poles by hand: comma-separated frequencies [Hz]"),
+             wide: bool = typer.Option(False, "--wide", help="fit band by band (modes over decades of frequency, "
+                                       "e.g. 0.2 Hz suspension modes with 100 Hz elastic modes)"),
              out: Path = typer.Option(Path("ema-output"), help="folder for modes.uff, modes.csv and figures"),
              json_path: Optional[Path] = typer.Option(None, "--json", help="write the modes as JSON")):
     """Identify modes with PolyMAX + LSFD and write them as UFF 55, CSV and figures."""
     from ..io.uff import ModalResults, read_uff, shapes_at_points, write_uff
-    from ..ema import plots, polymax
+    from ..ema import identify_wide_band, plots, polymax
 
     try:
         data = read_uff(path)
         frfs = data.frfs
         if band and len(band) != 2:
             raise FlexGVTError("--band takes two values: --band F_MIN --band F_MAX")
-        stab = polymax(frfs, max_order=max_order, frequency_band=tuple(band) if band else None)
-        chosen = [float(v) for v in poles.split(",")] if poles else None
-        modes = stab.select(frequencies_hz=chosen)
+        fit_band = tuple(band) if band else None
+        if wide and poles:
+            raise FlexGVTError("--poles picks from one stabilisation diagram; use it without --wide (on a band)")
+        if wide:
+            stab, modes = None, identify_wide_band(frfs, frequency_band=fit_band, max_order=max_order)
+        else:
+            stab = polymax(frfs, max_order=max_order, frequency_band=fit_band)
+            modes = stab.select(frequencies_hz=[float(v) for v in poles.split(",")] if poles else None)
         out.mkdir(parents=True, exist_ok=True)
         table = Table(title=f"{path.name}: identified modes")
         for col in ("mode", "f [Hz]", "zeta [%]"):
@@ -48,9 +55,10 @@ def identify(path: Path = typer.Argument(..., help="UFF file with FRFs (dataset 
         (out / "modes.csv").write_text("\n".join(lines) + "\n")
         points, shapes = shapes_at_points(np.real(modes.shapes), frfs.outputs)
         write_uff(out / "modes.uff", modes=ModalResults(modes.frequencies_hz, modes.damping_ratio, shapes, points))
-        figs = {"stabilisation.png": plots.stabilisation_diagram(stab, modes),
-                "cmif.png": plots.cmif_plot(frfs.frequencies_hz, frfs.H, modes),
+        figs = {"cmif.png": plots.cmif_plot(frfs.frequencies_hz, frfs.H, modes),
                 "frf_fit.png": plots.frf_fit(frfs.frequencies_hz, frfs.H, modes, 0)}
+        if stab is not None:  # one diagram per sub-band with --wide: not drawn
+            figs["stabilisation.png"] = plots.stabilisation_diagram(stab, modes)
         for name, fig in figs.items():
             fig.savefig(out / name, dpi=120)
         if json_path is not None:
