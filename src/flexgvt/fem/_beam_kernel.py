@@ -74,25 +74,26 @@ def jl_inv_dT_apply(theta, c, e, dth, m, out):
 
 
 @njit(**_FAST)
-def local_energy(u, t1, t2, L0, st, f, H):
+def local_energy(u, t1, t2, L0, st, arch_on, f, H):
     """Gradient f (7) and Hessian H (7, 7) of the local strain energy in [u, theta1, theta2]; returns N.
 
     st = (EA, GJ, kd_y, ko_y, kd_z, ko_z): the energy is linear in these coefficients (bending
     energy 1/2 (kd (a^2 + b^2) + 2 ko a b) per plane), so derivatives with respect to any
     material or section parameter are this same kernel evaluated with d st / d p.
+    arch_on: 1 for beams (shallow-arch term in the axial strain), 0 for rods (chord strain only).
     """
     EA, GJ = st[0], st[1]
     a1, a2, b1, b2 = t1[1], t2[1], t1[2], t2[2]
-    arch = (2 * a1 * a1 - a1 * a2 + 2 * a2 * a2 + 2 * b1 * b1 - b1 * b2 + 2 * b2 * b2) / 30.0
+    arch = arch_on * (2 * a1 * a1 - a1 * a2 + 2 * a2 * a2 + 2 * b1 * b1 - b1 * b2 + 2 * b2 * b2) / 30.0
     eps = u / L0 + arch
     ge = f  # reuse f as scratch for the strain gradient, overwritten below
     for i in range(7):
         ge[i] = 0.0
     ge[0] = 1.0 / L0
-    ge[2] = (4 * a1 - a2) / 30.0
-    ge[5] = (4 * a2 - a1) / 30.0
-    ge[3] = (4 * b1 - b2) / 30.0
-    ge[6] = (4 * b2 - b1) / 30.0
+    ge[2] = arch_on * (4 * a1 - a2) / 30.0
+    ge[5] = arch_on * (4 * a2 - a1) / 30.0
+    ge[3] = arch_on * (4 * b1 - b2) / 30.0
+    ge[6] = arch_on * (4 * b2 - b1) / 30.0
     N = EA * eps
     for i in range(7):
         for j in range(7):
@@ -100,10 +101,10 @@ def local_energy(u, t1, t2, L0, st, f, H):
     for i in range(7):
         f[i] = N * L0 * ge[i]
     for i, j in ((2, 5), (3, 6)):
-        H[i, i] += N * L0 * 4.0 / 30.0
-        H[j, j] += N * L0 * 4.0 / 30.0
-        H[i, j] -= N * L0 / 30.0
-        H[j, i] -= N * L0 / 30.0
+        H[i, i] += arch_on * N * L0 * 4.0 / 30.0
+        H[j, j] += arch_on * N * L0 * 4.0 / 30.0
+        H[i, j] -= arch_on * N * L0 / 30.0
+        H[j, i] -= arch_on * N * L0 / 30.0
     kt = GJ / L0
     tw = t2[0] - t1[0]
     f[1] -= kt * tw
@@ -163,17 +164,17 @@ def local_rotations(Rr, R1, R2, E0, t1, t2, A, tmp, q4):
 
 
 @njit(cache=True, nogil=True, parallel=True)
-def beam_kernel(x, R, nodes, E0s, L0s, stiff, want_tangent, g_out, K_out, N_out, threads):
+def beam_kernel(x, R, nodes, E0s, L0s, stiff, arch, want_tangent, g_out, K_out, N_out, threads):
     """All elements, in chunks over ``threads`` threads (elements are independent)."""
     n = nodes.shape[0]
     chunks = min(max(n // 256, 1), threads)
     for c in prange(chunks):
-        _beam_chunk(x, R, nodes, E0s, L0s, stiff, want_tangent, g_out, K_out, N_out,
+        _beam_chunk(x, R, nodes, E0s, L0s, stiff, arch, want_tangent, g_out, K_out, N_out,
                     c * n // chunks, (c + 1) * n // chunks)
 
 
 @njit(**_FAST)
-def _beam_chunk(x, R, nodes, E0s, L0s, stiff, want_tangent, g_out, K_out, N_out, start, stop):
+def _beam_chunk(x, R, nodes, E0s, L0s, stiff, arch, want_tangent, g_out, K_out, N_out, start, stop):
     """Internal forces g_out (n, 12), tangent K_out (n, 12, 12) with K[a, b] = d g_a / d p_b, axial forces N_out."""
     Rr = np.empty((3, 3))
     q1 = np.empty(3)
@@ -255,7 +256,7 @@ def _beam_chunk(x, R, nodes, E0s, L0s, stiff, want_tangent, g_out, K_out, N_out,
             for i in range(3):
                 B[k, 1 + i] = dth[0, k, i]
                 B[k, 4 + i] = dth[1, k, i]
-        N_out[el] = local_energy(ln - L0, t1, t2, L0, stiff[el], f, H)
+        N_out[el] = local_energy(ln - L0, t1, t2, L0, stiff[el], arch[el], f, H)
         for k in range(12):
             acc = 0.0
             for l in range(7):

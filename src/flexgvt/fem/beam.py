@@ -33,6 +33,7 @@ class BeamData:
     inertia_per_length: np.ndarray  # (n, 3) rho*Ip, rho*Iy, rho*Iz (bending terms zero if no rotary inertia)
     lumped: np.ndarray  # (n,) bool
     section_stiffness: np.ndarray  # (n, 6) EA, GJ, EIy, EIz, Phi_y, Phi_z
+    arch: np.ndarray  # (n,) 1.0 for beams (shallow-arch axial strain), 0.0 for rods (chord strain only)
 
 
 def bending_coefficients(EI: np.ndarray, phi: np.ndarray, L: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -91,7 +92,7 @@ def beam_forces(x: np.ndarray, R: np.ndarray, data: BeamData, tangent: bool = Tr
     K = np.empty((n, 12, 12)) if tangent else np.empty((0, 12, 12))
     N = np.empty(n)
     beam_kernel(np.ascontiguousarray(x), np.ascontiguousarray(R), data.nodes, data.E0, data.L0, data.stiffness,
-                tangent, g, K, N, numba.get_num_threads())
+                data.arch, tangent, g, K, N, numba.get_num_threads())
     return g, (K if tangent else None), N
 
 
@@ -100,7 +101,8 @@ def local_mass_matrices(data: BeamData) -> np.ndarray:
 
     Consistent: Hermitian cubic bending, linear axial and torsion, plus bending rotary inertia
     where ``inertia_per_length`` has it. Lumped: half the element at each node (translations,
-    torsion and rotary inertia). Torsional inertia is rho*Ip (rotates with the section).
+    torsion and rotary inertia). Torsional inertia is rho*Ip (rotates with the section). Rods
+    (arch == 0): linear shape functions in all three directions (consistent) or half at each node.
     """
     L = data.L0
     m = data.mass_per_length * L
@@ -130,6 +132,14 @@ def local_mass_matrices(data: BeamData) -> np.ndarray:
         lumped[:, 1, 1] = lumped[:, 3, 3] = rI * L / 2
         block = np.where(cons[:, None, None], block, lumped)
         M[:, np.array(idx)[:, None], np.array(idx)[None, :]] = block
+    rods = data.arch == 0
+    if rods.any():  # translations only, linear (or lumped) in every direction
+        r = np.zeros((int(rods.sum()), 12, 12))
+        m_r, c_r = m[rods], cons[rods]
+        for dof in range(3):
+            r[:, dof, dof] = r[:, dof + 6, dof + 6] = np.where(c_r, m_r / 3, m_r / 2)
+            r[:, dof, dof + 6] = r[:, dof + 6, dof] = np.where(c_r, m_r / 6, 0.0)
+        M[rods] = r
     return M
 
 

@@ -14,7 +14,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..errors import ModelError
-from ..model import Configuration, Model, parse_dofs
+from ..model import Configuration, Model, RodSection, parse_dofs
 from .assembly import Pattern
 from .beam import (BeamData, beam_forces, beam_mass_matrices, element_frames, kernel_coefficients,
                    local_mass_matrices)
@@ -61,7 +61,7 @@ def compile_model(model: Model) -> CompiledModel:
     if model.n_nodes == 0:
         raise ModelError(f"model '{model.name}' has no nodes; add nodes and elements first")
     xyz = model.xyz
-    nodes, E0, L0, stiff, rhoA, rhoI, lumped, eids, names = [], [], [], [], [], [], [], [], []
+    nodes, E0, L0, stiff, rhoA, rhoI, lumped, eids, names, arch = [], [], [], [], [], [], [], [], [], []
     for group in model.beams:
         idx = model.index_of(group.nodes, f"beam group '{group.name}'")
         frames = element_frames(xyz, idx, group.orientation)
@@ -77,6 +77,7 @@ def compile_model(model: Model) -> CompiledModel:
         rhoI.append(np.tile([rho * p["Ip"], rot * rho * p["Iy"], rot * rho * p["Iz"]], (n, 1)))
         rhoA.append(np.full(n, rho * p["A"]))
         lumped.append(np.full(n, group.mass == "lumped"))
+        arch.append(np.full(n, 0.0 if isinstance(group.section, RodSection) else 1.0))
         nodes.append(idx)
         E0.append(frames)
         L0.append(length)
@@ -87,7 +88,7 @@ def compile_model(model: Model) -> CompiledModel:
     lengths = cat(L0, (0,))
     beams = BeamData(cat(nodes, (0, 2)).astype(np.int64), np.ascontiguousarray(cat(E0, (0, 3, 3))), lengths,
                      kernel_coefficients(section, lengths), cat(rhoA, (0,)), cat(rhoI, (0, 3)),
-                     cat(lumped, (0,)).astype(bool), section)
+                     cat(lumped, (0,)).astype(bool), section, cat(arch, (0,)))
     links = np.full(model.n_nodes, -1)
     for link in model.rigid_links:
         links[model.index_of(list(link.dependents))] = model.index_of([link.independent])[0]

@@ -4,8 +4,8 @@ from .components import ConcentratedMass, Cord, DistributedLoad, NodalLoad, Rigi
 from .configuration import STANDARD_GRAVITY, Configuration, parse_dofs
 from .material import Material
 from .model import BeamGroup, Model
-from .section import CircularTubeSection, GeneralSection, RectangularSection, rectangle_torsion_constant
+from .section import CircularTubeSection, GeneralSection, RectangularSection, RodSection, rectangle_torsion_constant
 
 __all__ = ["BeamGroup", "CircularTubeSection", "ConcentratedMass", "Configuration", "Cord", "DistributedLoad",
-           "GeneralSection", "Material", "Model", "NodalLoad", "RectangularSection", "RigidLink", "Spring",
+           "GeneralSection", "Material", "Model", "NodalLoad", "RectangularSection", "RodSection", "RigidLink", "Spring",
            "STANDARD_GRAVITY", "parse_dofs", "rectangle_torsion_constant"]

@@ -10,7 +10,7 @@ import numpy as np
 from ..errors import ModelError
 from .components import ConcentratedMass, RigidLink, Spring, as_vector
 from .material import Material
-from .section import Section
+from .section import RodSection, Section
 
 MASS_FORMULATIONS = ("consistent", "lumped")
 
@@ -153,6 +153,23 @@ class Model:
         self._beams.append(BeamGroup(ids, pairs.copy(), material, section, orient, bool(rotary_inertia), mass, name))
         self.revision += 1
         return ids
+
+    def add_rods(self, pairs, material: Material | None, area: float, torsion_constant: float = 0.0,
+                 mass: str = "lumped", name: str = "") -> np.ndarray:
+        """Add rod elements (axial E A and torsion G J, no bending; Nastran CROD/CONROD) between node id
+        ``pairs`` (n, 2); returns element ids. Geometrically nonlinear like the beams (a tensioned rod
+        has the string stiffness N / L). mass: 'lumped' (m/2 per node, Nastran's default) or
+        'consistent' (linear shape functions in all three directions); no rotary inertia.
+        """
+        pairs = np.atleast_2d(np.asarray(pairs, dtype=int))
+        if pairs.ndim != 2 or pairs.shape[1] != 2:
+            raise ModelError(f"add_rods: pairs must have shape (n, 2), got {pairs.shape}")
+        idx = self.index_of(pairs, "add_rods")
+        axis = self.xyz[idx[:, 1]] - self.xyz[idx[:, 0]]
+        # Any vector off the rod axis will do (a rod has no bending axes): the global axis least aligned.
+        orientation = np.eye(3)[np.argmin(np.abs(axis), axis=1)]
+        return self.add_beams(pairs, material, RodSection(area, torsion_constant), orientation=orientation,
+                              rotary_inertia=False, mass=mass, name=name)
 
     def add_mass(self, node: int, mass: float, offset=(0.0, 0.0, 0.0), inertia=None) -> ConcentratedMass:
         """Concentrated mass [kg] at ``offset`` [m] from ``node``; inertia: scalar, (3,) or (3, 3) [kg m^2]."""

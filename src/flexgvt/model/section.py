@@ -105,4 +105,24 @@ class CircularTubeSection:
         return {"A": A, "Iy": I, "Iz": I, "J": 2 * I, "Ip": 2 * I, "Ay": shear_area, "Az": shear_area}
 
 
-Section = GeneralSection | RectangularSection | CircularTubeSection
+@dataclass(frozen=True)
+class RodSection:
+    """Section of a rod (Nastran CROD/CONROD): axial stiffness E A and torsion G J only, no bending.
+
+    A [m^2]; J torsion constant [m^4] (0: no torsional stiffness). Rods carry no rotary or
+    torsional inertia (as Nastran's), so a node joined only by rods needs its rotations fixed.
+    """
+
+    A: float
+    J: float = 0.0
+
+    def __post_init__(self) -> None:
+        _check_positive("RodSection", A=self.A)
+        if not math.isfinite(self.J) or self.J < 0:
+            raise ModelError(f"RodSection: J={self.J!r} must be a finite number >= 0")
+
+    def properties(self) -> dict[str, float]:
+        return {"A": self.A, "Iy": 0.0, "Iz": 0.0, "J": self.J, "Ip": 0.0, "Ay": 0.0, "Az": 0.0}
+
+
+Section = GeneralSection | RectangularSection | CircularTubeSection | RodSection
