@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from flexgvt.model import Model
+
 
 def _perp(orientation, a, b):
     ex = (b - a) / np.linalg.norm(b - a)
@@ -71,3 +73,23 @@ def assert_close(a, b, rtol=1e-9, path="") -> None:
         x, y = np.asarray(a, float), np.asarray(b, float)
         scale = max(np.abs(x).max(initial=0.0), np.abs(y).max(initial=0.0), 1e-300)
         assert x.shape == y.shape and np.allclose(x, y, rtol=rtol, atol=rtol * scale), f"{path}: {x} != {y}"
+
+
+def rebuild(model: Model, material=None, section=None, mass=None, spring=None) -> Model:
+    """A copy of ``model`` with some values changed (what model updating hands back)."""
+    new = Model(model.name)
+    new.add_nodes(model.xyz, ids=model.node_ids)
+    for g in model.beams:
+        mat = (material or {}).get(g.name, g.material)
+        sec = (section or {}).get(g.name, g.section)
+        new.add_beams(g.nodes, mat, sec, orientation=g.orientation, rotary_inertia=g.rotary_inertia, mass=g.mass,
+                      name=g.name)
+    for i, m in enumerate(model.masses):
+        scale = (mass or {}).get(i, 1.0)
+        new.add_mass(m.node, m.mass * scale, offset=m.offset, inertia=m.inertia * scale)
+    for i, s in enumerate(model.springs):
+        scale = (spring or {}).get(i, 1.0)
+        new.add_spring(s.node_a, s.node_b, stiffness=s.stiffness * scale, damping=s.damping, frame=s.frame)
+    for link in model.rigid_links:
+        new.add_rigid_link(link.independent, link.dependents)
+    return new

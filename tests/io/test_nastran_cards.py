@@ -10,7 +10,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from nastran_helpers import assert_close, config_data, model_data
+from nastran_helpers import assert_close, config_data, model_data, rebuild
 
 import flexgvt as fg
 from flexgvt.model import GeneralSection, Material, Model, RectangularSection
@@ -155,26 +155,6 @@ def test_template_round_trip_is_exact(deck, tmp_path):
         assert_close(config_data(deck.model, deck.configurations[name]),
                      config_data(again.model, again.configurations[name]), rtol=1e-12)
     assert again.wtmass == 0.5 and again.mass == "consistent"
-
-
-def rebuild(model: Model, material=None, section=None, mass=None, spring=None) -> Model:
-    """A copy of ``model`` with some values changed (what model updating hands back)."""
-    new = Model(model.name)
-    new.add_nodes(model.xyz, ids=model.node_ids)
-    for g in model.beams:
-        mat = (material or {}).get(g.name, g.material)
-        sec = (section or {}).get(g.name, g.section)
-        new.add_beams(g.nodes, mat, sec, orientation=g.orientation, rotary_inertia=g.rotary_inertia, mass=g.mass,
-                      name=g.name)
-    for i, m in enumerate(model.masses):
-        scale = (mass or {}).get(i, 1.0)
-        new.add_mass(m.node, m.mass * scale, offset=m.offset, inertia=m.inertia * scale)
-    for i, s in enumerate(model.springs):
-        scale = (spring or {}).get(i, 1.0)
-        new.add_spring(s.node_a, s.node_b, stiffness=s.stiffness * scale, damping=s.damping, frame=s.frame)
-    for link in model.rigid_links:
-        new.add_rigid_link(link.independent, link.dependents)
-    return new
 
 
 def test_template_writes_updated_values(deck, tmp_path):

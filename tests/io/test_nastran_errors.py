@@ -1,8 +1,6 @@
 """Malformed decks give one clear error: what, where (file:line, card id) and what to do."""
 
-import warnings
 
-import numpy as np
 import pytest
 
 import flexgvt as fg

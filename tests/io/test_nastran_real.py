@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 import flexgvt as fg
-from flexgvt.io.nastran import UnsupportedCardsError
+from flexgvt.io.nastran import UnsupportedCardsError, solve_deck
 
 DATA = Path(__file__).parents[1] / "data" / "bdf"
 BEAM_MODES = DATA / "beam_modes" / "beam_modes.dat"
@@ -67,26 +67,33 @@ def test_beam_modes_default_keeps_torsional_inertia():
     assert t1 < 0.8 * f[4]  # the rod's own torsional inertia is now counted
 
 
-def test_beam_modes_with_a_crod_names_the_card(tmp_path):
-    """A CROD (no flexgvt counterpart yet) added to the real deck: one error naming card and id."""
+def test_beam_modes_with_a_crod_added_reads_it_as_a_rod(tmp_path):
+    """A CROD on the real deck's (until then unused) PROD 2, to a node no other element reaches."""
     text = BEAM_MODES.read_text().replace(
         "INCLUDE 'cbar_cbeam.blk'", f"INCLUDE '{BEAM_MODES.parent / 'cbar_cbeam.blk'}'\nCROD,99,2,1,12")
     path = tmp_path / "beam_modes_crod.dat"
     path.write_text(text)
-    with pytest.raises(UnsupportedCardsError) as err:
-        fg.io.read_bdf(path, units="in-lbf-s")
-    assert "CROD: 99" in str(err.value) and "USET" not in str(err.value)
-    assert err.value.unsupported == {"CROD": ["99"], "PROD": ["2"]}  # PROD 2 is now used
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        deck = fg.io.read_bdf(path, units="in-lbf-s")
+    rod = next(g for g in deck.model.beams if g.name == "PROD_2")
+    assert rod.nodes.tolist() == [[1, 12]] and isinstance(rod.section, fg.RodSection)
+    assert deck.element_ids[99] == int(rod.ids[0])
+    assert any("[12] are joined only by rods" in n for n in deck.notes)
 
 
 PYN = DATA / "pynastran"
 
 
-def test_patran_crod_deck_fails_naming_crod():
-    with pytest.raises(UnsupportedCardsError) as err:
-        fg.io.read_bdf(PYN / "sdof_crod.bdf")
-    assert err.value.unsupported == {"CROD": ["6"], "PROD": ["1"]}
-    assert "sdof_crod.bdf" in str(err.value)
+def test_patran_crod_deck_gives_its_single_dof_frequency():
+    """Patran-written SOL 103 deck: 100 kg CONM2 on a CROD (E = 100, A = 1, L = 0.01, weightless),
+    guided along the rod: f = sqrt(E A / (L m)) / (2 pi) = 10 / (2 pi) Hz."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        deck = fg.io.read_bdf(PYN / "sdof_crod.bdf")
+    length = 0.009999999776483  # the deck's GRID* 7 z, a single-precision 0.01
+    modes = solve_deck(deck)["subcase_1"].modes
+    assert modes.frequencies_hz[0] == pytest.approx(np.sqrt(100.0 * 1.0 / (length * 100.0)) / (2 * np.pi), rel=1e-9)
 
 
 def test_patran_offset_cbeam_deck_fails_naming_the_feature():

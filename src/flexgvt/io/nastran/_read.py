@@ -13,15 +13,16 @@ from pathlib import Path
 import numpy as np
 
 from ...errors import FileFormatError, FlexGVTError, ModelError
-from ...model import Configuration, DistributedLoad, GeneralSection, Material, Model, NodalLoad
+from ...model import Configuration, DistributedLoad, GeneralSection, Material, Model, NodalLoad, RodSection
 from ._common import (CardIndex, UnsupportedCardsError, Units, absolute_include_lines, coord_axes, get_units,
                       split_first_fields, where_prefix)
 from ._sections import SectionData, from_properties, library_section
 
 BEAM_CARDS = ("CBAR", "CBEAM")
+ROD_CARDS = ("CROD", "CONROD")
 BEAM_PROPERTIES = ("PBAR", "PBARL", "PBEAM", "PBEAML")
-SUPPORTED_ELEMENTS = BEAM_CARDS + ("CONM2", "CONM1", "CELAS1", "CELAS2", "CDAMP1", "CDAMP2", "CVISC", "CBUSH", "RBE2")
-SUPPORTED_PROPERTIES = BEAM_PROPERTIES + ("PELAS", "PDAMP", "PVISC", "PBUSH")
+SUPPORTED_ELEMENTS = BEAM_CARDS + ROD_CARDS + ("CONM2", "CONM1", "CELAS1", "CELAS2", "CDAMP1", "CDAMP2", "CVISC", "CBUSH", "RBE2")
+SUPPORTED_PROPERTIES = BEAM_PROPERTIES + ("PROD", "PELAS", "PDAMP", "PVISC", "PBUSH")
 SUPPORTED_LOADS = ("FORCE", "MOMENT", "GRAV", "PLOAD1")
 # Cards that carry no structure or are read through the case control (methods, solution controls).
 IGNORED_CARDS = {"ENDDATA", "PARAM", "EIGRL", "EIGR", "NLPARM", "NLPCI", "MDLPRM", "DTI", "TSTEPNL", "TSTEP", "FREQ",
@@ -252,11 +253,13 @@ class _Reader:
                 if n not in nodes:
                     miss.append(f"{self.at(elem.type, eid)} refers to node {n}, which is not defined")
             pid = getattr(elem, "pid", None)
-            if elem.type in ("CBAR", "CBEAM", "CELAS1", "CDAMP1", "CVISC", "CBUSH") and pid not in bdf.properties:
+            if elem.type in ("CBAR", "CBEAM", "CROD", "CELAS1", "CDAMP1", "CVISC", "CBUSH") and pid not in bdf.properties:
                 miss.append(f"{self.at(elem.type, eid)} refers to property {pid}, which is not defined")
             g0 = getattr(elem, "g0", None)
             if elem.type in ("CBAR", "CBEAM", "CBUSH") and g0 not in (None, 0) and g0 not in nodes:
                 miss.append(f"{self.at(elem.type, eid)} orientation node G0={g0} is not defined")
+            if elem.type == "CONROD" and elem.mid not in bdf.materials:
+                miss.append(f"{self.at(elem.type, eid)} refers to material {elem.mid}, which is not defined")
             cid = getattr(elem, "cid", None)
             if elem.type in ("CBUSH",) and cid not in (None, -1, 0) and cid not in coords:
                 miss.append(f"{self.at(elem.type, eid)} refers to coordinate system {cid}, which is not defined")
@@ -271,7 +274,7 @@ class _Reader:
                     miss.append(f"{self.at(elem.type, eid)} refers to node {n}, which is not defined")
         for pid, prop in bdf.properties.items():
             mid = getattr(prop, "mid", None)
-            if prop.type in BEAM_PROPERTIES and mid not in bdf.materials:
+            if (prop.type in BEAM_PROPERTIES or prop.type == "PROD") and mid not in bdf.materials:
                 miss.append(f"{self.at(prop.type, pid)} refers to material {mid}, which is not defined")
         if miss:
             raise ModelError(f"{self.path}: missing references: " + "; ".join(miss[:12]) +
@@ -323,6 +326,7 @@ class _Reader:
         self.deck = BdfDeck(self.path, model, {}, bdf, u, self.wtmass, self.mass)
         self.read_materials()
         self.read_beams()
+        self.read_rods()
         self.read_masses()
         self.read_springs()
         self.read_rigid()
@@ -487,19 +491,58 @@ class _Reader:
             self.deck.element_ids.update(dict(zip(eids, (int(i) for i in ids))))
             self.deck.beams[name] = BeamSource(name, elems[0].type, prop.type, int(pid), int(prop.mid), eids,
                                                sdata.principal)
+            if nsm:  # Nastran's lumped mass puts NSM*L/2 on each end (translations only): exact for lumped mass
+                self._lumped_nsm(pairs, nsm, prop.type, pid)
+
+    # ----------------------------------------------------------------- rods
+    def read_rods(self) -> None:
+        """CROD + PROD (one group per property) and CONROD (one group per set of equal values)."""
+        bdf, u = self.bdf, self.units
+        groups: dict[tuple, list] = {}
+        for eid, elem in sorted(bdf.elements.items()):
+            if elem.type == "CROD":
+                prop = bdf.properties[elem.pid]
+                if prop.type != "PROD":
+                    self.skip(f"CROD with {prop.type}", eid)
+                    continue
+                groups.setdefault(("PROD", prop.pid, prop.mid, prop.A, prop.j, prop.nsm), []).append(elem)
+            elif elem.type == "CONROD":
+                groups.setdefault(("CONROD", 0, elem.mid, elem.A, elem.j, elem.nsm), []).append(elem)
+        for (ptype, pid, mid, area, j, nsm), elems in groups.items():
+            where = self.at(ptype, pid) if ptype == "PROD" else self.at("CONROD", elems[0].eid)
+            mat = self.deck.materials.get(mid)
+            if mat is None:
+                for e in elems:
+                    self.skip(f"{e.type} on {bdf.materials[mid].type}", e.eid)
+                continue
+            pairs = np.array([e.node_ids[:2] for e in elems], int)
+            name = f"PROD_{pid}" if ptype == "PROD" else f"CONROD_{elems[0].eid}"
+            try:
+                ids = self.model.add_rods(pairs, mat, float(area) * u.length ** 2,
+                                          torsion_constant=float(j or 0.0) * u.length ** 4, mass=self.mass, name=name)
+            except ModelError as exc:
+                raise ModelError(f"{where}: {exc}") from None
+            eids = tuple(int(e.eid) for e in elems)
+            self.deck.element_ids.update(dict(zip(eids, (int(i) for i in ids))))
+            self.deck.beams[name] = BeamSource(name, elems[0].type, ptype, int(pid), int(mid), eids, (0.0, 1.0))
             if nsm:
-                # Nastran's lumped mass puts NSM*L/2 on each end (translations only): exact for lumped mass.
-                nsm_si = nsm * u.mass / u.length * self.wtmass
-                ends = {}
-                for p, L in zip(pairs, length):
-                    for n in p:
-                        ends[int(n)] = ends.get(int(n), 0.0) + 0.5 * nsm_si * L
-                for n, m in ends.items():
-                    model.add_mass(n, m)
-                    self.deck.mass_sources.append((f"NSM:{prop.type}", int(pid)))
-                if self.mass == "consistent":
-                    self.notes.append(f"{self.at(prop.type, pid)}: NSM={nsm} lumped at the element ends (Nastran "
-                                      "distributes it consistently under COUPMASS)")
+                self._lumped_nsm(pairs, float(nsm), ptype, pid)
+
+    def _lumped_nsm(self, pairs: np.ndarray, nsm: float, card: str, ident) -> None:
+        """Non-structural mass per length NSM (deck units) as point masses NSM L / 2 at the element ends."""
+        u = self.units
+        nsm_si = nsm * u.mass / u.length * self.wtmass
+        ends: dict[int, float] = {}
+        for p in pairs:
+            L = float(np.linalg.norm(self.xyz[p[1]] - self.xyz[p[0]]))
+            for n in p:
+                ends[int(n)] = ends.get(int(n), 0.0) + 0.5 * nsm_si * L
+        for n, m in ends.items():
+            self.model.add_mass(n, m)
+            self.deck.mass_sources.append((f"NSM:{card}", int(ident)))
+        if self.mass == "consistent":
+            self.notes.append(f"{self.at(card, ident)}: NSM={nsm} lumped at the element ends (Nastran distributes "
+                              "it consistently under COUPMASS)")
 
     # ----------------------------------------------------------------- masses
     def read_masses(self) -> None:
@@ -697,11 +740,21 @@ class _Reader:
         connected |= {n for sp in self.model.springs for n in (sp.node_a, sp.node_b) if n is not None}
         connected |= {n for link in self.model.rigid_links for n in (link.independent, *link.dependents)}
         self.autospc = sorted(set(bdf.nodes) - connected)
+        # Nodes joined only by rods have no rotational stiffness or inertia: their rotations are fixed.
+        rod_nodes = {int(n) for g in self.model.beams if isinstance(g.section, RodSection) for n in g.nodes.ravel()}
+        bending = {int(n) for g in self.model.beams if not isinstance(g.section, RodSection) for n in g.nodes.ravel()}
+        bending |= {n for sp in self.model.springs for n in (sp.node_a, sp.node_b) if n is not None}
+        bending |= {n for link in self.model.rigid_links for n in (link.independent, *link.dependents)}
+        self.autospc_rotations = sorted(rod_nodes - bending)
         if str(self.param("AUTOSPC", "YES")).upper() in ("NO", "N", "-1"):
-            self.autospc = []
+            self.autospc, self.autospc_rotations = [], []
         if self.autospc:
             self.notes.append(f"node(s) {self.autospc[:10]}{' ...' if len(self.autospc) > 10 else ''} have no "
                               "element: fixed in every configuration (as Nastran's AUTOSPC does)")
+        if self.autospc_rotations:
+            r = self.autospc_rotations
+            self.notes.append(f"node(s) {r[:10]}{' ...' if len(r) > 10 else ''} are joined only by rods: their "
+                              "rotations (456) are fixed in every configuration (as Nastran's AUTOSPC does)")
         ccd = bdf.case_control_deck
         subcases = {} if ccd is None else dict(ccd.subcases)
         numbered = {k: v for k, v in subcases.items() if k > 0}
@@ -742,6 +795,8 @@ class _Reader:
         fixed: dict[int, set[int]] = {}
         for nid in self.autospc:
             fixed.setdefault(int(nid), set()).update(range(6))
+        for nid in self.autospc_rotations:
+            fixed.setdefault(int(nid), set()).update(range(3, 6))
         for nid, node in bdf.nodes.items():
             if node.ps:
                 self._fix(fixed, nid, str(node.ps), f"{self.at('GRID', nid)} (PS)")
@@ -920,6 +975,8 @@ def _scale_section(section, L: float):
     from dataclasses import replace
 
     from ...model import CircularTubeSection, GeneralSection, RectangularSection
+    if isinstance(section, RodSection):
+        return RodSection(A=section.A * L**2, J=section.J * L**4)
     if isinstance(section, RectangularSection):
         return replace(section, width=section.width * L, height=section.height * L)
     if isinstance(section, CircularTubeSection):

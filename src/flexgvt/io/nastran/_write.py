@@ -11,9 +11,9 @@ from pathlib import Path
 import numpy as np
 
 from ...errors import ModelError
-from ...model import CircularTubeSection, Configuration, GeneralSection, Material, Model, RectangularSection
+from ...model import Configuration, Material, Model, RodSection
 from ._common import Units, coord_axes, get_units
-from ._read import BdfDeck, _rigid_mass, _scale_section
+from ._read import BdfDeck, _scale_section
 from ._sections import library_dims, library_section, to_properties
 
 
@@ -89,9 +89,18 @@ def _write_into_template(model: Model, path: Path, deck: BdfDeck, size: int) -> 
         if len(group.ids) != len(src.eids):
             raise ModelError(f"write_bdf: beam group '{group.name}' has {len(group.ids)} elements, the template "
                              f"{len(src.eids)}")
+        section = _scale_section(group.section, 1.0 / u.length)
+        if src.ptype == "CONROD":  # the element carries material and section
+            for eid in src.eids:
+                elem = bdf.elements[eid]
+                elem.mid = material_id(src.mid, group.material)
+                elem.A, elem.j = section.A, section.J
+            continue
         prop = bdf.properties[src.pid]
         prop.mid = material_id(src.mid, group.material)
-        section = _scale_section(group.section, 1.0 / u.length)
+        if src.ptype == "PROD":
+            prop.A, prop.j = section.A, section.J
+            continue
         _update_beam_property(bdf, prop, section, src, notes)
 
     # concentrated masses
@@ -266,6 +275,12 @@ def _write_compact(model: Model, path: Path, configurations, u: Units, size: int
                          rho=vals["rho"], comment=f"flexgvt material '{group.material.name}'")
         section = _scale_section(group.section, 1.0 / u.length)
         comment = f"flexgvt beam group '{group.name}'" if group.name else ""
+        if isinstance(section, RodSection):
+            bdf.add_prod(pid, mid, section.A, j=section.J, comment=comment)
+            for eid, (na, nb) in zip(group.ids.tolist(), group.nodes.tolist()):
+                bdf.add_crod(int(eid), pid, [int(na), int(nb)])
+                eid_used.add(int(eid))
+            continue
         dims = library_dims(section) if getattr(section, "shear", False) else None
         if dims is not None:
             bdf.add_pbarl(pid, mid, dims[0], list(dims[1]), comment=comment)
