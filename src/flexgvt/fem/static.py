@@ -7,6 +7,7 @@ suspension cords are ramped together by the load factor lambda from 0 to 1.
 
 from __future__ import annotations
 
+import dataclasses
 import time
 from dataclasses import dataclass, field
 from typing import Callable
@@ -16,6 +17,7 @@ import scipy.sparse as sp
 
 from ..errors import ConvergenceError, ModelError, SingularModelError
 from ..model import Configuration, Model
+from ..model.configuration import parse_dofs
 from .rotations import logm_so3, relative_spins
 from .linsolve import HAVE_CHOLMOD, CholmodCache, superlu
 from .system import System
@@ -335,12 +337,12 @@ def solve_static(model: Model, configuration: Configuration, *, settings: Static
     if start is not None:
         if start.system is not system and (start.positions.shape != x.shape):
             raise ModelError("solve_static(start=...): the start state belongs to a model of another size")
-        got = newton(start.positions.copy(), start.rotations.copy(), 1.0, 0)
+        got = newton(*system.impose(start.positions.copy(), start.rotations.copy(), 1.0), 1.0, 0)
         if got is not None:
             xs, Rs, ev, stab = got
             state = make_state(xs, Rs, 1.0, ev, stab)
             return (state, saved) if keep_steps else state
-    if not np.any(system.applied) and not np.any(system.mass_weight) and not len(system.cord_nodes):
+    if not (np.any(system.applied) or np.any(system.mass_weight) or len(system.cord_nodes) or system.has_prescribed):
         # Nothing loads the structure: the undeformed state is the equilibrium.
         state = make_state(x, R, 1.0, system.evaluate(x, R, 1.0, tangent=False), False)
         return (state, [state] * len(levels)) if keep_steps else state
@@ -357,9 +359,9 @@ def solve_static(model: Model, configuration: Configuration, *, settings: Static
         xs, Rs = predict(x, R, lam, target, previous)
         strict = target >= 1.0 - 1e-12 or any(abs(target - lv) < 1e-12 for lv in levels)
         tol = settings.relative_energy_tolerance if strict else settings.intermediate_energy_tolerance
-        got = newton(xs, Rs, target, step, tol)
+        got = newton(*system.impose(xs, Rs, target), target, step, tol)
         if got is None:
-            got = newton(x, R, target, step, tol)
+            got = newton(*system.impose(x, R, target), target, step, tol)
         if got is None:
             increment *= 0.5
             if increment < settings.min_increment:
@@ -387,6 +389,23 @@ def solve_static(model: Model, configuration: Configuration, *, settings: Static
     return (last, saved) if keep_steps else last
 
 
+def _prescribed_forces(system: System, model: Model, configuration: Configuration) -> np.ndarray:
+    """K_fp u_p: the forces on the free DOFs from the prescribed motion, exact in the linear sense.
+    The prescribed DOFs are freed in a companion system whose undeformed tangent holds the coupling."""
+    fixed = {node: "".join(str(d + 1) for d in parse_dofs(spec, "fixed")
+                           if d + 1 not in configuration.prescribed.get(node, {}))
+             for node, spec in configuration.fixed.items()}
+    loose = System(model, dataclasses.replace(configuration, prescribed={},
+                                              fixed={n: s for n, s in fixed.items() if s}))
+    x, R = loose.undeformed
+    K = loose.evaluate(x, R, 0.0).tangent
+    u = np.zeros(loose.n_free)
+    u[loose.dof_map[system.prescribed_dofs]] = system.prescribed_values
+    free_full = np.flatnonzero(system.dof_map >= 0)
+    free_full = free_full[np.argsort(system.dof_map[free_full])]
+    return (K @ u)[loose.dof_map[free_full]]
+
+
 def solve_linear_static(model: Model, configuration: Configuration) -> State:
     """Linear static solution (small displacements) about the undeformed state."""
     t0 = time.perf_counter()
@@ -394,11 +413,15 @@ def solve_linear_static(model: Model, configuration: Configuration) -> State:
     x, R = system.undeformed
     ev = system.evaluate(x, R, 1.0)
     _rigid_body_check(system, ev.tangent, ev.external - ev.internal, x)
+    K, M = ev.tangent, system.mass_matrix(x, R)
     r = ev.internal - ev.external
-    ref = max(np.linalg.norm(ev.external), 1e-300)
-    fac = _Factor(system, ev.tangent, system.mass_matrix(x, R), ref)
+    if system.has_prescribed:
+        r = r + _prescribed_forces(system, model, configuration)
+        x, R = system.impose(x, R, 1.0)
+    ref = max(np.linalg.norm(ev.external), np.linalg.norm(r), 1e-300)
+    fac = _Factor(system, K, M, ref)
     delta = -fac.solve(r, refine=4) if np.any(r) else np.zeros_like(r)
-    if np.linalg.norm(ev.tangent @ delta + r) > 1e-6 * ref:
+    if np.linalg.norm(K @ delta + r) > 1e-6 * ref:
         raise SingularModelError(f"configuration '{configuration.name}': the stiffness matrix is singular and the loads "
                                  "excite the mechanism. Add constraints, springs or cords, or use solve_static for a "
                                  "suspended structure that needs its sagged equilibrium.")

@@ -19,7 +19,7 @@ from .assembly import Pattern
 from .beam import (BeamData, beam_forces, beam_mass_matrices, element_frames, kernel_coefficients,
                    local_mass_matrices)
 from .points import cord_damping, cord_forces, mass_gravity, mass_matrix, spring_damping, spring_forces
-from .rotations import skew, spin
+from .rotations import expm_so3, skew, spin
 
 @dataclass(frozen=True)
 class PointMasses:
@@ -167,6 +167,18 @@ class System:
         for node, spec in config.fixed.items():
             i = model.index_of([node], f"{where}: fixed")[0]
             fixed[6 * i + np.array(parse_dofs(spec, f"{where}: fixed[{node}]"))] = True
+        # Prescribed DOFs (enforced displacements) are held like fixed ones, at their ramped values.
+        self.prescribed_dofs = np.zeros(0, int)
+        self.prescribed_values = np.zeros(0)
+        if config.prescribed:
+            dofs, vals = [], []
+            for node, items in config.prescribed.items():
+                i = model.index_of([node], f"{where}: prescribed")[0]
+                for comp, value in items.items():
+                    dofs.append(6 * i + comp - 1)
+                    vals.append(value)
+            self.prescribed_dofs, self.prescribed_values = np.array(dofs, int), np.array(vals, float)
+            fixed[self.prescribed_dofs] = True
         dependent = cm.links >= 0
         bad = np.flatnonzero(dependent & fixed.reshape(n, 6).any(axis=1))
         if len(bad):
@@ -249,6 +261,27 @@ class System:
         _, sv, vt = np.linalg.svd(fixed_rows, full_matrices=True)
         rank = int(np.sum(sv > 1e-9 * max(sv.max(), 1e-300)))
         return modes, vt[rank:].T
+
+    @property
+    def has_prescribed(self) -> bool:
+        return len(self.prescribed_dofs) > 0
+
+    def impose(self, x: np.ndarray, R: np.ndarray, lam: float) -> tuple[np.ndarray, np.ndarray]:
+        """State with the prescribed DOFs at lam times their values: translations from the undeformed
+        position, rotations exp(lam phi) with phi the node's prescribed rotation vector (its other
+        rotation components are held at zero)."""
+        if not self.has_prescribed:
+            return x, R
+        x, R = x.copy(), R.copy()
+        nodes, comps = np.divmod(self.prescribed_dofs, 6)
+        tr = comps < 3
+        x[nodes[tr], comps[tr]] = self.cm.xyz[nodes[tr], comps[tr]] + lam * self.prescribed_values[tr]
+        if np.any(~tr):
+            phi = np.zeros((self.n_nodes, 3))
+            phi[nodes[~tr], comps[~tr] - 3] = self.prescribed_values[~tr]
+            turned = np.unique(nodes[~tr])
+            R[turned] = expm_so3(lam * phi[turned])
+        return x, R
 
     @property
     def undeformed(self) -> tuple[np.ndarray, np.ndarray]:

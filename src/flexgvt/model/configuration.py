@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from typing import Mapping
 
@@ -30,7 +31,10 @@ def parse_dofs(spec, where: str) -> tuple[int, ...]:
 class Configuration:
     """Boundary conditions + suspension + loads of one test.
 
-    fixed: {node id: '123456'-style components held at zero}; suspension: cords; springs:
+    fixed: {node id: '123456'-style components held at zero}; prescribed: {node id: {component
+    1-6: value}} enforced displacements [m] and rotations [rad] (Nastran SPCD), ramped with the
+    load factor and held there (a prescribed rotation needs the node's other rotations fixed or
+    prescribed too); suspension: cords; springs:
     configuration-specific springs (a test-fixture root spring, say); masses: extra masses
     present only in this test; gravity: load factor on gravity (1.0 = 1 g) acting along
     ``gravity_direction`` with ``g`` [m/s^2]; forces and distributed loads are fixed in direction
@@ -47,6 +51,7 @@ class Configuration:
     g: float = STANDARD_GRAVITY
     forces: tuple[NodalLoad, ...] = ()
     distributed: tuple[DistributedLoad, ...] = ()
+    prescribed: Mapping[int, Mapping[int, float]] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "suspension", tuple(self.suspension))
@@ -57,6 +62,27 @@ class Configuration:
         object.__setattr__(self, "fixed", {int(k): str(v) for k, v in dict(self.fixed).items()})
         for node, spec in self.fixed.items():
             parse_dofs(spec, f"configuration '{self.name}': fixed[{node}]")
+        prescribed = {}
+        for node, values in dict(self.prescribed).items():
+            where = f"configuration '{self.name}': prescribed[{node}]"
+            items = {}
+            for comp, value in dict(values).items():
+                if len(str(comp)) != 1:
+                    raise ModelError(f"{where}: give one component 1-6 per value, got {comp!r}")
+                (dof,) = parse_dofs(str(comp), where)
+                if not math.isfinite(float(value)):
+                    raise ModelError(f"{where}: the value of component {comp} must be finite, got {value!r}")
+                items[dof + 1] = float(value)
+            rot = {c for c in items if c > 3}
+            if rot:
+                spec = self.fixed.get(int(node))
+                fixed_rot = {d + 1 for d in parse_dofs(spec, where) if d >= 3} if spec else set()
+                if rot | fixed_rot != {4, 5, 6}:
+                    raise ModelError(f"{where}: a prescribed rotation needs the node's other rotations fixed or "
+                                     "prescribed (fixed={node: '456'} or all three values); finite rotations about "
+                                     "one free axis are not defined")
+            prescribed[int(node)] = items
+        object.__setattr__(self, "prescribed", prescribed)
         direction = np.asarray(self.gravity_direction, dtype=float)
         if not np.all(np.isfinite(np.r_[direction, self.gravity, self.g])) or np.linalg.norm(direction) == 0:
             raise ModelError(f"configuration '{self.name}': gravity, g and a non-zero gravity_direction must be finite")

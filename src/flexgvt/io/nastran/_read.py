@@ -23,7 +23,7 @@ ROD_CARDS = ("CROD", "CONROD")
 BEAM_PROPERTIES = ("PBAR", "PBARL", "PBEAM", "PBEAML")
 SUPPORTED_ELEMENTS = BEAM_CARDS + ROD_CARDS + ("CONM2", "CONM1", "CELAS1", "CELAS2", "CDAMP1", "CDAMP2", "CVISC", "CBUSH", "RBE2")
 SUPPORTED_PROPERTIES = BEAM_PROPERTIES + ("PROD", "PELAS", "PDAMP", "PVISC", "PBUSH")
-SUPPORTED_LOADS = ("FORCE", "MOMENT", "GRAV", "PLOAD1")
+SUPPORTED_LOADS = ("FORCE", "MOMENT", "GRAV", "PLOAD1", "SPCD")
 # Cards that carry no structure or are read through the case control (methods, solution controls).
 IGNORED_CARDS = {"ENDDATA", "PARAM", "EIGRL", "EIGR", "NLPARM", "NLPCI", "MDLPRM", "DTI", "TSTEPNL", "TSTEP", "FREQ",
                  "FREQ1", "FREQ2", "NLSTEP", "USET", "USET1"}
@@ -793,6 +793,7 @@ class _Reader:
         if mpc_id is not None:
             self.skip("MPC (case control MPC set)", mpc_id)
         fixed: dict[int, set[int]] = {}
+        prescribed: dict[int, dict[int, float]] = {}
         for nid in self.autospc:
             fixed.setdefault(int(nid), set()).update(range(6))
         for nid in self.autospc_rotations:
@@ -807,16 +808,19 @@ class _Reader:
                         self._fix(fixed, n, str(card.components), self.at("SPC1", card.conid))
                 elif card.type == "SPC":
                     for n, comp, val in zip(card.node_ids, card.components, card.enforced):
-                        if val:
-                            self.skip("SPC (enforced displacement)", card.conid)
-                            continue
                         self._fix(fixed, n, str(comp), self.at("SPC", card.conid))
+                        if val:
+                            self._prescribe(prescribed, n, str(comp), float(val), self.at("SPC", card.conid))
                 else:
                     self.skip(card.type, card.conid)
         forces, distributed, accel = [], [], np.zeros(3)
         gravity_terms = []
         if load_id is not None:
             for scale, card in self._load_cards(int(load_id), where):
+                if card.type == "SPCD":  # enforced values of DOFs the SPC set holds
+                    for n, comp, val in zip(card.node_ids, card.components, card.enforced):
+                        self._prescribe(prescribed, n, str(comp), scale * float(val), self.at("SPCD", card.sid))
+                    continue
                 self._load(card, scale, forces, distributed, gravity_terms)
         kwargs = {}
         if gravity_terms:
@@ -830,7 +834,17 @@ class _Reader:
                 if g > 0:
                     kwargs = dict(gravity=1.0, g=g, gravity_direction=tuple(accel / g))
         fixed_spec = {n: "".join(str(c + 1) for c in sorted(cs)) for n, cs in sorted(fixed.items()) if cs}
-        cfg = Configuration(name, fixed=fixed_spec, forces=tuple(forces), distributed=tuple(distributed), **kwargs)
+        for n, items in prescribed.items():
+            held = fixed.get(n, set())
+            loose = sorted(c for c in items if c - 1 not in held)
+            if loose:
+                raise ModelError(f"{where}: SPCD on node {n} component(s) {''.join(map(str, loose))}, which the "
+                                 "subcase's SPC set does not hold; Nastran enforces SPCD values only on SPC'd DOFs")
+        try:
+            cfg = Configuration(name, fixed=fixed_spec, forces=tuple(forces), distributed=tuple(distributed),
+                                prescribed=prescribed, **kwargs)
+        except ModelError as exc:
+            raise ModelError(f"{where}: {exc}") from None
         self.deck.configurations[name] = cfg
         self.deck.subcases[name] = sid
         method = self._get(sub, "METHOD")
@@ -900,6 +914,17 @@ class _Reader:
                                  "flexgvt fixes DOFs in basic axes. Constrain all three translations/rotations, use "
                                  "a CD aligned with basic, or replace the SPC by a stiff CBUSH in that system")
             out.update(base + i for i in np.flatnonzero(np.round(diag) == 1))
+
+    def _prescribe(self, prescribed: dict, nid: int, comps: str, value: float, where: str) -> None:
+        """Enforced value [deck units] on components of a node (basic axes only)."""
+        if nid not in self.bdf.nodes:
+            raise ModelError(f"{where} refers to node {nid}, which is not defined")
+        if self.bdf.nodes[nid].cd not in (None, 0):
+            raise ModelError(f"{where}: enforced values on node {nid}, whose CD is not basic, are not supported; "
+                             "give the grid CD = 0 or enforce the motion with a stiff spring and a force")
+        for c in comps.strip():
+            d = int(c)
+            prescribed.setdefault(int(nid), {})[d] = value * (self.units.length if d <= 3 else 1.0)
 
     def _load(self, card, scale: float, forces: list, distributed: list, gravity_terms: list) -> None:
         bdf, u = self.bdf, self.units

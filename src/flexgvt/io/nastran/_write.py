@@ -350,7 +350,7 @@ def _write_compact(model: Model, path: Path, configurations, u: Units, size: int
 def _write_configurations(bdf, configurations: list[Configuration], u: Units, n_modes: int, elem_nodes) -> None:
     from pyNastran.bdf.case_control_deck import CaseControlDeck
 
-    lines = ["ECHO = NONE", f"METHOD = 1"]
+    lines = ["ECHO = NONE", "METHOD = 1"]
     bdf.add_eigrl(1, nd=n_modes)
     for i, cfg in enumerate(configurations, start=1):
         if cfg.suspension or cfg.springs or cfg.masses:
@@ -358,7 +358,10 @@ def _write_configurations(bdf, configurations: list[Configuration], u: Units, n_
                              "data has no per-subcase elements. Put them in the model before writing")
         lines += [f"SUBCASE {i}", f"  LABEL = {cfg.name}"]
         by_comp: dict[str, list[int]] = {}
-        for node, comps in cfg.fixed.items():
+        held = {int(n): set(c) for n, c in cfg.fixed.items()}
+        for node, items in cfg.prescribed.items():  # prescribed DOFs are SPC'd, their values are SPCDs
+            held.setdefault(int(node), set()).update(str(c) for c in items)
+        for node, comps in held.items():
             by_comp.setdefault("".join(sorted(comps)), []).append(int(node))
         for comps, nodes in sorted(by_comp.items()):
             bdf.add_spc1(i, comps, sorted(nodes))
@@ -387,6 +390,10 @@ def _write_configurations(bdf, configurations: list[Configuration], u: Units, n_
                     if w[k]:
                         bdf.add_pload1(300 + i, int(e), f"F{axis}", "FR", 0.0, w[k], 1.0, w[k])
                         have = True
+        for node, items in cfg.prescribed.items():
+            for comp, value in sorted(items.items()):
+                bdf.add_spcd(300 + i, [int(node)], [str(comp)], [value / (u.length if comp <= 3 else 1.0)])
+                have = True
         if have:
             factors.append(1.0)
             sets.append(300 + i)
