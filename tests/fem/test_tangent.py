@@ -11,7 +11,9 @@ from flexgvt.fem.system import System
 from fem_builders import AL
 
 
-def curved_model(with_links: bool, springs: bool = True):
+def curved_model(with_links, springs: bool = True):
+    """with_links: False, True (a full rigid link) or "partial" (a full link and a '13' link
+    whose dependent keeps its own rotations and y translation)."""
     model = fg.Model("tangent check")
     s = np.linspace(0, 1, 9)
     ids = model.add_nodes(np.c_[0.2 * np.sin(2 * s), s, 0.1 * s**2])
@@ -26,6 +28,11 @@ def curved_model(with_links: bool, springs: bool = True):
         (extra,) = model.add_nodes([[0.1, 0.5, 0.2]])
         model.add_mass(int(extra), 0.5, offset=(0.02, 0.0, 0.0))
         model.add_rigid_link(int(ids[5]), [int(extra)])
+        if with_links == "partial":
+            (loose,) = model.add_nodes([[0.3, 0.7, -0.1]])
+            model.add_mass(int(loose), 0.4, offset=(0.0, 0.03, 0.01), inertia=[1e-4, 1e-4, 1e-4])
+            model.add_rigid_link(int(ids[6]), [int(loose)], components="13")
+            model.add_spring(int(loose), None, stiffness=[0, 300.0, 0, 2.0, 3.0, 4.0])
     cords = [fg.Cord(node=int(ids[8]), anchor=(0.3, 1.1, 1.5), stiffness=800.0, unstretched_length=1.0,
                      offset=(0.01, 0.0, 0.02))]
     cfg = fg.Configuration("check", suspension=cords, gravity=3.0, fixed={int(ids[0]): "12"},
@@ -38,7 +45,7 @@ def residual(system, x, R, lam):
     return ev.internal - ev.external
 
 
-@pytest.mark.parametrize("with_links", [False, True])
+@pytest.mark.parametrize("with_links", [False, True, "partial"])
 def test_tangent_matches_finite_differences(with_links):
     model, cfg = curved_model(with_links)
     system = System(model, cfg)

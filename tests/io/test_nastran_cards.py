@@ -128,14 +128,17 @@ def test_springs_dampers_and_bushes(deck):
 
 
 def test_rbe2_chain_merges(deck):
-    assert [(link.independent, link.dependents) for link in deck.model.rigid_links] == [(2, (10, 11, 12))]
+    links = [(link.independent, link.dependents, link.components) for link in deck.model.rigid_links]
+    assert links == [(2, (10, 11, 12), "123456"), (2, (17,), "123")]  # RBE2 302 hangs on the chain's root
+    # The ball joint's rotations have no stiffness: fixed as AUTOSPC would, in every subcase.
+    assert all(cfg.fixed[17] == "456" for cfg in deck.configurations.values())
 
 
 def test_subcases_constraints_and_loads(deck):
     c1, c2 = deck.configurations["subcase_1"], deck.configurations["subcase_2"]
     # SPCADD 101 = SPC1 100 + SPC 100 + SPC1 102 (component 1 of CD 1 is basic y); GRID 9 PS = 6
-    assert c1.fixed == {1: "123456", 6: "2", 9: "6", 16: "3"}
-    assert c2.fixed == {1: "123456", 9: "6", 16: "3"}
+    assert c1.fixed == {1: "123456", 6: "2", 9: "6", 16: "3", 17: "456"}
+    assert c2.fixed == {1: "123456", 9: "6", 16: "3", 17: "456"}
     assert (c1.gravity, c1.g) == (2.0, 9.81) and c1.gravity_direction == pytest.approx((0, 0, -1))
     assert c2.gravity == 0.0
     loads = config_data(deck.model, c2)

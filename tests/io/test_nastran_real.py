@@ -79,7 +79,7 @@ def test_beam_modes_with_a_crod_added_reads_it_as_a_rod(tmp_path):
     rod = next(g for g in deck.model.beams if g.name == "PROD_2")
     assert rod.nodes.tolist() == [[1, 12]] and isinstance(rod.section, fg.RodSection)
     assert deck.element_ids[99] == int(rod.ids[0])
-    assert any("[12] are joined only by rods" in n for n in deck.notes)
+    assert any("[12] have no rotational stiffness" in n for n in deck.notes)
 
 
 PYN = DATA / "pynastran"

@@ -178,7 +178,7 @@ def solve_modes(state: State, n_modes: int = 15, *, damped: bool | None = None, 
     M = system.mass_matrix(x, R)
     clamped = system.unrestrained_rigid_motions(system.cm.xyz)[1].shape[1] == 0
     lam, phi = real_modes(K, M, n_modes, shift, clamped)
-    T = system.transformation(x) if system.has_links else None
+    T = system.transformation(x, R) if system.has_links else None
     n = system.n_nodes
     use_damping = system.has_damping if damped is None else damped
     if use_damping:

@@ -137,7 +137,7 @@ def beam_parameter_derivative(state: State, group: str, parameter: str) -> Param
     gvec = system.config.gravity_vector * state.load_factor
     np.add.at(g_full, (b.nodes[:, 0], slice(0, 3)), -0.5 * dw[:, None] * gvec[None, :])
     np.add.at(g_full, (b.nodes[:, 1], slice(0, 3)), -0.5 * dw[:, None] * gvec[None, :])
-    T = system.transformation(x) if system.has_links else None
+    T = system.transformation(x, R) if system.has_links else None
     d_res = system.reduce_vector(g_full.reshape(-1), T)
     dK = system.pattern.assemble([K] + zero_pts)
     mass_terms = np.zeros((len(b.L0), 4))
@@ -155,7 +155,7 @@ def frequency_derivatives(modes, derivative: ParameterDerivative) -> np.ndarray:
     holding the static state fixed (the state's own change with p belongs to the updating layer:
     du/dp = -K^-1 d(residual)/dp, then dK/du along it)."""
     system = modes.state.system
-    T = system.transformation(modes.state.positions) if system.has_links else None
+    T = system.transformation(modes.state.positions, modes.state.rotations) if system.has_links else None
     phi = np.stack([system.reduce_vector(s.reshape(-1), T) for s in modes.shapes], axis=1)
     lam = modes.eigenvalues
     dlam = np.einsum("ij,ij->j", phi, (0.5 * (derivative.stiffness + derivative.stiffness.T)) @ phi) \

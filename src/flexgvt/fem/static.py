@@ -157,14 +157,14 @@ class _Factor:
         return x
 
 
-def _rigid_body_check(system: System, K: sp.csc_matrix, f_red: np.ndarray, x: np.ndarray) -> None:
+def _rigid_body_check(system: System, K: sp.csc_matrix, f_red: np.ndarray, x: np.ndarray, R: np.ndarray) -> None:
     """Raise a clear error if the loads push along a rigid-body motion that nothing restrains."""
     names = ["translation along x", "translation along y", "translation along z",
              "rotation about x", "rotation about y", "rotation about z"]
     modes, basis = system.unrestrained_rigid_motions(x)
     if basis.shape[1] == 0:
         return
-    T = system.transformation(x) if system.has_links else None
+    T = system.transformation(x, R) if system.has_links else None
     full = modes @ basis
     phi = np.stack([system.reduce_vector(full[:, j], T) for j in range(full.shape[1])], axis=1)
     phi /= np.linalg.norm(phi, axis=0)
@@ -213,7 +213,7 @@ def solve_static(model: Model, configuration: Configuration, *, settings: Static
     cholmod = CholmodCache() if settings.cholmod else None
     ev0 = system.evaluate(x, R, 1.0, tangent=False)
     load_ref = max(np.linalg.norm(ev0.external), np.linalg.norm(ev0.internal), 1e-12)
-    _rigid_body_check(system, system.evaluate(x, R, 0.0).tangent, ev0.external - ev0.internal, x)
+    _rigid_body_check(system, system.evaluate(x, R, 0.0).tangent, ev0.external - ev0.internal, x, R)
     levels = sorted(set(np.round(np.asarray(load_factors, float), 12))) if load_factors is not None else []
     saved: list[State] = []
 
@@ -412,7 +412,7 @@ def solve_linear_static(model: Model, configuration: Configuration) -> State:
     system = System(model, configuration)
     x, R = system.undeformed
     ev = system.evaluate(x, R, 1.0)
-    _rigid_body_check(system, ev.tangent, ev.external - ev.internal, x)
+    _rigid_body_check(system, ev.tangent, ev.external - ev.internal, x, R)
     K, M = ev.tangent, system.mass_matrix(x, R)
     r = ev.internal - ev.external
     if system.has_prescribed:

@@ -51,6 +51,7 @@ class CompiledModel:
     masses: PointMasses
     springs: Springs
     links: np.ndarray  # (n_nodes,) index of the independent node for dependents, else -1
+    link_dofs: np.ndarray  # (n_nodes, 6) bool: the DOFs a rigid link ties to its independent node
 
 
 def compile_model(model: Model) -> CompiledModel:
@@ -90,10 +91,13 @@ def compile_model(model: Model) -> CompiledModel:
                      kernel_coefficients(section, lengths), cat(rhoA, (0,)), cat(rhoI, (0, 3)),
                      cat(lumped, (0,)).astype(bool), section, cat(arch, (0,)))
     links = np.full(model.n_nodes, -1)
+    link_dofs = np.zeros((model.n_nodes, 6), bool)
     for link in model.rigid_links:
-        links[model.index_of(list(link.dependents))] = model.index_of([link.independent])[0]
+        deps = model.index_of(list(link.dependents))
+        links[deps] = model.index_of([link.independent])[0]
+        link_dofs[np.ix_(deps, [int(c) - 1 for c in link.components])] = True
     compiled = CompiledModel(model.node_ids, xyz, beams, local_mass_matrices(beams), cat(eids, (0,)).astype(int),
-                             cat(names, (0,)), _masses(model, model.masses), _springs(model, model.springs), links)
+                             cat(names, (0,)), _masses(model, model.masses), _springs(model, model.springs), links, link_dofs)
     model.solver_cache["compiled"] = (model.revision, compiled)
     return compiled
 
@@ -180,13 +184,13 @@ class System:
             self.prescribed_dofs, self.prescribed_values = np.array(dofs, int), np.array(vals, float)
             fixed[self.prescribed_dofs] = True
         dependent = cm.links >= 0
-        bad = np.flatnonzero(dependent & fixed.reshape(n, 6).any(axis=1))
+        bad = np.flatnonzero((cm.link_dofs & fixed.reshape(n, 6)).any(axis=1))
         if len(bad):
-            raise ModelError(f"{where}: node {cm.node_ids[bad[0]]} is a rigid-link dependent and cannot be fixed; "
-                             "fix its independent node instead")
+            raise ModelError(f"{where}: node {cm.node_ids[bad[0]]} has DOFs tied by a rigid link, which cannot be "
+                             "fixed or prescribed; fix its independent node instead")
         self.fixed = fixed
         self.dependent = dependent
-        free = ~fixed & ~np.repeat(dependent, 6)
+        free = ~fixed & ~cm.link_dofs.reshape(-1)
         self.dof_map = np.full(6 * n, -1)
         self.dof_map[free] = np.arange(free.sum())
         self.n_free = int(free.sum())
@@ -287,23 +291,29 @@ class System:
     def undeformed(self) -> tuple[np.ndarray, np.ndarray]:
         return self.cm.xyz.copy(), np.broadcast_to(np.eye(3), (self.n_nodes, 3, 3)).copy()
 
-    def transformation(self, x: np.ndarray) -> sp.csr_matrix:
-        """Full (6n) <- reduced DOF map T at the current positions (rigid links rotate with the state)."""
+    def link_offsets(self, R: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Dependent node indices, their independent nodes and the rotated offsets R_i (X_d - X_i)."""
+        deps = np.flatnonzero(self.dependent)
+        ind = self.cm.links[deps]
+        r0 = self.cm.xyz[deps] - self.cm.xyz[ind]
+        return deps, ind, (R[ind] @ r0[:, :, None])[:, :, 0]
+
+    def transformation(self, x: np.ndarray, R: np.ndarray) -> sp.csr_matrix:
+        """Full (6n) <- reduced DOF map T at the current state (rigid links rotate with the state)."""
         n = self.n_nodes
         rows, cols, vals = [], [], []
         free = np.flatnonzero(self.dof_map >= 0)
         rows.append(free)
         cols.append(self.dof_map[free])
         vals.append(np.ones(len(free)))
-        deps = np.flatnonzero(self.dependent)
+        deps, ind, r = self.link_offsets(R)
         if len(deps):
-            ind = self.cm.links[deps]
-            r = x[deps] - x[ind]
-            # dx_d = dx_i - S(r) w_i ;  w_d = w_i
+            # dx_d = dx_i - S(r) w_i ;  w_d = w_i  (rows of the tied components only)
             blocks = np.zeros((len(deps), 6, 6))
             blocks[:, :3, :3] = np.eye(3)
             blocks[:, :3, 3:] = -skew(r)
             blocks[:, 3:, 3:] = np.eye(3)
+            blocks *= self.cm.link_dofs[deps][:, :, None]
             rr = (6 * deps[:, None, None] + np.arange(6)[None, :, None]).repeat(6, axis=2)
             cc = self.dof_map[(6 * ind[:, None, None] + np.arange(6)[None, None, :]).repeat(6, axis=1)]
             keep = (cc >= 0) & (blocks != 0)
@@ -366,21 +376,19 @@ class System:
             Ks[ground, :, :6] = 0.0
         g_full = self._scatter([gb, gm, gc, gs])
         f_full = lam * self.applied
-        T = self.transformation(x) if self.has_links else None
+        T = self.transformation(x, R) if self.has_links else None
         K = None
         if tangent:
             K = self.pattern.assemble([Kb, Km, Kc, Ks])
             if self.has_links:
-                K = self._reduce_with_links(K, T, x, g_full - f_full)
+                K = self._reduce_with_links(K, T, R, g_full - f_full)
         return Evaluation(self.reduce_vector(g_full, T), self.reduce_vector(f_full, T), K, N, tension, length)
 
-    def _reduce_with_links(self, K_full, T, x, r_full) -> sp.csc_matrix:
+    def _reduce_with_links(self, K_full, T, R, r_full) -> sp.csc_matrix:
         """T^T K T plus the geometric term of the rotating rigid-link offsets."""
         K = (T.T @ K_full @ T).tocsc()
-        deps = np.flatnonzero(self.dependent)
-        ind = self.cm.links[deps]
-        r = x[deps] - x[ind]
-        fd = r_full.reshape(-1, 6)[deps, :3]
+        deps, ind, r = self.link_offsets(R)
+        fd = r_full.reshape(-1, 6)[deps, :3] * self.cm.link_dofs[deps, :3]  # forces the link carries
         blocks = skew(fd) @ skew(r)  # d(r x f)/d spin of the independent node
         rot = self.dof_map[6 * ind[:, None] + 3 + np.arange(3)]
         rows = np.repeat(rot, 3, axis=1).ravel()
@@ -391,16 +399,16 @@ class System:
 
     def update(self, x: np.ndarray, R: np.ndarray, delta_red: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Apply a reduced increment: translations add, rotations compose by spatial spin."""
-        T = self.transformation(x) if self.has_links else None
+        T = self.transformation(x, R) if self.has_links else None
         d = self.expand(delta_red, T).reshape(-1, 6)
         x_new = x + d[:, :3]
         R_new = spin(R, d[:, 3:])
         if self.has_links:
-            deps = np.flatnonzero(self.dependent)
-            ind = self.cm.links[deps]
-            offset0 = self.cm.xyz[deps] - self.cm.xyz[ind]
-            x_new[deps] = x_new[ind] + (R_new[ind] @ offset0[:, :, None])[:, :, 0]
-            R_new[deps] = R_new[ind]
+            deps, ind, r = self.link_offsets(R_new)
+            tied = self.cm.link_dofs[deps]
+            x_new[deps] = np.where(tied[:, :3], x_new[ind] + r, x_new[deps])
+            turn = tied[:, 3]
+            R_new[deps[turn]] = R_new[ind[turn]]
         return x_new, R_new
 
     def stabilised_tangent(self, K: sp.csc_matrix, M: sp.csc_matrix, alpha: float,
@@ -426,7 +434,7 @@ class System:
     # ------------------------------------------------------------------ mass and damping
     def mass_matrix(self, x: np.ndarray, R: np.ndarray) -> sp.csc_matrix:
         """Reduced mass matrix about the state (beam mass in corotated frames, offset masses rotated)."""
-        return self._reduce_plain(self.pattern.assemble(self._mass_values(x, R)), x)
+        return self._reduce_plain(self.pattern.assemble(self._mass_values(x, R)), x, R)
 
     def full_mass_matrix(self, x: np.ndarray, R: np.ndarray) -> sp.csc_matrix:
         """(6n, 6n) mass matrix about the state over all DOFs (constraints not applied)."""
@@ -456,12 +464,12 @@ class System:
             values.append(Cs)
         else:
             values.append(np.zeros((0, 12, 12)))
-        return self._reduce_plain(self.pattern.assemble(values), x)
+        return self._reduce_plain(self.pattern.assemble(values), x, R)
 
-    def _reduce_plain(self, A, x) -> sp.csc_matrix:
+    def _reduce_plain(self, A, x, R) -> sp.csc_matrix:
         if not self.has_links:
             return A
-        T = self.transformation(x)
+        T = self.transformation(x, R)
         return (T.T @ A @ T).tocsc()
 
     @cached_property

@@ -96,10 +96,16 @@ class Cord:
 
 @dataclass(frozen=True)
 class RigidLink:
-    """All 6 DOF of the ``dependents`` follow ``independent`` as a rigid body (RBE2-like)."""
+    """The ``components`` of the ``dependents`` follow ``independent`` as a rigid body (RBE2).
+
+    components: '123456' (all, default) or any set of translations (basic axes) with the three
+    rotations all or none, e.g. '123' (a ball joint: the dependent's rotations stay its own). The
+    constraint is exact at any rotation: x_d[c] = (x_i + R_i (X_d - X_i))[c], R_d = R_i.
+    """
 
     independent: int
     dependents: tuple[int, ...]
+    components: str = "123456"
 
 
 @dataclass(frozen=True)

@@ -8,6 +8,7 @@ from typing import Iterable, Sequence
 import numpy as np
 
 from ..errors import ModelError
+from .configuration import parse_dofs
 from .components import ConcentratedMass, RigidLink, Spring, as_vector
 from .material import Material
 from .section import RodSection, Section
@@ -196,10 +197,15 @@ class Model:
         self.revision += 1
         return item
 
-    def add_rigid_link(self, independent: int, dependents: Iterable[int]) -> RigidLink:
-        """All 6 DOF of ``dependents`` follow ``independent`` rigidly."""
+    def add_rigid_link(self, independent: int, dependents: Iterable[int], components: str = "123456") -> RigidLink:
+        """The ``components`` of ``dependents`` follow ``independent`` rigidly (see RigidLink)."""
         deps = tuple(int(d) for d in dependents)
         self.index_of([independent, *deps], "add_rigid_link")
+        dofs = parse_dofs(components, "add_rigid_link: components")
+        rotations = {d for d in dofs if d >= 3}
+        if rotations and rotations != {3, 4, 5}:
+            raise ModelError(f"add_rigid_link: components {components!r} tie some rotations but not all three; "
+                             "finite rotations about single axes are not defined. Tie 456 or none of them")
         if independent in deps:
             raise ModelError(f"add_rigid_link: node {independent} cannot depend on itself")
         taken = {d for link in self.rigid_links for d in link.dependents}
@@ -208,7 +214,7 @@ class Model:
             raise ModelError(f"add_rigid_link: node(s) {clash} already belong to another rigid link; merge the links")
         if any(independent in link.dependents for link in self.rigid_links):
             raise ModelError(f"add_rigid_link: independent node {independent} is a dependent of another link")
-        item = RigidLink(int(independent), deps)
+        item = RigidLink(int(independent), deps, "".join(str(d + 1) for d in dofs))
         self._rigid_links.append(item)
         self.revision += 1
         return item

@@ -674,12 +674,17 @@ class _Reader:
 
     # ----------------------------------------------------------------- rigid elements
     def read_rigid(self) -> None:
-        links: dict[int, list[int]] = {}
-        sources: dict[int, list[int]] = {}
+        """RBE2 -> rigid links (components 123456, or translations with all or none of 456)."""
+        links: dict[tuple[int, str], list[int]] = {}
+        sources: dict[tuple[int, str], list[int]] = {}
         owner: dict[int, int] = {}
         for eid, elem in sorted(self.bdf.rigid_elements.items()):
-            if elem.type != "RBE2" or "".join(sorted(str(elem.cm))) != "123456":
-                self.skip(elem.type if elem.type != "RBE2" else "RBE2 (fewer than 6 components)", eid)
+            if elem.type != "RBE2":
+                self.skip(elem.type, eid)
+                continue
+            cm = "".join(sorted(set(str(elem.cm))))
+            if set(cm) & set("456") not in (set(), set("456")):
+                self.skip("RBE2 (some of the rotations 456 only)", eid)
                 continue
             deps = [int(n) for n in elem.Gmi]
             for d in deps:
@@ -687,24 +692,32 @@ class _Reader:
                     raise ModelError(f"{self.at('RBE2', eid)}: node {d} is already a dependent of RBE2 {owner[d]}; "
                                      "a node can depend on one rigid element only (Nastran rejects this too)")
                 owner[d] = eid
-            links[int(elem.gn)] = links.get(int(elem.gn), []) + deps
-            sources.setdefault(int(elem.gn), []).append(int(eid))
-        # Chains (an independent node that is a dependent of another RBE2) merge into one rigid link.
+            key = (int(elem.gn), cm)
+            links[key] = links.get(key, []) + deps
+            sources.setdefault(key, []).append(int(eid))
+        # Chains (an independent node that is a dependent of a full RBE2) hang on the chain's root:
+        # a node that moves rigidly with the root carries its dependents' offsets along.
         changed = True
         while changed:
             changed = False
-            for ind in list(links):
-                parent = next((p for p, deps in links.items() if ind in deps and p != ind), None)
-                if parent is not None:
-                    links[parent] = links[parent] + links.pop(ind)
-                    sources[parent] = sources[parent] + sources.pop(ind)
-                    changed = True
-                    break
-        for ind, deps in links.items():
+            for key in list(links):
+                parent = next((p for p, deps in links.items() if key[0] in deps and p[0] != key[0]), None)
+                if parent is None:
+                    continue
+                if parent[1] != "123456":
+                    raise ModelError(f"RBE2 {sources[key]}: its independent node {key[0]} is a dependent of RBE2 "
+                                     f"{sources[parent]} with components {parent[1]}; chains through partial RBE2s "
+                                     "are not supported. Make the first RBE2 depend on the chain's root directly")
+                new = (parent[0], key[1])
+                links[new] = links.get(new, []) + links.pop(key)
+                sources[new] = sources.get(new, []) + sources.pop(key)
+                changed = True
+                break
+        for (ind, cm), deps in links.items():
             if ind in deps:
-                raise ModelError(f"RBE2 {sources[ind]}: the rigid elements form a loop through node {ind}")
-            self.model.add_rigid_link(ind, deps)
-            self.deck.rigid_sources.append(tuple(sources[ind]))
+                raise ModelError(f"RBE2 {sources[(ind, cm)]}: the rigid elements form a loop through node {ind}")
+            self.model.add_rigid_link(ind, deps, components=cm)
+            self.deck.rigid_sources.append(tuple(sources[(ind, cm)]))
 
     # ----------------------------------------------------------------- everything else
     def list_other_cards(self) -> None:
@@ -744,8 +757,10 @@ class _Reader:
         rod_nodes = {int(n) for g in self.model.beams if isinstance(g.section, RodSection) for n in g.nodes.ravel()}
         bending = {int(n) for g in self.model.beams if not isinstance(g.section, RodSection) for n in g.nodes.ravel()}
         bending |= {n for sp in self.model.springs for n in (sp.node_a, sp.node_b) if n is not None}
-        bending |= {n for link in self.model.rigid_links for n in (link.independent, *link.dependents)}
-        self.autospc_rotations = sorted(rod_nodes - bending)
+        bending |= {link.independent for link in self.model.rigid_links}
+        bending |= {n for link in self.model.rigid_links if "4" in link.components for n in link.dependents}
+        loose = {n for link in self.model.rigid_links if "4" not in link.components for n in link.dependents}
+        self.autospc_rotations = sorted((rod_nodes | loose) - bending)
         if str(self.param("AUTOSPC", "YES")).upper() in ("NO", "N", "-1"):
             self.autospc, self.autospc_rotations = [], []
         if self.autospc:
@@ -753,8 +768,9 @@ class _Reader:
                               "element: fixed in every configuration (as Nastran's AUTOSPC does)")
         if self.autospc_rotations:
             r = self.autospc_rotations
-            self.notes.append(f"node(s) {r[:10]}{' ...' if len(r) > 10 else ''} are joined only by rods: their "
-                              "rotations (456) are fixed in every configuration (as Nastran's AUTOSPC does)")
+            self.notes.append(f"node(s) {r[:10]}{' ...' if len(r) > 10 else ''} have no rotational stiffness (joined "
+                              "only by rods or RBE2s without 456): their rotations are fixed in every configuration "
+                              "(as Nastran's AUTOSPC does)")
         ccd = bdf.case_control_deck
         subcases = {} if ccd is None else dict(ccd.subcases)
         numbered = {k: v for k, v in subcases.items() if k > 0}

@@ -339,7 +339,7 @@ def _write_compact(model: Model, path: Path, configurations, u: Units, size: int
         bdf.add_cbush(next_eid, next_pid, nodes, None, None, cid=next_cid)
         next_cid, next_pid, next_eid = next_cid + 1, next_pid + 1, next_eid + 1
     for link in model.rigid_links:
-        bdf.add_rbe2(next_eid, link.independent, "123456", list(link.dependents))
+        bdf.add_rbe2(next_eid, link.independent, link.components, list(link.dependents))
         next_eid += 1
     elem_nodes = {int(e): (int(a), int(b)) for g in model.beams for e, (a, b) in zip(g.ids, g.nodes)}
     _write_configurations(bdf, list(configurations or []), u, n_modes, elem_nodes)
