@@ -35,7 +35,7 @@ def model_data(model) -> dict:
         k[1] += F @ np.diag(s.stiffness[3:]) @ F.T
         k[2] += F @ np.diag(s.damping[:3]) @ F.T
         k[3] += F @ np.diag(s.damping[3:]) @ F.T
-    links = sorted((link.independent, tuple(sorted(link.dependents))) for link in model.rigid_links)
+    links = sorted((link.independent, tuple(sorted(link.dependents)), link.components) for link in model.rigid_links)
     return {"nodes": sorted((n, tuple(x)) for n, x in xyz.items()), "beams": beams, "masses": masses,
             "springs": springs, "links": links}
 
@@ -91,5 +91,5 @@ def rebuild(model: Model, material=None, section=None, mass=None, spring=None) -
         scale = (spring or {}).get(i, 1.0)
         new.add_spring(s.node_a, s.node_b, stiffness=s.stiffness * scale, damping=s.damping, frame=s.frame)
     for link in model.rigid_links:
-        new.add_rigid_link(link.independent, link.dependents)
+        new.add_rigid_link(link.independent, link.dependents, components=link.components)
     return new

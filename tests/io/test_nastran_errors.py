@@ -74,12 +74,12 @@ def test_unknown_and_unsupported_cards_in_one_error(tmp_path):
 
 
 def test_card_features_without_counterpart(tmp_path):
-    body = BEAM.replace("CBAR,10,1,1,2,0.,0.,1.", "CBAR,10,1,1,2,0.,0.,1.\n,,,0.,0.,0.1") + \
+    body = BEAM.replace("CBAR,10,1,1,2,0.,0.,1.", "CBAR,10,1,1,2,0.,0.,1.,GOO\n,,,0.,0.,0.1") + \
         "RBE2,20,1,1235,2\nCELAS2,30,1.,1,1,2,2\n"
     with pytest.raises(UnsupportedCardsError) as err:
         fg.io.read_bdf(deck(tmp_path, body))
     keys = set(err.value.unsupported)
-    assert keys == {"CBAR (offsets WA/WB)", "RBE2 (some of the rotations 456 only)",
+    assert keys == {"CBAR (offsets in the element system, OFFT GOO)", "RBE2 (some of the rotations 456 only)",
                     "CELAS2 (components along different directions)"}
 
 

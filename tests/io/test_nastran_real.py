@@ -97,10 +97,12 @@ def test_patran_crod_deck_gives_its_single_dof_frequency():
 
 
 def test_patran_offset_cbeam_deck_fails_naming_the_feature():
+    """The CBEAM offsets (WA/WB) are read; the channel's PBEAM neutral-axis offsets (N1/N2) are not,
+    and the error names them and the beams they leave out."""
     with pytest.raises(UnsupportedCardsError) as err:
         fg.io.read_bdf(PYN / "cantilever_2014.1.bdf")
-    assert list(err.value.unsupported) == ["CBEAM (offsets WA/WB)"]
-    assert len(err.value.unsupported["CBEAM (offsets WA/WB)"]) == 10
+    assert set(err.value.unsupported) == {"PBEAM (neutral-axis/NSM offsets)", "CBEAM on unsupported PBEAM"}
+    assert len(err.value.unsupported["CBEAM on unsupported PBEAM"]) == 10
 
 
 def test_euler_column_reads_with_grdset_and_prestress_lowers_the_frequency():

@@ -78,7 +78,9 @@ class BdfDeck:
     PARAM,WTMASS; mass: 'lumped' or 'consistent' (PARAM,COUPMASS); beams: beam group name ->
     BeamSource; element_ids: Nastran beam element id -> flexgvt element id; mass_sources and
     spring_sources: (card, id) per entry of model.masses / model.springs; rigid_sources: RBE2 ids
-    per model.rigid_links; n_modes: configuration -> EIGRL ND of its METHOD (None if not given);
+    per model.rigid_links, or (card, element id, end) for the link of an end node; end_nodes:
+    (card, element id, end 'A'/'B') -> the node flexgvt added for a CBAR/CBEAM offset or pin
+    flag, or the CBUSH end's arm to the spring location (ids above the deck's grids); n_modes: configuration -> EIGRL ND of its METHOD (None if not given);
     subcases: configuration -> subcase id; unsupported: card (feature) -> ids that were not read;
     notes: things read with an approximation or ignored on purpose.
     """
@@ -94,7 +96,8 @@ class BdfDeck:
     element_ids: dict[int, int] = field(default_factory=dict)
     mass_sources: list[tuple[str, int]] = field(default_factory=list)
     spring_sources: list[tuple[str, int]] = field(default_factory=list)
-    rigid_sources: list[tuple[int, ...]] = field(default_factory=list)
+    rigid_sources: list[tuple] = field(default_factory=list)
+    end_nodes: dict[tuple[str, int, str], int] = field(default_factory=dict)
     materials: dict[int, Material] = field(default_factory=dict)
     n_modes: dict[str, int | None] = field(default_factory=dict)
     subcases: dict[str, int] = field(default_factory=dict)
@@ -217,6 +220,7 @@ class _Reader:
         self.unsupported: dict[str, list] = {}
         self.notes: list[str] = []
         self.missing: list[str] = []
+        self.pending_links: list[tuple] = []  # (grid, end node, components, source) for attach_end_nodes
 
     # ----------------------------------------------------------------- helpers
     def at(self, name: str, ident) -> str:
@@ -330,6 +334,7 @@ class _Reader:
         self.read_masses()
         self.read_springs()
         self.read_rigid()
+        self.attach_end_nodes()
         self.list_other_cards()
         self.read_configurations()
         self.deck.unsupported = self.unsupported
@@ -416,16 +421,17 @@ class _Reader:
             if elem.type not in BEAM_CARDS:
                 continue
             where = self.at(elem.type, eid)
-            if elem.pa or elem.pb:
-                self.skip(f"{elem.type} (pin flags PA/PB)", eid)
+            if any(pin and set(str(pin)) != set("456") for pin in (elem.pa, elem.pb)):
+                self.skip(f"{elem.type} (pin flags other than 456)", eid)
                 continue
-            if any(w is not None and np.any(np.asarray(w, float) != 0) for w in (elem.wa, elem.wb)):
-                self.skip(f"{elem.type} (offsets WA/WB)", eid)
+            offt = getattr(elem, "offt", None) or "GGG"
+            offsets = [w is not None and np.any(np.asarray(w, float) != 0) for w in (elem.wa, elem.wb)]
+            if isinstance(offt, str) and any(o and offt[k + 1] == "O" for k, o in enumerate(offsets)):
+                self.skip(f"{elem.type} (offsets in the element system, OFFT {offt})", eid)
                 continue
             if elem.type == "CBEAM" and (getattr(elem, "sa", 0) or getattr(elem, "sb", 0)):
                 self.skip("CBEAM (warping scalar points SA/SB)", eid)
                 continue
-            offt = getattr(elem, "offt", "GGG")
             if elem.type == "CBEAM" and getattr(elem, "bit", None) is not None:
                 self.skip("CBEAM (BIT field)", eid)
                 continue
@@ -459,7 +465,7 @@ class _Reader:
                 p = section.properties()
                 section = GeneralSection(A=p["A"], Iy=p["Iy"], Iz=p["Iz"], J=p["J"], Ay=p["Ay"] or None,
                                          Az=p["Az"] or None, Ip=1e-9 * (p["Iy"] + p["Iz"]))
-            pairs = np.array([e.node_ids[:2] for e in elems], int)
+            pairs = np.array([[self._beam_end(e, 0), self._beam_end(e, 1)] for e in elems], int)
             ga = np.array([self.xyz[p[0]] for p in pairs])
             gb = np.array([self.xyz[p[1]] for p in pairs])
             ex = gb - ga
@@ -493,6 +499,47 @@ class _Reader:
                                                sdata.principal)
             if nsm:  # Nastran's lumped mass puts NSM*L/2 on each end (translations only): exact for lumped mass
                 self._lumped_nsm(pairs, nsm, prop.type, pid)
+
+    def _beam_end(self, elem, end: int) -> int:
+        """Node at end A (0) or B (1) of a CBAR/CBEAM: its grid, or for an offset (WA/WB) or a pin
+        flag 456 an end node joined to the grid by a rigid link (all components, or 123 for the pin),
+        as Nastran's rigid offset and released end are."""
+        grid = int(elem.node_ids[end])
+        w = elem.wa if end == 0 else elem.wb
+        w = np.zeros(3) if w is None else np.asarray(w, float)
+        pinned = bool(elem.pa if end == 0 else elem.pb)
+        if not pinned and not np.any(w != 0):
+            return grid
+        if (getattr(elem, "offt", None) or "GGG")[end + 1] == "G":
+            w = coord_axes(self.bdf, self.bdf.nodes[grid].cd, self.xyz_deck[grid], self.at(elem.type, elem.eid)) @ w
+        return self._end_node(grid, self.xyz_deck[grid] + w, "123" if pinned else "123456",
+                              (elem.type, int(elem.eid), "AB"[end]))
+
+    def _end_node(self, grid: int, position_deck: np.ndarray, components: str, source: tuple) -> int:
+        """A new node at position_deck [deck length] tied to ``grid`` by a rigid link (added after
+        the RBE2s, see attach_end_nodes). Ids follow the deck's largest grid id."""
+        nid = max(max(self.bdf.nodes), max(self.deck.end_nodes.values(), default=0)) + 1
+        self.xyz_deck[nid] = np.asarray(position_deck, float)
+        self.xyz[nid] = self.xyz_deck[nid] * self.units.length
+        self.model.add_nodes([self.xyz[nid]], ids=[nid])
+        self.deck.end_nodes[source] = nid
+        self.pending_links.append((grid, nid, components, source))
+        return nid
+
+    def attach_end_nodes(self) -> None:
+        """Rigid links of the beam-end and bush-location nodes, on the root of any RBE2 chain."""
+        owner = {d: link for link in self.model.rigid_links for d in link.dependents}
+        for grid, nid, components, source in self.pending_links:
+            root = grid
+            if grid in owner:
+                link = owner[grid]
+                if link.components != "123456":
+                    raise ModelError(f"{source[0]} {source[1]}: end {source[2]} sits on node {grid}, a dependent of an "
+                                     f"RBE2 with components {link.components}; an offset, pin or bush location cannot "
+                                     "hang on a partial RBE2. Use a full RBE2 or attach the element to its independent")
+                root = link.independent
+            self.model.add_rigid_link(root, [nid], components=components)
+            self.deck.rigid_sources.append(source)
 
     # ----------------------------------------------------------------- rods
     def read_rods(self) -> None:
@@ -653,14 +700,30 @@ class _Reader:
         ga, gb = (list(elem.nodes) + [None])[:2]
         gb = None if gb in (None, 0) else gb
         coincident = gb is None or np.linalg.norm(self.xyz_deck[gb] - self.xyz_deck[ga]) <= 1e-4
-        if not coincident:
-            self.skip("CBUSH (between distinct points: needs the spring-location offset)", elem.eid)
+        if not coincident and getattr(elem, "ocid", -1) not in (None, -1):
+            self.skip("CBUSH (spring location given in OCID)", elem.eid)
             return
         if elem.cid not in (None, -1):
             frame = coord_axes(bdf, elem.cid, self.xyz_deck[ga], where)
-        else:
+        elif coincident:
             raise ModelError(f"{where}: a CBUSH on coincident nodes (or grounded) needs CID; Nastran rejects it too. "
                              "Give CID = 0 for basic axes")
+        else:  # element axes: x from GA to GB, y from the orientation vector
+            v = None if elem.g0 in (None, 0) and (elem.x is None or any(c is None for c in elem.x)) \
+                else self.orientation_vector(elem)
+            ex = self.xyz_deck[gb] - self.xyz_deck[ga]
+            ex = ex / np.linalg.norm(ex)
+            ez = None if v is None else np.cross(ex, v)
+            if ez is None or np.linalg.norm(ez) <= 1e-8 * np.linalg.norm(v):
+                raise ModelError(f"{where}: a CBUSH between distinct points without CID needs an orientation vector "
+                                 "(X1-X3 or G0) off the line GA-GB")
+            ez = ez / np.linalg.norm(ez)
+            frame = np.column_stack([ex, np.cross(ez, ex), ez])
+        if not coincident:  # rigid arms from GA and GB to the spring location, S along GA-GB
+            s_loc = 0.5 if getattr(elem, "s", None) is None else float(elem.s)
+            at = self.xyz_deck[ga] + s_loc * (self.xyz_deck[gb] - self.xyz_deck[ga])
+            ga = self._end_node(int(ga), at, "123456", ("CBUSH", int(elem.eid), "A"))
+            gb = self._end_node(int(gb), at, "123456", ("CBUSH", int(elem.eid), "B"))
         def six(values):
             vals = list(values or [])
             return np.array([float(v) if v is not None else 0.0 for v in (vals + [0.0] * 6)[:6]])
