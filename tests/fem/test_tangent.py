@@ -12,8 +12,9 @@ from fem_builders import AL
 
 
 def curved_model(with_links, springs: bool = True):
-    """with_links: False, True (a full rigid link) or "partial" (a full link and a '13' link
-    whose dependent keeps its own rotations and y translation)."""
+    """with_links: False, True (a full rigid link), "partial" (a full link and a '13' link
+    whose dependent keeps its own rotations and y translation) or "interpolation" (a full link
+    and an RBE3-like interpolation link carrying an offset mass and a load)."""
     model = fg.Model("tangent check")
     s = np.linspace(0, 1, 9)
     ids = model.add_nodes(np.c_[0.2 * np.sin(2 * s), s, 0.1 * s**2])
@@ -33,10 +34,16 @@ def curved_model(with_links, springs: bool = True):
             model.add_mass(int(loose), 0.4, offset=(0.0, 0.03, 0.01), inertia=[1e-4, 1e-4, 1e-4])
             model.add_rigid_link(int(ids[6]), [int(loose)], components="13")
             model.add_spring(int(loose), None, stiffness=[0, 300.0, 0, 2.0, 3.0, 4.0])
+        if with_links == "interpolation":
+            (ref,) = model.add_nodes([[0.25, 0.45, 0.15]])
+            model.add_mass(int(ref), 0.6, offset=(0.02, -0.01, 0.03), inertia=[2e-4, 1e-4, 3e-4])
+            model.add_interpolation(int(ref), [int(i) for i in ids[2:7]], weights=[1.0, 2.0, 0.5, 1.5, 1.0])
     cords = [fg.Cord(node=int(ids[8]), anchor=(0.3, 1.1, 1.5), stiffness=800.0, unstretched_length=1.0,
                      offset=(0.01, 0.0, 0.02))]
-    cfg = fg.Configuration("check", suspension=cords, gravity=3.0, fixed={int(ids[0]): "12"},
-                           forces=[fg.NodalLoad(int(ids[7]), force=(1.0, 2.0, -3.0), moment=(0.1, 0.2, 0.3))])
+    forces = [fg.NodalLoad(int(ids[7]), force=(1.0, 2.0, -3.0), moment=(0.1, 0.2, 0.3))]
+    if with_links == "interpolation":
+        forces.append(fg.NodalLoad(int(ref), force=(-4.0, 1.0, 2.0), moment=(0.3, -0.2, 0.1)))
+    cfg = fg.Configuration("check", suspension=cords, gravity=3.0, fixed={int(ids[0]): "12"}, forces=forces)
     return model, cfg
 
 
@@ -45,7 +52,7 @@ def residual(system, x, R, lam):
     return ev.internal - ev.external
 
 
-@pytest.mark.parametrize("with_links", [False, True, "partial"])
+@pytest.mark.parametrize("with_links", [False, True, "partial", "interpolation"])
 def test_tangent_matches_finite_differences(with_links):
     model, cfg = curved_model(with_links)
     system = System(model, cfg)

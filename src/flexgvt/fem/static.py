@@ -407,13 +407,17 @@ def _prescribed_forces(system: System, model: Model, configuration: Configuratio
 
 
 def solve_linear_static(model: Model, configuration: Configuration) -> State:
-    """Linear static solution (small displacements) about the undeformed state."""
+    """Linear static solution (small displacements) about the undeformed state, with the stiffness of
+    the unloaded structure (no load stiffness, as Nastran SOL 101)."""
     t0 = time.perf_counter()
     system = System(model, configuration)
     x, R = system.undeformed
-    ev = system.evaluate(x, R, 1.0)
-    _rigid_body_check(system, ev.tangent, ev.external - ev.internal, x, R)
-    K, M = ev.tangent, system.mass_matrix(x, R)
+    ev = system.evaluate(x, R, 1.0, tangent=False)
+    # The stiffness of the unloaded structure: the load stiffness of the applied loads (weight of
+    # offset masses, forces on rigid-link offsets and interpolation references) is second order.
+    K = system.evaluate(x, R, 0.0).tangent
+    _rigid_body_check(system, K, ev.external - ev.internal, x, R)
+    M = system.mass_matrix(x, R)
     r = ev.internal - ev.external
     if system.has_prescribed:
         r = r + _prescribed_forces(system, model, configuration)

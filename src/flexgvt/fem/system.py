@@ -18,6 +18,7 @@ from ..model import Configuration, Model, RodSection, parse_dofs
 from .assembly import Pattern
 from .beam import (BeamData, beam_forces, beam_mass_matrices, element_frames, kernel_coefficients,
                    local_mass_matrices)
+from .interpolation import InterpolationData, compile_interpolations, fit, geometric_block, jacobian
 from .points import cord_damping, cord_forces, mass_gravity, mass_matrix, spring_damping, spring_forces
 from .rotations import expm_so3, skew, spin
 
@@ -51,7 +52,8 @@ class CompiledModel:
     masses: PointMasses
     springs: Springs
     links: np.ndarray  # (n_nodes,) index of the independent node for dependents, else -1
-    link_dofs: np.ndarray  # (n_nodes, 6) bool: the DOFs a rigid link ties to its independent node
+    link_dofs: np.ndarray  # (n_nodes, 6) bool: DOFs set by a rigid link or an interpolation link
+    interp: InterpolationData
 
 
 def compile_model(model: Model) -> CompiledModel:
@@ -96,8 +98,10 @@ def compile_model(model: Model) -> CompiledModel:
         deps = model.index_of(list(link.dependents))
         links[deps] = model.index_of([link.independent])[0]
         link_dofs[np.ix_(deps, [int(c) - 1 for c in link.components])] = True
+    interp = compile_interpolations(model, xyz)
+    link_dofs[interp.reference] |= interp.tied
     compiled = CompiledModel(model.node_ids, xyz, beams, local_mass_matrices(beams), cat(eids, (0,)).astype(int),
-                             cat(names, (0,)), _masses(model, model.masses), _springs(model, model.springs), links, link_dofs)
+                             cat(names, (0,)), _masses(model, model.masses), _springs(model, model.springs), links, link_dofs, interp)
     model.solver_cache["compiled"] = (model.revision, compiled)
     return compiled
 
@@ -186,8 +190,8 @@ class System:
         dependent = cm.links >= 0
         bad = np.flatnonzero((cm.link_dofs & fixed.reshape(n, 6)).any(axis=1))
         if len(bad):
-            raise ModelError(f"{where}: node {cm.node_ids[bad[0]]} has DOFs tied by a rigid link, which cannot be "
-                             "fixed or prescribed; fix its independent node instead")
+            raise ModelError(f"{where}: node {cm.node_ids[bad[0]]} has DOFs tied by a rigid link (or an interpolation "
+                             "link), which cannot be fixed or prescribed; fix its independent node(s) instead")
         self.fixed = fixed
         self.dependent = dependent
         free = ~fixed & ~cm.link_dofs.reshape(-1)
@@ -223,7 +227,7 @@ class System:
         self.applied = f.reshape(-1)
         self.mass_weight = self.masses.mass[:, None] * gvec[None, :]
 
-        self.has_links = bool(dependent.any())
+        self.has_links = bool(dependent.any()) or len(cm.interp) > 0
         blocks = [self._beam_dofs(), self._node_dofs(self.masses.nodes), self._node_dofs(self.cord_nodes),
                   self._spring_dofs()]
         self._blocks = blocks
@@ -320,6 +324,15 @@ class System:
             rows.append(rr[keep])
             cols.append(cc[keep])
             vals.append(blocks[keep])
+        ip = self.cm.interp
+        for k in range(len(ip)):
+            J = jacobian(x[ip.nodes[k]], ip.weights[k], ip.arms0[k], ip.ref_arm0[k]) * ip.tied[k][:, None]
+            rr = np.repeat(6 * ip.reference[k] + np.arange(6), J.shape[1])
+            cc = np.tile(self.dof_map[(6 * ip.nodes[k][:, None] + np.arange(3)).ravel()], 6)
+            keep = (cc >= 0) & (J.ravel() != 0)
+            rows.append(rr[keep])
+            cols.append(cc[keep])
+            vals.append(J.ravel()[keep])
         return sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
                              shape=(6 * n, self.n_free))
 
@@ -381,11 +394,11 @@ class System:
         if tangent:
             K = self.pattern.assemble([Kb, Km, Kc, Ks])
             if self.has_links:
-                K = self._reduce_with_links(K, T, R, g_full - f_full)
+                K = self._reduce_with_links(K, T, x, R, g_full - f_full)
         return Evaluation(self.reduce_vector(g_full, T), self.reduce_vector(f_full, T), K, N, tension, length)
 
-    def _reduce_with_links(self, K_full, T, R, r_full) -> sp.csc_matrix:
-        """T^T K T plus the geometric term of the rotating rigid-link offsets."""
+    def _reduce_with_links(self, K_full, T, x, R, r_full) -> sp.csc_matrix:
+        """T^T K T plus the geometric term of the rotating rigid-link offsets and interpolation fits."""
         K = (T.T @ K_full @ T).tocsc()
         deps, ind, r = self.link_offsets(R)
         fd = r_full.reshape(-1, 6)[deps, :3] * self.cm.link_dofs[deps, :3]  # forces the link carries
@@ -395,6 +408,23 @@ class System:
         cols = np.tile(rot, (1, 3)).ravel()
         keep = (rows >= 0) & (cols >= 0)
         extra = sp.csc_matrix((blocks.reshape(-1)[keep], (rows[keep], cols[keep])), shape=K.shape)
+        ip = self.cm.interp
+        if len(ip):  # the rotating fit of interpolation links carries the reference's load
+            rr, cc, vv = [], [], []
+            for k in range(len(ip)):
+                load = r_full.reshape(-1, 6)[ip.reference[k]] * ip.tied[k]
+                if not np.any(load):
+                    continue
+                G = geometric_block(x[ip.nodes[k]], ip.weights[k], ip.arms0[k], ip.ref_arm0[k], load)
+                dofs = self.dof_map[(6 * ip.nodes[k][:, None] + np.arange(3)).ravel()]
+                ok = dofs >= 0
+                G = G[np.ix_(ok, ok)]
+                rr.append(np.repeat(dofs[ok], ok.sum()))
+                cc.append(np.tile(dofs[ok], ok.sum()))
+                vv.append(G.ravel())
+            if rr:
+                extra = extra + sp.csc_matrix((np.concatenate(vv), (np.concatenate(rr), np.concatenate(cc))),
+                                              shape=K.shape)
         return (K + extra).tocsc()
 
     def update(self, x: np.ndarray, R: np.ndarray, delta_red: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -409,6 +439,13 @@ class System:
             x_new[deps] = np.where(tied[:, :3], x_new[ind] + r, x_new[deps])
             turn = tied[:, 3]
             R_new[deps[turn]] = R_new[ind[turn]]
+            ip = self.cm.interp
+            for k in range(len(ip)):
+                x_ref, Q, _ = fit(x_new[ip.nodes[k]], ip.weights[k], ip.arms0[k], ip.ref_arm0[k])
+                ref, tied = ip.reference[k], ip.tied[k]
+                x_new[ref] = np.where(tied[:3], x_ref, x_new[ref])
+                if tied[3]:
+                    R_new[ref] = Q
         return x_new, R_new
 
     def stabilised_tangent(self, K: sp.csc_matrix, M: sp.csc_matrix, alpha: float,

@@ -109,6 +109,24 @@ class RigidLink:
 
 
 @dataclass(frozen=True)
+class InterpolationLink:
+    """The ``reference`` node moves with the weighted best-fit rigid motion of ``nodes`` (Nastran RBE3).
+
+    weights: one per node (translations of the nodes enter, weighted). The fit is exact at any
+    rotation: x_ref = c + Q (X_ref - C), R_ref = Q, with c, C the weighted centroids of the
+    current and undeformed node positions and Q the rotation of the polar decomposition of
+    sum w_i (x_i - c)(X_i - C)^T; for small motions this is Nastran's RBE3 with C = 123.
+    components: the reference's tied DOFs, '123456' (default) or '123' (its rotations stay its
+    own). The nodes add no stiffness: loads and masses at the reference are distributed to them.
+    """
+
+    reference: int
+    nodes: tuple[int, ...]
+    weights: np.ndarray
+    components: str = "123456"
+
+
+@dataclass(frozen=True)
 class NodalLoad:
     """Force [N] and moment [N m] at a node, fixed in direction (global axes), scaled by the load factor."""
 

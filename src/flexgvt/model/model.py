@@ -9,7 +9,7 @@ import numpy as np
 
 from ..errors import ModelError
 from .configuration import parse_dofs
-from .components import ConcentratedMass, RigidLink, Spring, as_vector
+from .components import ConcentratedMass, InterpolationLink, RigidLink, Spring, as_vector
 from .material import Material
 from .section import RodSection, Section
 
@@ -51,6 +51,7 @@ class Model:
         self._masses: list[ConcentratedMass] = []
         self._springs: list[Spring] = []
         self._rigid_links: list[RigidLink] = []
+        self._interpolations: list[InterpolationLink] = []
         self._next_node = 1
         self._next_element = 1
         self.revision = 0  # bumped by every change; solvers cache compiled arrays against it
@@ -219,6 +220,41 @@ class Model:
         self.revision += 1
         return item
 
+    def add_interpolation(self, reference: int, nodes: Iterable[int], weights=1.0,
+                          components: str = "123456") -> InterpolationLink:
+        """``reference`` follows the weighted best-fit rigid motion of ``nodes`` (RBE3, see InterpolationLink)."""
+        nodes = tuple(int(n) for n in nodes)
+        where = f"add_interpolation(reference={reference})"
+        self.index_of([reference, *nodes], where)
+        if len(set(nodes)) != len(nodes) or reference in nodes or not nodes:
+            raise ModelError(f"{where}: give distinct nodes, at least one, not including the reference")
+        w = as_vector(weights, len(nodes), f"{where}: weights")
+        if np.any(w <= 0):
+            raise ModelError(f"{where}: weights must be positive, got {w.tolist()}")
+        dofs = parse_dofs(components, f"{where}: components")
+        if set(dofs) not in ({0, 1, 2}, {0, 1, 2, 3, 4, 5}):
+            raise ModelError(f"{where}: components must be '123456' or '123', got {components!r}")
+        xyz = self.xyz[self.index_of(list(nodes))]
+        c = w @ xyz / w.sum()
+        r = xyz - c
+        J = np.einsum("i,ij,ik->jk", w, r, r)
+        J = np.trace(J) * np.eye(3) - J
+        ev = np.linalg.eigvalsh(J)
+        if ev[0] <= 1e-9 * max(ev[-1], 1e-300):
+            raise ModelError(f"{where}: the nodes lie on one line (or coincide), so the fitted rotation about it is "
+                             "not defined; add a node off the line (at least three nodes not on one line)")
+        linked = {n for link in self.rigid_links for n in (link.independent, *link.dependents)}
+        refs = {i.reference for i in self._interpolations}
+        ins = {n for i in self._interpolations for n in i.nodes}
+        if reference in linked | refs | ins or any(n in linked - {l.independent for l in self.rigid_links} or
+                                                   n in refs for n in nodes):
+            raise ModelError(f"{where}: the reference may not be part of a rigid link or another interpolation, and "
+                             "the nodes may not be rigid-link dependents or references; connect the structural nodes")
+        item = InterpolationLink(int(reference), nodes, w, "".join(str(d + 1) for d in dofs))
+        self._interpolations.append(item)
+        self.revision += 1
+        return item
+
     # Read-only views: every change goes through add_* so solvers' caches see it.
     @property
     def beams(self) -> tuple[BeamGroup, ...]:
@@ -235,6 +271,10 @@ class Model:
     @property
     def rigid_links(self) -> tuple[RigidLink, ...]:
         return tuple(self._rigid_links)
+
+    @property
+    def interpolations(self) -> tuple[InterpolationLink, ...]:
+        return tuple(self._interpolations)
 
     @property
     def n_beams(self) -> int:
