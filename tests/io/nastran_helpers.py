@@ -36,8 +36,10 @@ def model_data(model) -> dict:
         k[2] += F @ np.diag(s.damping[:3]) @ F.T
         k[3] += F @ np.diag(s.damping[3:]) @ F.T
     links = sorted((link.independent, tuple(sorted(link.dependents)), link.components) for link in model.rigid_links)
+    interpolations = sorted((ip.reference, tuple(sorted(zip(ip.nodes, np.round(ip.weights / ip.weights.sum(), 12)))),
+                             ip.components) for ip in model.interpolations)
     return {"nodes": sorted((n, tuple(x)) for n, x in xyz.items()), "beams": beams, "masses": masses,
-            "springs": springs, "links": links}
+            "springs": springs, "links": links, "interpolations": interpolations}
 
 
 def config_data(model, cfg) -> dict:
@@ -92,4 +94,6 @@ def rebuild(model: Model, material=None, section=None, mass=None, spring=None) -
         new.add_spring(s.node_a, s.node_b, stiffness=s.stiffness * scale, damping=s.damping, frame=s.frame)
     for link in model.rigid_links:
         new.add_rigid_link(link.independent, link.dependents, components=link.components)
+    for ip in model.interpolations:
+        new.add_interpolation(ip.reference, ip.nodes, ip.weights, components=ip.components)
     return new

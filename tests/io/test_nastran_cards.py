@@ -134,6 +134,12 @@ def test_rbe2_chain_merges(deck):
     assert all(cfg.fixed[17] == "456" for cfg in deck.configurations.values())
 
 
+def test_rbe3_reads_as_an_interpolation(deck):
+    (ip,) = deck.model.interpolations
+    assert (ip.reference, ip.nodes, ip.components) == (18, (3, 8, 13), "123456")
+    assert ip.weights.tolist() == [1.0, 1.0, 2.5] and deck.interpolation_sources == [303]
+
+
 def test_subcases_constraints_and_loads(deck):
     c1, c2 = deck.configurations["subcase_1"], deck.configurations["subcase_2"]
     # SPCADD 101 = SPC1 100 + SPC 100 + SPC1 102 (component 1 of CD 1 is basic y); GRID 9 PS = 6

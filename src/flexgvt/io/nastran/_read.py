@@ -21,7 +21,7 @@ from ._sections import SectionData, from_properties, library_section
 BEAM_CARDS = ("CBAR", "CBEAM")
 ROD_CARDS = ("CROD", "CONROD")
 BEAM_PROPERTIES = ("PBAR", "PBARL", "PBEAM", "PBEAML")
-SUPPORTED_ELEMENTS = BEAM_CARDS + ROD_CARDS + ("CONM2", "CONM1", "CELAS1", "CELAS2", "CDAMP1", "CDAMP2", "CVISC", "CBUSH", "RBE2")
+SUPPORTED_ELEMENTS = BEAM_CARDS + ROD_CARDS + ("CONM2", "CONM1", "CELAS1", "CELAS2", "CDAMP1", "CDAMP2", "CVISC", "CBUSH", "RBE2", "RBE3")
 SUPPORTED_PROPERTIES = BEAM_PROPERTIES + ("PROD", "PELAS", "PDAMP", "PVISC", "PBUSH")
 SUPPORTED_LOADS = ("FORCE", "MOMENT", "GRAV", "PLOAD1", "SPCD")
 # Cards that carry no structure or are read through the case control (methods, solution controls).
@@ -80,7 +80,8 @@ class BdfDeck:
     spring_sources: (card, id) per entry of model.masses / model.springs; rigid_sources: RBE2 ids
     per model.rigid_links, or (card, element id, end) for the link of an end node; end_nodes:
     (card, element id, end 'A'/'B') -> the node flexgvt added for a CBAR/CBEAM offset or pin
-    flag, or the CBUSH end's arm to the spring location (ids above the deck's grids); n_modes: configuration -> EIGRL ND of its METHOD (None if not given);
+    flag, or the CBUSH end's arm to the spring location (ids above the deck's grids);
+    interpolation_sources: RBE3 id per model.interpolations; n_modes: configuration -> EIGRL ND of its METHOD (None if not given);
     subcases: configuration -> subcase id; unsupported: card (feature) -> ids that were not read;
     notes: things read with an approximation or ignored on purpose.
     """
@@ -98,6 +99,7 @@ class BdfDeck:
     spring_sources: list[tuple[str, int]] = field(default_factory=list)
     rigid_sources: list[tuple] = field(default_factory=list)
     end_nodes: dict[tuple[str, int, str], int] = field(default_factory=dict)
+    interpolation_sources: list[int] = field(default_factory=list)
     materials: dict[int, Material] = field(default_factory=dict)
     n_modes: dict[str, int | None] = field(default_factory=dict)
     subcases: dict[str, int] = field(default_factory=dict)
@@ -221,6 +223,7 @@ class _Reader:
         self.notes: list[str] = []
         self.missing: list[str] = []
         self.pending_links: list[tuple] = []  # (grid, end node, components, source) for attach_end_nodes
+        self.pending_rbe3: list[tuple] = []  # (eid, reference, REFC, {node: weight}) for read_interpolations
 
     # ----------------------------------------------------------------- helpers
     def at(self, name: str, ident) -> str:
@@ -335,6 +338,7 @@ class _Reader:
         self.read_springs()
         self.read_rigid()
         self.attach_end_nodes()
+        self.read_interpolations()
         self.list_other_cards()
         self.read_configurations()
         self.deck.unsupported = self.unsupported
@@ -525,6 +529,36 @@ class _Reader:
         self.deck.end_nodes[source] = nid
         self.pending_links.append((grid, nid, components, source))
         return nid
+
+    def _pending_rbe3(self, elem) -> None:
+        """Check an RBE3 and keep it for read_interpolations (after the rigid links exist)."""
+        eid = int(elem.eid)
+        if elem.Gmi:
+            self.skip("RBE3 (UM dependent DOFs)", eid)
+            return
+        refc = "".join(sorted(set(str(elem.refc))))
+        if refc not in ("123", "123456"):
+            self.skip("RBE3 (REFC other than 123456 or 123)", eid)
+            return
+        if any("".join(sorted(set(str(c)))) != "123" for c in elem.comps):
+            self.skip("RBE3 (independent components other than 123)", eid)
+            return
+        weights: dict[int, float] = {}
+        for wt, nodes in zip(elem.weights, elem.Gijs):
+            if wt is None or not math.isfinite(float(wt)) or float(wt) <= 0:
+                raise ModelError(f"{self.at('RBE3', eid)}: weight {wt!r} must be a positive number")
+            for n in nodes:
+                weights[int(n)] = weights.get(int(n), 0.0) + float(wt)
+        self.pending_rbe3.append((eid, int(elem.refgrid), refc, weights))
+
+    def read_interpolations(self) -> None:
+        """RBE3 (C = 123 at the nodes) -> interpolation links."""
+        for eid, ref, refc, weights in self.pending_rbe3:
+            try:
+                self.model.add_interpolation(ref, list(weights), list(weights.values()), components=refc)
+            except ModelError as exc:
+                raise ModelError(f"{self.at('RBE3', eid)}: {exc}") from None
+            self.deck.interpolation_sources.append(eid)
 
     def attach_end_nodes(self) -> None:
         """Rigid links of the beam-end and bush-location nodes, on the root of any RBE2 chain."""
@@ -742,6 +776,9 @@ class _Reader:
         sources: dict[tuple[int, str], list[int]] = {}
         owner: dict[int, int] = {}
         for eid, elem in sorted(self.bdf.rigid_elements.items()):
+            if elem.type == "RBE3":
+                self._pending_rbe3(elem)
+                continue
             if elem.type != "RBE2":
                 self.skip(elem.type, eid)
                 continue
@@ -815,6 +852,7 @@ class _Reader:
         connected = {int(n) for g in self.model.beams for n in g.nodes.ravel()}
         connected |= {n for sp in self.model.springs for n in (sp.node_a, sp.node_b) if n is not None}
         connected |= {n for link in self.model.rigid_links for n in (link.independent, *link.dependents)}
+        connected |= {n for ip in self.model.interpolations for n in (ip.reference, *ip.nodes)}
         self.autospc = sorted(set(bdf.nodes) - connected)
         # Nodes joined only by rods have no rotational stiffness or inertia: their rotations are fixed.
         rod_nodes = {int(n) for g in self.model.beams if isinstance(g.section, RodSection) for n in g.nodes.ravel()}
@@ -822,7 +860,9 @@ class _Reader:
         bending |= {n for sp in self.model.springs for n in (sp.node_a, sp.node_b) if n is not None}
         bending |= {link.independent for link in self.model.rigid_links}
         bending |= {n for link in self.model.rigid_links if "4" in link.components for n in link.dependents}
+        bending |= {ip.reference for ip in self.model.interpolations if "4" in ip.components}
         loose = {n for link in self.model.rigid_links if "4" not in link.components for n in link.dependents}
+        loose |= {n for ip in self.model.interpolations for n in (*ip.nodes, ip.reference)} - bending
         self.autospc_rotations = sorted((rod_nodes | loose) - bending)
         if str(self.param("AUTOSPC", "YES")).upper() in ("NO", "N", "-1"):
             self.autospc, self.autospc_rotations = [], []
@@ -832,7 +872,7 @@ class _Reader:
         if self.autospc_rotations:
             r = self.autospc_rotations
             self.notes.append(f"node(s) {r[:10]}{' ...' if len(r) > 10 else ''} have no rotational stiffness (joined "
-                              "only by rods or RBE2s without 456): their rotations are fixed in every configuration "
+                              "only by rods, RBE2s without 456 or RBE3s): their rotations are fixed in every configuration "
                               "(as Nastran's AUTOSPC does)")
         ccd = bdf.case_control_deck
         subcases = {} if ccd is None else dict(ccd.subcases)
