@@ -14,7 +14,7 @@ from fem_builders import AL
 def curved_model(with_links, springs: bool = True):
     """with_links: False, True (a full rigid link), "partial" (a full link and a '13' link
     whose dependent keeps its own rotations and y translation) or "interpolation" (a full link
-    and an RBE3-like interpolation link carrying an offset mass and a load)."""
+    and an RBE3-like interpolation link carrying an offset mass and a load, plus an MPC)."""
     model = fg.Model("tangent check")
     s = np.linspace(0, 1, 9)
     ids = model.add_nodes(np.c_[0.2 * np.sin(2 * s), s, 0.1 * s**2])
@@ -38,6 +38,7 @@ def curved_model(with_links, springs: bool = True):
             (ref,) = model.add_nodes([[0.25, 0.45, 0.15]])
             model.add_mass(int(ref), 0.6, offset=(0.02, -0.01, 0.03), inertia=[2e-4, 1e-4, 3e-4])
             model.add_interpolation(int(ref), [int(i) for i in ids[2:7]], weights=[1.0, 2.0, 0.5, 1.5, 1.0])
+            model.add_constraint([(int(ids[1]), 3, 2.0), (int(ids[2]), 1, -1.0), (int(ids[7]), 2, 0.5)])
     cords = [fg.Cord(node=int(ids[8]), anchor=(0.3, 1.1, 1.5), stiffness=800.0, unstretched_length=1.0,
                      offset=(0.01, 0.0, 0.02))]
     forces = [fg.NodalLoad(int(ids[7]), force=(1.0, 2.0, -3.0), moment=(0.1, 0.2, 0.3))]

@@ -107,3 +107,32 @@ def test_cbush_between_distinct_points_acts_at_its_spring_location(tmp_path):
     again = read(out)
     st2 = fg.solve_linear_static(again.model, next(iter(again.configurations.values())))
     np.testing.assert_allclose(st2.displacements[again.model.index_of([2])[0]], state.displacements[b], rtol=1e-9)
+
+
+def test_mpc_lever_from_bulk_data_and_back(tmp_path):
+    """Two equal parallel cantilevers, tip deflections tied by MPC w_B = 2 w_A (the dependent term
+    on a grid whose CD is turned 90 degrees about x: its component 2 is basic z): a tip force P
+    on A gives w_A = P / (5 k), 1/k = L^3 / (3 E I) + L / (kappa G A) (PBARL BAR keeps shear, 5/6)."""
+    n, P = 10, 3.0
+    lines = ["SOL 101", "CEND", "MPC = 7", "SUBCASE 1", "  SPC = 1", "  LOAD = 2", "BEGIN BULK",
+             f"MAT1,1,{E},,{NU},{RHO}", "PBARL,5,1,,BAR", f",{H},{B}", "CORD2R,4,0,0.,0.,0.,0.,-1.,0.", ",1.,0.,0."]
+    for i in range(n + 1):
+        lines.append(f"GRID,{i + 1},,{L * i / n:.6f},0.,0.")
+        lines.append(f"GRID,{101 + i},,{L * i / n:.6f},0.2,0.{',4' if i == n else ''}")
+    for i in range(n):
+        lines.append(f"CBAR,{i + 1},5,{i + 1},{i + 2},0.,1.,0.")
+        lines.append(f"CBAR,{101 + i},5,{101 + i},{102 + i},0.,1.,0.")
+    lines += ["SPC1,1,123456,1,101", f"MPC,7,{101 + n},2,1.,{n + 1},3,-2.", f"FORCE,2,{n + 1},,{P},0.,0.,-1.",
+              "MPC,9,1,1,1.,2,1,-1.", "ENDDATA"]
+    path = tmp_path / "lever.bdf"
+    path.write_text("\n".join(lines) + "\n")
+    deck = read(path)
+    assert deck.model.constraints[0].terms == ((101 + n, 3, 1.0), (n + 1, 3, -2.0))
+    assert any("MPC set(s) [9] selected by no subcase" in note for note in deck.notes)
+    state = fg.solve_linear_static(deck.model, deck.configurations["subcase_1"])
+    k = 1 / (L**3 / (3 * E * I_Y) + L / (5 / 6 * E / (2 * (1 + NU)) * B * H))
+    wa, wb = state.displacements[deck.model.index_of([n + 1, 101 + n]), 2]
+    assert wa == pytest.approx(-P / (5 * k), rel=1e-9) and wb == pytest.approx(2 * wa, rel=1e-12)
+    out = fg.io.write_bdf(deck.model, tmp_path / "lever_compact.bdf", configurations=list(deck.configurations.values()))
+    again = read(out)
+    assert again.model.constraints == deck.model.constraints

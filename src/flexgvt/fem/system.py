@@ -54,6 +54,8 @@ class CompiledModel:
     links: np.ndarray  # (n_nodes,) index of the independent node for dependents, else -1
     link_dofs: np.ndarray  # (n_nodes, 6) bool: DOFs set by a rigid link or an interpolation link
     interp: InterpolationData
+    mpc_dependent: np.ndarray  # (c,) full DOF index of each linear constraint's dependent DOF
+    mpc_terms: tuple[tuple[np.ndarray, np.ndarray], ...]  # per constraint: (full DOFs, weights) with u_d = w . u
 
 
 def compile_model(model: Model) -> CompiledModel:
@@ -100,8 +102,35 @@ def compile_model(model: Model) -> CompiledModel:
         link_dofs[np.ix_(deps, [int(c) - 1 for c in link.components])] = True
     interp = compile_interpolations(model, xyz)
     link_dofs[interp.reference] |= interp.tied
+    mpc_dep, mpc_terms = [], []
+    for con in model.constraints:
+        idx = model.index_of([t[0] for t in con.terms], "linear constraint")
+        dofs = 6 * idx + np.array([t[1] - 1 for t in con.terms])
+        coef = np.array([t[2] for t in con.terms], float)
+        mpc_dep.append(int(dofs[0]))
+        mpc_terms.append((dofs[1:], -coef[1:] / coef[0]))
+    mpc_dep = np.array(mpc_dep, int)
+    busy = link_dofs.reshape(-1)[mpc_dep]
+    if np.any(busy):
+        raise ModelError(f"model '{model.name}': a linear constraint's dependent DOF (node "
+                         f"{model.node_ids[mpc_dep[busy][0] // 6]}) is already set by a rigid or interpolation link")
+    masters = {model.index_of([link.independent])[0] for link in model.rigid_links}
+    masters |= {int(i) for nodes in interp.nodes for i in nodes}
+    used = [d for d in mpc_dep if d // 6 in masters]
+    if used:
+        raise ModelError(f"model '{model.name}': a linear constraint's dependent DOF is on node "
+                         f"{model.node_ids[used[0] // 6]}, which drives a rigid or interpolation link; make another "
+                         "DOF of the constraint the dependent one")
+    link_dofs.reshape(-1)[mpc_dep] = True
+    for dofs, _ in mpc_terms:
+        if np.any(link_dofs.reshape(-1)[dofs]):
+            raise ModelError(f"model '{model.name}': a linear constraint's independent DOF (node "
+                             f"{model.node_ids[dofs[link_dofs.reshape(-1)[dofs]][0] // 6]}) is itself set by a link "
+                             "or another constraint; chains are not supported: write the constraint on the "
+                             "independent DOFs")
     compiled = CompiledModel(model.node_ids, xyz, beams, local_mass_matrices(beams), cat(eids, (0,)).astype(int),
-                             cat(names, (0,)), _masses(model, model.masses), _springs(model, model.springs), links, link_dofs, interp)
+                             cat(names, (0,)), _masses(model, model.masses), _springs(model, model.springs), links, link_dofs, interp,
+                             mpc_dep, tuple(mpc_terms))
     model.solver_cache["compiled"] = (model.revision, compiled)
     return compiled
 
@@ -227,7 +256,7 @@ class System:
         self.applied = f.reshape(-1)
         self.mass_weight = self.masses.mass[:, None] * gvec[None, :]
 
-        self.has_links = bool(dependent.any()) or len(cm.interp) > 0
+        self.has_links = bool(dependent.any()) or len(cm.interp) > 0 or len(cm.mpc_dependent) > 0
         blocks = [self._beam_dofs(), self._node_dofs(self.masses.nodes), self._node_dofs(self.cord_nodes),
                   self._spring_dofs()]
         self._blocks = blocks
@@ -333,6 +362,12 @@ class System:
             rows.append(rr[keep])
             cols.append(cc[keep])
             vals.append(J.ravel()[keep])
+        for dep, (dofs, weights) in zip(self.cm.mpc_dependent, self.cm.mpc_terms):
+            cc = self.dof_map[dofs]
+            keep = (cc >= 0) & (weights != 0)
+            rows.append(np.full(keep.sum(), dep))
+            cols.append(cc[keep])
+            vals.append(weights[keep])
         return sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
                              shape=(6 * n, self.n_free))
 
@@ -434,6 +469,12 @@ class System:
         x_new = x + d[:, :3]
         R_new = spin(R, d[:, 3:])
         if self.has_links:
+            if len(self.cm.mpc_dependent):  # linear in the translations u = x - X
+                u = np.zeros((self.n_nodes, 6))
+                u[:, :3] = x_new - self.cm.xyz
+                u = u.reshape(-1)
+                for dep, (dofs, weights) in zip(self.cm.mpc_dependent, self.cm.mpc_terms):
+                    x_new[dep // 6, dep % 6] = self.cm.xyz[dep // 6, dep % 6] + weights @ u[dofs]
             deps, ind, r = self.link_offsets(R_new)
             tied = self.cm.link_dofs[deps]
             x_new[deps] = np.where(tied[:, :3], x_new[ind] + r, x_new[deps])

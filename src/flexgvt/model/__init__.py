@@ -1,11 +1,12 @@
 """Plain data: the structural model and test configurations. No numerics here."""
 
-from .components import ConcentratedMass, Cord, DistributedLoad, InterpolationLink, NodalLoad, RigidLink, Spring
+from .components import (ConcentratedMass, Cord, DistributedLoad, InterpolationLink, LinearConstraint, NodalLoad,
+                         RigidLink, Spring)
 from .configuration import STANDARD_GRAVITY, Configuration, parse_dofs
 from .material import Material
 from .model import BeamGroup, Model
 from .section import CircularTubeSection, GeneralSection, RectangularSection, RodSection, rectangle_torsion_constant
 
 __all__ = ["BeamGroup", "CircularTubeSection", "ConcentratedMass", "Configuration", "Cord", "DistributedLoad",
-           "GeneralSection", "InterpolationLink", "Material", "Model", "NodalLoad", "RectangularSection", "RodSection", "RigidLink", "Spring",
+           "GeneralSection", "InterpolationLink", "LinearConstraint", "Material", "Model", "NodalLoad", "RectangularSection", "RodSection", "RigidLink", "Spring",
            "STANDARD_GRAVITY", "parse_dofs", "rectangle_torsion_constant"]

@@ -127,6 +127,16 @@ class InterpolationLink:
 
 
 @dataclass(frozen=True)
+class LinearConstraint:
+    """sum_j a_j u_j = 0 over translations u = x - X (Nastran MPC): the first term's DOF is the
+    dependent one. terms: ((node, component 1-3, coefficient), ...). Exact at any displacement,
+    since it is linear in the translations; rotations have no linear total measure, so they
+    cannot take part (use a rigid or interpolation link)."""
+
+    terms: tuple[tuple[int, int, float], ...]
+
+
+@dataclass(frozen=True)
 class NodalLoad:
     """Force [N] and moment [N m] at a node, fixed in direction (global axes), scaled by the load factor."""
 

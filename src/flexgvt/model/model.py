@@ -9,7 +9,7 @@ import numpy as np
 
 from ..errors import ModelError
 from .configuration import parse_dofs
-from .components import ConcentratedMass, InterpolationLink, RigidLink, Spring, as_vector
+from .components import ConcentratedMass, InterpolationLink, LinearConstraint, RigidLink, Spring, as_vector
 from .material import Material
 from .section import RodSection, Section
 
@@ -52,6 +52,7 @@ class Model:
         self._springs: list[Spring] = []
         self._rigid_links: list[RigidLink] = []
         self._interpolations: list[InterpolationLink] = []
+        self._constraints: list[LinearConstraint] = []
         self._next_node = 1
         self._next_element = 1
         self.revision = 0  # bumped by every change; solvers cache compiled arrays against it
@@ -255,6 +256,37 @@ class Model:
         self.revision += 1
         return item
 
+    def add_constraint(self, terms) -> LinearConstraint:
+        """Linear constraint sum a_j u_j = 0 on translations (Nastran MPC, see LinearConstraint);
+        terms: [(node, component 1-3, coefficient), ...], the first one's DOF is eliminated."""
+        where = "add_constraint"
+        items = []
+        for term in terms:
+            try:
+                node, comp, coef = int(term[0]), int(term[1]), float(term[2])
+            except (TypeError, ValueError, IndexError):
+                raise ModelError(f"{where}: each term is (node, component, coefficient), got {term!r}") from None
+            if comp not in (1, 2, 3):
+                raise ModelError(f"{where}: component {comp} of node {node}: only translations (1-3) can take part; "
+                                 "a rotation has no linear total measure (use a rigid or interpolation link)")
+            if not np.isfinite(coef):
+                raise ModelError(f"{where}: coefficient of node {node} component {comp} is not finite")
+            items.append((node, comp, coef))
+        if not items or items[0][2] == 0.0:
+            raise ModelError(f"{where}: the first (dependent) term needs a non-zero coefficient")
+        self.index_of([t[0] for t in items], where)
+        keys = [(n, c) for n, c, _ in items]
+        if len(set(keys)) != len(keys):
+            raise ModelError(f"{where}: a DOF appears twice in one constraint: merge its coefficients")
+        dependents = {c.terms[0][:2] for c in self._constraints}
+        if keys[0] in dependents:
+            raise ModelError(f"{where}: node {keys[0][0]} component {keys[0][1]} is already the dependent DOF of "
+                             "another constraint")
+        item = LinearConstraint(tuple(items))
+        self._constraints.append(item)
+        self.revision += 1
+        return item
+
     # Read-only views: every change goes through add_* so solvers' caches see it.
     @property
     def beams(self) -> tuple[BeamGroup, ...]:
@@ -275,6 +307,10 @@ class Model:
     @property
     def interpolations(self) -> tuple[InterpolationLink, ...]:
         return tuple(self._interpolations)
+
+    @property
+    def constraints(self) -> tuple[LinearConstraint, ...]:
+        return tuple(self._constraints)
 
     @property
     def n_beams(self) -> int:

@@ -39,7 +39,8 @@ NON_STRUCTURAL = {"AERO", "AEROS", "CAERO1", "CAERO2", "CAERO3", "CAERO4", "CAER
                   "TABDMP1", "DAREA", "DELAY", "DPHASE", "RANDPS", "NLCNTLG"}
 # Bulk cards flexgvt reads (anything else present in the deck is reported as unsupported).
 READ_CARDS = set(SUPPORTED_ELEMENTS + SUPPORTED_PROPERTIES + SUPPORTED_LOADS) | {
-    "GRID", "GRDSET", "MAT1", "CORD2R", "CORD2C", "CORD2S", "CORD1R", "CORD1C", "CORD1S", "SPC", "SPC1", "SPCADD", "LOAD"}
+    "GRID", "GRDSET", "MAT1", "CORD2R", "CORD2C", "CORD2S", "CORD1R", "CORD1C", "CORD1S", "SPC", "SPC1", "SPCADD", "LOAD",
+    "MPC", "MPCADD"}
 # Cards read by pyNastran into dictionaries we inspect, mapped to where unsupported ones are listed.
 # Id namespaces as pyNastran keeps them (Nastran accepts, e.g., an RBAR and a CONM2 with the same id).
 ELEMENT_NAMESPACE = ("CBAR", "CBEAM", "CROD", "CONROD", "CTUBE", "CQUAD4", "CTRIA3", "CQUAD8", "CTRIA6", "CQUADR",
@@ -81,7 +82,8 @@ class BdfDeck:
     per model.rigid_links, or (card, element id, end) for the link of an end node; end_nodes:
     (card, element id, end 'A'/'B') -> the node flexgvt added for a CBAR/CBEAM offset or pin
     flag, or the CBUSH end's arm to the spring location (ids above the deck's grids);
-    interpolation_sources: RBE3 id per model.interpolations; n_modes: configuration -> EIGRL ND of its METHOD (None if not given);
+    interpolation_sources: RBE3 id per model.interpolations; constraint_sources: MPC set id per
+    model.constraints (the one set all subcases select); n_modes: configuration -> EIGRL ND of its METHOD (None if not given);
     subcases: configuration -> subcase id; unsupported: card (feature) -> ids that were not read;
     notes: things read with an approximation or ignored on purpose.
     """
@@ -100,6 +102,7 @@ class BdfDeck:
     rigid_sources: list[tuple] = field(default_factory=list)
     end_nodes: dict[tuple[str, int, str], int] = field(default_factory=dict)
     interpolation_sources: list[int] = field(default_factory=list)
+    constraint_sources: list[int] = field(default_factory=list)
     materials: dict[int, Material] = field(default_factory=dict)
     n_modes: dict[str, int | None] = field(default_factory=dict)
     subcases: dict[str, int] = field(default_factory=dict)
@@ -847,9 +850,82 @@ class _Reader:
             self.unsupported.setdefault(name, []).append(str(card[1]) if len(card) > 1 else "?")
 
     # ----------------------------------------------------------------- configurations
+    def _subcases(self) -> list[tuple[str, object, int]]:
+        """(configuration name, case control subcase or None, subcase id) in reading order."""
+        ccd = self.bdf.case_control_deck
+        subcases = {} if ccd is None else dict(ccd.subcases)
+        numbered = {k: v for k, v in subcases.items() if k > 0}
+        if numbered:
+            return [(f"subcase_{sid}", sub, sid) for sid, sub in sorted(numbered.items())]
+        if 0 in subcases and subcases[0].params:
+            return [(self.path.stem, subcases[0], 0)]
+        return [(self.path.stem, None, 0)]
+
+    def read_constraints(self, cases) -> None:
+        """The MPC set every subcase selects -> model linear constraints (translations; components
+        in a grid's CD are expanded to basic axes). Different sets per subcase are listed unsupported."""
+        ids = {self._get(sub, "MPC") for _, sub, _ in cases}
+        self.mpc_set = None
+        defined = set(self.bdf.mpcs) | set(self.bdf.mpcadds)
+        unselected = sorted(defined - {int(i) for i in ids if i is not None})
+        if unselected:
+            self.notes.append(f"MPC set(s) {unselected} selected by no subcase: ignored (as Nastran does)")
+        if len(ids) != 1 or None in ids:
+            return
+        (conid,) = ids
+        where = self.at("MPC", conid)
+        cards = self._mpc_cards(int(conid), where, set())
+        for card in cards:
+            terms: dict[tuple[int, int], float] = {}
+            dependent = None
+            for k, (n, comp, coef) in enumerate(zip(card.nodes, card.components, card.coefficients)):
+                comp = int(str(comp).strip() or 0)
+                if comp not in (1, 2, 3):
+                    self.skip("MPC (rotation or scalar terms)", card.conid)
+                    break
+                if n not in self.bdf.nodes:
+                    raise ModelError(f"{where} refers to node {n}, which is not defined")
+                axes = coord_axes(self.bdf, self.bdf.nodes[n].cd, self.xyz_deck[n], where)
+                e = axes[:, comp - 1]
+                if k == 0:
+                    big = int(np.argmax(np.abs(e)))
+                    if abs(abs(e[big]) - 1.0) > 1e-9:
+                        raise ModelError(f"{where}: the dependent term (node {n} component {comp}) lies along no basic "
+                                         "axis in the grid's CD; give the grid a CD aligned with basic or make another "
+                                         "term the first")
+                    dependent = (int(n), big + 1)
+                for j in range(3):
+                    if abs(e[j]) > 1e-12:
+                        key = (int(n), j + 1)
+                        terms[key] = terms.get(key, 0.0) + float(coef) * e[j]
+            else:
+                first = (dependent, terms.pop(dependent))
+                try:
+                    self.model.add_constraint([(*first[0], first[1])] + [(*key, a) for key, a in terms.items()])
+                except ModelError as exc:
+                    raise ModelError(f"{where}: {exc}") from None
+                self.deck.constraint_sources.append(int(card.conid))
+        self.mpc_set = int(conid)
+
+    def _mpc_cards(self, conid: int, where: str, seen: set) -> list:
+        if conid in seen:
+            raise ModelError(f"{where}: MPCADD sets refer to each other in a loop")
+        seen.add(conid)
+        out = []
+        for card in self.bdf.mpcadds.get(conid, []):
+            for sub in card.sets:
+                out += self._mpc_cards(int(sub), where, seen)
+        out += list(self.bdf.mpcs.get(conid, []))
+        if not out:
+            raise ModelError(f"{where}: the case control selects MPC = {conid} but no MPC or MPCADD card has that id")
+        return out
+
     def read_configurations(self) -> None:
         bdf = self.bdf
+        cases = self._subcases()
+        self.read_constraints(cases)
         connected = {int(n) for g in self.model.beams for n in g.nodes.ravel()}
+        connected |= {t[0] for con in self.model.constraints for t in con.terms}
         connected |= {n for sp in self.model.springs for n in (sp.node_a, sp.node_b) if n is not None}
         connected |= {n for link in self.model.rigid_links for n in (link.independent, *link.dependents)}
         connected |= {n for ip in self.model.interpolations for n in (ip.reference, *ip.nodes)}
@@ -874,16 +950,8 @@ class _Reader:
             self.notes.append(f"node(s) {r[:10]}{' ...' if len(r) > 10 else ''} have no rotational stiffness (joined "
                               "only by rods, RBE2s without 456 or RBE3s): their rotations are fixed in every configuration "
                               "(as Nastran's AUTOSPC does)")
-        ccd = bdf.case_control_deck
-        subcases = {} if ccd is None else dict(ccd.subcases)
-        numbered = {k: v for k, v in subcases.items() if k > 0}
-        if numbered:
-            for sid, sub in sorted(numbered.items()):
-                self.configuration(f"subcase_{sid}", sub, sid)
-        elif 0 in subcases and subcases[0].params:
-            self.configuration(self.path.stem, subcases[0], 0)
-        else:
-            self.configuration(self.path.stem, None, 0)
+        for name, sub, sid in cases:
+            self.configuration(name, sub, sid)
 
     def _get(self, sub, key):
         if sub is None or key not in sub.params:
@@ -909,8 +977,8 @@ class _Reader:
                 self.notes.append(f"{where}: no case control and several load sets {sorted(load_sets)}: none applied; "
                                   "add a SUBCASE with LOAD = ...")
         mpc_id = self._get(sub, "MPC")
-        if mpc_id is not None:
-            self.skip("MPC (case control MPC set)", mpc_id)
+        if mpc_id is not None and mpc_id != self.mpc_set:
+            self.skip("MPC (different MPC sets per subcase)", mpc_id)
         fixed: dict[int, set[int]] = {}
         prescribed: dict[int, dict[int, float]] = {}
         for nid in self.autospc:

@@ -193,7 +193,8 @@ def _write_into_template(model: Model, path: Path, deck: BdfDeck, size: int) -> 
                 if "B" not in p.vars:
                     p.vars.append("B")
     if len(model.rigid_links) != len(deck.rigid_sources) or \
-            len(model.interpolations) != len(deck.interpolation_sources):
+            len(model.interpolations) != len(deck.interpolation_sources) or \
+            len(model.constraints) != len(deck.constraint_sources):
         raise ModelError("write_bdf: rigid links or interpolations (RBE3) differ from the template; write without "
                          "template=")
     _quiet_write(bdf, path, size)
@@ -343,6 +344,9 @@ def _write_compact(model: Model, path: Path, configurations, u: Units, size: int
     for link in model.rigid_links:
         bdf.add_rbe2(next_eid, link.independent, link.components, list(link.dependents))
         next_eid += 1
+    for con in model.constraints:  # MPC set 1, selected by every subcase
+        nodes, comps, coefs = zip(*con.terms)
+        bdf.add_mpc(1, list(nodes), [str(c) for c in comps], list(coefs))
     for ip in model.interpolations:  # one weight group per distinct weight
         groups: dict[float, list[int]] = {}
         for node, w in zip(ip.nodes, ip.weights):
@@ -350,15 +354,16 @@ def _write_compact(model: Model, path: Path, configurations, u: Units, size: int
         bdf.add_rbe3(next_eid, ip.reference, ip.components, list(groups), ["123"] * len(groups), list(groups.values()))
         next_eid += 1
     elem_nodes = {int(e): (int(a), int(b)) for g in model.beams for e, (a, b) in zip(g.ids, g.nodes)}
-    _write_configurations(bdf, list(configurations or []), u, n_modes, elem_nodes)
+    _write_configurations(bdf, list(configurations or []), u, n_modes, elem_nodes, bool(model.constraints))
     _quiet_write(bdf, path, size)
     return notes
 
 
-def _write_configurations(bdf, configurations: list[Configuration], u: Units, n_modes: int, elem_nodes) -> None:
+def _write_configurations(bdf, configurations: list[Configuration], u: Units, n_modes: int, elem_nodes,
+                          mpc: bool = False) -> None:
     from pyNastran.bdf.case_control_deck import CaseControlDeck
 
-    lines = ["ECHO = NONE", "METHOD = 1"]
+    lines = ["ECHO = NONE", "METHOD = 1"] + (["MPC = 1"] if mpc else [])
     bdf.add_eigrl(1, nd=n_modes)
     for i, cfg in enumerate(configurations, start=1):
         if cfg.suspension or cfg.springs or cfg.masses:
@@ -423,7 +428,7 @@ def write_bdf(model: Model, path, template: BdfDeck | None = None, *, configurat
     into copies with new ids; a PBARL/PBEAML whose values no longer fit its shape becomes an
     equivalent PBAR/PBEAM. The deck's units and PARAM,WTMASS are kept.
     Without template: a compact deck (GRID, CBAR + PBAR/PBARL + MAT1, CONM2, CELAS2/CDAMP2 or
-    CBUSH, RBE2, RBE3) in ``units``, with one SUBCASE per entry of ``configurations`` (SPC1, GRAV,
+    CBUSH, RBE2, RBE3, MPC) in ``units``, with one SUBCASE per entry of ``configurations`` (SPC1, GRAV,
     FORCE/MOMENT, PLOAD1 combined by LOAD) and an EIGRL for ``n_modes``.
     size: 16 (large field, default: 12 significant digits, so updated values survive) or 8 (small field).
     """
