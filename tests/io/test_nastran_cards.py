@@ -129,7 +129,9 @@ def test_springs_dampers_and_bushes(deck):
 
 def test_rbe2_chain_merges(deck):
     links = [(link.independent, link.dependents, link.components) for link in deck.model.rigid_links]
-    assert links == [(2, (10, 11, 12), "123456"), (2, (17,), "123")]  # RBE2 302 hangs on the chain's root
+    # RBE2 302 hangs on the chain's root; RBAR 304 (CNA = CMB = 123456) is a rigid link from GA to GB
+    assert sorted(zip(links, deck.rigid_sources)) == [((2, (10, 11, 12), "123456"), (300, 301)),
+                                                      ((2, (17,), "123"), (302,)), ((3, (19,), "123456"), (304,))]
     # The ball joint's rotations have no stiffness: fixed as AUTOSPC would, in every subcase.
     assert all(cfg.fixed[17] == "456" for cfg in deck.configurations.values())
 

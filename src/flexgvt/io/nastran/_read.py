@@ -21,7 +21,7 @@ from ._sections import SectionData, from_properties, library_section
 BEAM_CARDS = ("CBAR", "CBEAM")
 ROD_CARDS = ("CROD", "CONROD")
 BEAM_PROPERTIES = ("PBAR", "PBARL", "PBEAM", "PBEAML")
-SUPPORTED_ELEMENTS = BEAM_CARDS + ROD_CARDS + ("CONM2", "CONM1", "CELAS1", "CELAS2", "CDAMP1", "CDAMP2", "CVISC", "CBUSH", "RBE2", "RBE3")
+SUPPORTED_ELEMENTS = BEAM_CARDS + ROD_CARDS + ("CONM2", "CONM1", "CELAS1", "CELAS2", "CDAMP1", "CDAMP2", "CVISC", "CBUSH", "RBE2", "RBE3", "RBAR")
 SUPPORTED_PROPERTIES = BEAM_PROPERTIES + ("PROD", "PELAS", "PDAMP", "PVISC", "PBUSH")
 SUPPORTED_LOADS = ("FORCE", "MOMENT", "GRAV", "PLOAD1", "SPCD")
 # Cards that carry no structure or are read through the case control (methods, solution controls).
@@ -782,20 +782,30 @@ class _Reader:
             if elem.type == "RBE3":
                 self._pending_rbe3(elem)
                 continue
-            if elem.type != "RBE2":
+            if elem.type == "RBAR":  # all six DOFs of one end independent: an RBE2 with one dependent
+                norm = {k: "".join(sorted(set(str(getattr(elem, k) or "").strip()))) for k in ("cna", "cnb", "cma", "cmb")}
+                if norm["cna"] == "123456" and not norm["cnb"] and not norm["cma"] and norm["cmb"]:
+                    gn, cm, gmi = elem.ga, norm["cmb"], [elem.gb]
+                elif norm["cnb"] == "123456" and not norm["cna"] and not norm["cmb"] and norm["cma"]:
+                    gn, cm, gmi = elem.gb, norm["cma"], [elem.ga]
+                else:
+                    self.skip("RBAR (independent DOFs at both ends)", eid)
+                    continue
+            elif elem.type == "RBE2":
+                gn, cm, gmi = elem.gn, "".join(sorted(set(str(elem.cm)))), elem.Gmi
+            else:
                 self.skip(elem.type, eid)
                 continue
-            cm = "".join(sorted(set(str(elem.cm))))
             if set(cm) & set("456") not in (set(), set("456")):
-                self.skip("RBE2 (some of the rotations 456 only)", eid)
+                self.skip(f"{elem.type} (some of the rotations 456 only)", eid)
                 continue
-            deps = [int(n) for n in elem.Gmi]
+            deps = [int(n) for n in gmi]
             for d in deps:
                 if d in owner:
-                    raise ModelError(f"{self.at('RBE2', eid)}: node {d} is already a dependent of RBE2 {owner[d]}; "
-                                     "a node can depend on one rigid element only (Nastran rejects this too)")
+                    raise ModelError(f"{self.at(elem.type, eid)}: node {d} is already a dependent of rigid element "
+                                     f"{owner[d]}; a node can depend on one rigid element only (Nastran rejects this too)")
                 owner[d] = eid
-            key = (int(elem.gn), cm)
+            key = (int(gn), cm)
             links[key] = links.get(key, []) + deps
             sources.setdefault(key, []).append(int(eid))
         # Chains (an independent node that is a dependent of a full RBE2) hang on the chain's root:
