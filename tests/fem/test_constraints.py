@@ -9,6 +9,7 @@ import pytest
 
 import flexgvt as fg
 from flexgvt.errors import ModelError
+from flexgvt.fem.rotations import logm_so3
 
 from fem_builders import AL
 
@@ -47,10 +48,22 @@ def test_constraint_holds_exactly_under_large_displacement():
     assert u[ib, 2] == pytest.approx(0.5 * u[ia, 2], rel=1e-12)
 
 
+def test_rotation_constraint_shares_a_torque():
+    """Tip twists tied (theta_x,B = theta_x,A): a torque T on A twists both by T L / (2 G J)."""
+    model, cfg, a, b = lever_pair()
+    model.add_constraint([(int(b[-2]), 4, 1.0), (int(a[-2]), 4, -1.0)])
+    T = 0.5
+    state = fg.solve_linear_static(model, cfg.with_(forces=(fg.NodalLoad(int(a[-2]), moment=(T, 0, 0)),)))
+    GJ = AL.shear_modulus * SECTION.properties()["J"]
+    L_twist = L * (N - 1) / N
+    ta, tb = logm_so3(state.rotations[model.index_of([int(a[-2]), int(b[-2])])])[:, 0]
+    assert ta == pytest.approx(T * L_twist / (2 * GJ), rel=1e-9) and tb == pytest.approx(ta, rel=1e-12)
+
+
 def test_bad_constraints_are_refused():
     model, cfg, a, b = lever_pair()
-    with pytest.raises(ModelError, match="only translations"):
-        model.add_constraint([(int(a[3]), 5, 1.0), (int(b[3]), 5, -1.0)])
+    with pytest.raises(ModelError, match="must be 1-6"):
+        model.add_constraint([(int(a[3]), 7, 1.0), (int(b[3]), 5, -1.0)])
     with pytest.raises(ModelError, match="already the dependent DOF"):
         model.add_constraint([(int(b[-1]), 3, 1.0), (int(a[4]), 3, -1.0)])
     model.add_constraint([(int(a[5]), 1, 1.0), (int(b[-1]), 3, -1.0)])  # depends on a dependent DOF

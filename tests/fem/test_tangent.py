@@ -39,6 +39,7 @@ def curved_model(with_links, springs: bool = True):
             model.add_mass(int(ref), 0.6, offset=(0.02, -0.01, 0.03), inertia=[2e-4, 1e-4, 3e-4])
             model.add_interpolation(int(ref), [int(i) for i in ids[2:7]], weights=[1.0, 2.0, 0.5, 1.5, 1.0])
             model.add_constraint([(int(ids[1]), 3, 2.0), (int(ids[2]), 1, -1.0), (int(ids[7]), 2, 0.5)])
+            model.add_constraint([(int(ids[3]), 5, 1.0), (int(ids[4]), 4, -0.7), (int(ids[2]), 3, 0.2)])
     cords = [fg.Cord(node=int(ids[8]), anchor=(0.3, 1.1, 1.5), stiffness=800.0, unstretched_length=1.0,
                      offset=(0.01, 0.0, 0.02))]
     forces = [fg.NodalLoad(int(ids[7]), force=(1.0, 2.0, -3.0), moment=(0.1, 0.2, 0.3))]

@@ -122,12 +122,14 @@ def test_mpc_lever_from_bulk_data_and_back(tmp_path):
     for i in range(n):
         lines.append(f"CBAR,{i + 1},5,{i + 1},{i + 2},0.,1.,0.")
         lines.append(f"CBAR,{101 + i},5,{101 + i},{102 + i},0.,1.,0.")
-    lines += ["SPC1,1,123456,1,101", f"MPC,7,{101 + n},2,1.,{n + 1},3,-2.", f"FORCE,2,{n + 1},,{P},0.,0.,-1.",
+    lines += ["SPC1,1,123456,1,101", f"MPC,7,{101 + n},2,1.,{n + 1},3,-2.", f"MPC,7,{100 + n},4,1.,{n},4,-1.",
+              f"FORCE,2,{n + 1},,{P},0.,0.,-1.",
               "MPC,9,1,1,1.,2,1,-1.", "ENDDATA"]
     path = tmp_path / "lever.bdf"
     path.write_text("\n".join(lines) + "\n")
     deck = read(path)
-    assert deck.model.constraints[0].terms == ((101 + n, 3, 1.0), (n + 1, 3, -2.0))
+    assert [c.terms for c in deck.model.constraints] == [((101 + n, 3, 1.0), (n + 1, 3, -2.0)),
+                                                         ((100 + n, 4, 1.0), (n, 4, -1.0))]
     assert any("MPC set(s) [9] selected by no subcase" in note for note in deck.notes)
     state = fg.solve_linear_static(deck.model, deck.configurations["subcase_1"])
     k = 1 / (L**3 / (3 * E * I_Y) + L / (5 / 6 * E / (2 * (1 + NU)) * B * H))

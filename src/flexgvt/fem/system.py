@@ -114,9 +114,9 @@ def compile_model(model: Model) -> CompiledModel:
     if np.any(busy):
         raise ModelError(f"model '{model.name}': a linear constraint's dependent DOF (node "
                          f"{model.node_ids[mpc_dep[busy][0] // 6]}) is already set by a rigid or interpolation link")
-    masters = {model.index_of([link.independent])[0] for link in model.rigid_links}
-    masters |= {int(i) for nodes in interp.nodes for i in nodes}
-    used = [d for d in mpc_dep if d // 6 in masters]
+    drivers = {6 * model.index_of([link.independent])[0] + k for link in model.rigid_links for k in range(6)}
+    drivers |= {6 * int(i) + k for nodes in interp.nodes for i in nodes for k in range(3)}  # translations drive a fit
+    used = [d for d in mpc_dep if d in drivers]
     if used:
         raise ModelError(f"model '{model.name}': a linear constraint's dependent DOF is on node "
                          f"{model.node_ids[used[0] // 6]}, which drives a rigid or interpolation link; make another "
@@ -474,7 +474,8 @@ class System:
                 u[:, :3] = x_new - self.cm.xyz
                 u = u.reshape(-1)
                 for dep, (dofs, weights) in zip(self.cm.mpc_dependent, self.cm.mpc_terms):
-                    x_new[dep // 6, dep % 6] = self.cm.xyz[dep // 6, dep % 6] + weights @ u[dofs]
+                    if dep % 6 < 3 and np.all(dofs % 6 < 3):  # exact on total translations; else incremental
+                        x_new[dep // 6, dep % 6] = self.cm.xyz[dep // 6, dep % 6] + weights @ u[dofs]
             deps, ind, r = self.link_offsets(R_new)
             tied = self.cm.link_dofs[deps]
             x_new[deps] = np.where(tied[:, :3], x_new[ind] + r, x_new[deps])

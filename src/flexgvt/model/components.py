@@ -128,10 +128,12 @@ class InterpolationLink:
 
 @dataclass(frozen=True)
 class LinearConstraint:
-    """sum_j a_j u_j = 0 over translations u = x - X (Nastran MPC): the first term's DOF is the
-    dependent one. terms: ((node, component 1-3, coefficient), ...). Exact at any displacement,
-    since it is linear in the translations; rotations have no linear total measure, so they
-    cannot take part (use a rigid or interpolation link)."""
+    """sum_j a_j u_j = 0 (Nastran MPC): the first term's DOF is the dependent one.
+    terms: ((node, component 1-6, coefficient), ...), components in basic axes. With translations
+    only, it holds exactly on the total translations u = x - X at any displacement. A finite
+    rotation has no linear total measure: a constraint with rotation terms holds on the
+    increments (spins), as Nastran's MPC does in the small-rotation sense; use a rigid or
+    interpolation link where rotations are large."""
 
     terms: tuple[tuple[int, int, float], ...]
 

@@ -257,8 +257,8 @@ class Model:
         return item
 
     def add_constraint(self, terms) -> LinearConstraint:
-        """Linear constraint sum a_j u_j = 0 on translations (Nastran MPC, see LinearConstraint);
-        terms: [(node, component 1-3, coefficient), ...], the first one's DOF is eliminated."""
+        """Linear constraint sum a_j u_j = 0 (Nastran MPC, see LinearConstraint); terms: [(node,
+        component 1-6, coefficient), ...] in basic axes, the first one's DOF is eliminated."""
         where = "add_constraint"
         items = []
         for term in terms:
@@ -266,9 +266,8 @@ class Model:
                 node, comp, coef = int(term[0]), int(term[1]), float(term[2])
             except (TypeError, ValueError, IndexError):
                 raise ModelError(f"{where}: each term is (node, component, coefficient), got {term!r}") from None
-            if comp not in (1, 2, 3):
-                raise ModelError(f"{where}: component {comp} of node {node}: only translations (1-3) can take part; "
-                                 "a rotation has no linear total measure (use a rigid or interpolation link)")
+            if comp not in (1, 2, 3, 4, 5, 6):
+                raise ModelError(f"{where}: component {comp} of node {node} must be 1-6")
             if not np.isfinite(coef):
                 raise ModelError(f"{where}: coefficient of node {node} component {comp} is not finite")
             items.append((node, comp, coef))

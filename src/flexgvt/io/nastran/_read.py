@@ -890,24 +890,26 @@ class _Reader:
             dependent = None
             for k, (n, comp, coef) in enumerate(zip(card.nodes, card.components, card.coefficients)):
                 comp = int(str(comp).strip() or 0)
-                if comp not in (1, 2, 3):
-                    self.skip("MPC (rotation or scalar terms)", card.conid)
+                if comp not in (1, 2, 3, 4, 5, 6):
+                    self.skip("MPC (scalar-point terms)", card.conid)
                     break
                 if n not in self.bdf.nodes:
                     raise ModelError(f"{where} refers to node {n}, which is not defined")
                 axes = coord_axes(self.bdf, self.bdf.nodes[n].cd, self.xyz_deck[n], where)
-                e = axes[:, comp - 1]
+                e = axes[:, (comp - 1) % 3]
+                base = 3 if comp > 3 else 0
                 if k == 0:
                     big = int(np.argmax(np.abs(e)))
                     if abs(abs(e[big]) - 1.0) > 1e-9:
                         raise ModelError(f"{where}: the dependent term (node {n} component {comp}) lies along no basic "
                                          "axis in the grid's CD; give the grid a CD aligned with basic or make another "
                                          "term the first")
-                    dependent = (int(n), big + 1)
+                    dependent = (int(n), base + big + 1)
+                scale = float(coef) * (self.units.length if comp > 3 else 1.0)  # rotation terms: deck -> SI units
                 for j in range(3):
                     if abs(e[j]) > 1e-12:
-                        key = (int(n), j + 1)
-                        terms[key] = terms.get(key, 0.0) + float(coef) * e[j]
+                        key = (int(n), base + j + 1)
+                        terms[key] = terms.get(key, 0.0) + scale * e[j]
             else:
                 first = (dependent, terms.pop(dependent))
                 try:

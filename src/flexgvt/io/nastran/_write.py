@@ -345,8 +345,9 @@ def _write_compact(model: Model, path: Path, configurations, u: Units, size: int
         bdf.add_rbe2(next_eid, link.independent, link.components, list(link.dependents))
         next_eid += 1
     for con in model.constraints:  # MPC set 1, selected by every subcase
-        nodes, comps, coefs = zip(*con.terms)
-        bdf.add_mpc(1, list(nodes), [str(c) for c in comps], list(coefs))
+        nodes, comps, coefs = zip(*con.terms)  # rotation terms scale with the length unit (see the reader)
+        bdf.add_mpc(1, list(nodes), [str(c) for c in comps],
+                    [a / (u.length if c > 3 else 1.0) for c, a in zip(comps, coefs)])
     for ip in model.interpolations:  # one weight group per distinct weight
         groups: dict[float, list[int]] = {}
         for node, w in zip(ip.nodes, ip.weights):
