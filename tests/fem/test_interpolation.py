@@ -118,3 +118,26 @@ def test_bad_interpolations_are_refused():
         model.add_interpolation(int(ids[0]), [int(i) for i in ids[1:]], weights=[1.0, 0.0, 1.0])
     with pytest.raises(ModelError, match="'123456' or '123'"):
         model.add_interpolation(int(ids[0]), [int(i) for i in ids[1:]], components="12")
+
+
+def test_two_node_average_on_the_line():
+    """An RBE3 reference between two nodes (components 123) moves as their weighted average plus
+    the turn of the line: a load at it splits by the lever rule, and it stays on the turned line."""
+    model = fg.Model("pair")
+    a, b = model.add_nodes([[0, 0, 0], [1.0, 0, 0]])
+    (ref,) = model.add_nodes([[0.25, 0, 0]])
+    k = 1.0e4
+    for n in (a, b):
+        model.add_spring(int(n), None, stiffness=[k, k, k, 0, 0, 0])
+    model.add_interpolation(int(ref), [int(a), int(b)], components="123")
+    cfg = fg.Configuration("pair", fixed={int(n): "456" for n in (a, b, ref)},
+                           forces=[fg.NodalLoad(int(ref), force=(0, 0, -8.0))])
+    state = fg.solve_linear_static(model, cfg)
+    wa, wb = k * state.displacements[model.index_of([int(a), int(b)]), 2]
+    assert (wa, wb) == (pytest.approx(-6.0, rel=1e-9), pytest.approx(-2.0, rel=1e-9))  # lever rule 3:1
+    big = fg.solve_static(model, cfg.with_(forces=(fg.NodalLoad(int(ref), force=(0, 0, -8000.0)),)))
+    xa, xb, xr = big.positions[model.index_of([int(a), int(b), int(ref)])]
+    assert np.linalg.norm(np.cross(xr - xa, xb - xa)) < 1e-12  # still on the line
+    (other,) = model.add_nodes([[0.5, 0, 0]])
+    with pytest.raises(ModelError, match="lie on one line"):
+        model.add_interpolation(int(other), [int(a), int(b)])  # its rotation about the line is undefined

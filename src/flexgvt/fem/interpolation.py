@@ -71,7 +71,11 @@ def jacobian(x_nodes: np.ndarray, w: np.ndarray, arms0: np.ndarray, ref_arm0: np
     rho = arms0 @ Q.T
     B = (w[:, None] * y).T @ rho
     H = np.trace(B) * np.eye(3) - B
-    spin = np.linalg.solve(H, (w[:, None, None] * skew(rho)).transpose(1, 0, 2).reshape(3, -1))  # (3, 3n)
+    rhs = (w[:, None, None] * skew(rho)).transpose(1, 0, 2).reshape(3, -1)
+    # Nodes on a line leave the spin about it undefined (H singular there): the least-norm spin is
+    # taken, which moves a reference on the line correctly (its arm has no lever about the line).
+    spin = np.linalg.lstsq(H, rhs, rcond=1e-10)[0] if len(w) < 3 or np.linalg.cond(H) > 1e10 \
+        else np.linalg.solve(H, rhs)  # (3, 3n)
     trans = np.kron(w[None, :], np.eye(3)) - skew(Q @ ref_arm0) @ spin
     return np.vstack([trans, spin])
 

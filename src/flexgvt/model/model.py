@@ -239,11 +239,18 @@ class Model:
         c = w @ xyz / w.sum()
         r = xyz - c
         J = np.einsum("i,ij,ik->jk", w, r, r)
-        J = np.trace(J) * np.eye(3) - J
-        ev = np.linalg.eigvalsh(J)
+        ev = np.linalg.eigvalsh(np.trace(J) * np.eye(3) - J)
+        size = max(np.abs(r).max(), 1e-300)
         if ev[0] <= 1e-9 * max(ev[-1], 1e-300):
-            raise ModelError(f"{where}: the nodes lie on one line (or coincide), so the fitted rotation about it is "
-                             "not defined; add a node off the line (at least three nodes not on one line)")
+            # Nodes on one line (or one node): the rotation about the line is not defined. A
+            # reference on the line moving with its translations only is still defined.
+            arm = self.xyz[self.index_of([reference])[0]] - c
+            line = np.linalg.eigh(J)[1][:, -1] if np.abs(r).max() > 0 else np.zeros(3)
+            off_line = np.linalg.norm(arm - (arm @ line) * line)
+            if 3 in dofs or off_line > 1e-9 * max(size, np.linalg.norm(arm), 1e-300):
+                raise ModelError(f"{where}: the nodes lie on one line (or coincide), so the fitted rotation about it is "
+                                 "not defined; add a node off the line, or tie only the translations (components="
+                                 "'123') of a reference on the line")
         linked = {n for link in self.rigid_links for n in (link.independent, *link.dependents)}
         refs = {i.reference for i in self._interpolations}
         ins = {n for i in self._interpolations for n in i.nodes}
