@@ -36,7 +36,7 @@ def test_wide_band_finds_every_mode_from_0_25_to_80_hz():
         j = int(np.argmin(np.abs(modes.frequencies_hz - f)))
         assert abs(modes.frequencies_hz[j] / f - 1) < 0.002
         assert abs(modes.damping_ratio[j] / z - 1) < 0.10
-        assert _mac(model.shapes[k], modes.shapes[j]) > 0.99
+        assert _mac(model.shapes[k], modes.shapes[j]) > 0.999  # 1/|H|-weighted LSFD (unit weights: 0.990 at 80 Hz)
 
 
 def test_bands_cover_the_range_with_overlap_and_bad_input():
@@ -48,3 +48,10 @@ def test_bands_cover_the_range_with_overlap_and_bad_input():
     _, frfs = _system()
     with pytest.raises(EMAError, match="frequency lines"):
         identify_wide_band(frfs, bands=[(0.1, 0.12)])
+
+
+def test_lsfd_weighting_is_checked():
+    model, frfs = _system()
+    from flexgvt.ema.polymax import lsfd
+    with pytest.raises(EMAError, match="weighting"):
+        lsfd(frfs.frequencies_hz, frfs.H, np.array([-1 + 10j]), weighting="log")

@@ -31,7 +31,8 @@ def identify_wide_band(frfs, frequency_band=None, bands=None, max_order: int = 4
 
     Each sub-band's automatic selection gives poles and participation factors; a mode found in two
     overlapping bands is kept from the band where it lies farther from the edges; the shapes come
-    from one LSFD with residuals over the whole band. Model orders are capped per band by its
+    from one LSFD with residuals over the whole band, weighted by 1/|H| so that the weak
+    high-frequency modes of FRFs spanning decades are fitted on their own lines. Model orders are capped per band by its
     number of lines.
     """
     freq = np.asarray(frfs.frequencies_hz, float)
@@ -71,4 +72,4 @@ def identify_wide_band(frfs, frequency_band=None, bands=None, max_order: int = 4
     s = np.array([p[0] for p in kept])
     L = np.array([p[1] for p in kept])
     band = (freq >= lo) & (freq <= hi)
-    return lsfd(freq[band], H[band], s, L, frfs.outputs, frfs.inputs)
+    return lsfd(freq[band], H[band], s, L, frfs.outputs, frfs.inputs, weighting="inverse")
