@@ -87,12 +87,14 @@ class Stabilisation:
                 for sub in np.split(np.array(c), cuts):
                     if len({pts[i][2] for i in sub}) < need:
                         continue
-                    # Representative: the pole nearest the cluster's median frequency and damping
-                    # (damping scatters more between orders, so it is measured on its own scale).
-                    z_sub = np.array([-pts[i][0].real / abs(pts[i][0]) for i in sub])
-                    med, zmed = np.median(f[sub]), max(np.median(z_sub), 1e-12)
-                    dist = {i: abs(f[i] / med - 1) / tol_f + abs(zk / zmed - 1) for i, zk in zip(sub, z_sub)}
-                    best = min(sub, key=lambda i: (dist[i], -pts[i][2]))
+                    # Representative: among the poles of the upper half of the cluster's orders (the
+                    # better fits), the one nearest their median frequency and damping (outliers
+                    # out; damping, which scatters more, measured on its own scale).
+                    top = [i for i in sub if pts[i][2] >= np.median([pts[j][2] for j in sub])]
+                    z_top = {i: -pts[i][0].real / abs(pts[i][0]) for i in top}
+                    f_med, z_med = np.median(f[top]), max(np.median(list(z_top.values())), 1e-12)
+                    best = min(top, key=lambda i: (abs(f[i] / f_med - 1) / tol_f + abs(z_top[i] / z_med - 1),
+                                                   -pts[i][2]))
                     picks.append(pts[best])
         s = np.array([p[0] for p in picks])
         L = np.array([p[1] for p in picks])
@@ -105,11 +107,11 @@ def _stability(prev_s, prev_L, s, L, df_hz=0.0, tol_f=0.01, tol_z=0.05, tol_mac=
     """Stable flags of poles s (participations L) against the nearest pole of the previous order:
     frequency within tol_f, damping within tol_z (relative) and participation MAC >= tol_mac.
 
-    For a pole whose frequency holds to a tenth of tol_f, the damping tolerance has a floor of
-    df/(2 f): one spectral line df [Hz] of half-power bandwidth 2 zeta f. A lightly damped mode
-    whose peak spans a few lines (impact tests at 1 Hz resolution) is not resolved better than
-    that and its damping wanders by more than 5 % between orders; computational poles drifting
-    along the band edge move in frequency and keep the strict test."""
+    For a resolution-limited pole (half-power bandwidth 2 zeta f under five lines df [Hz]) whose
+    frequency holds to a tenth of tol_f, the damping tolerance has a floor of df/(2 f): one line of
+    bandwidth. Such a mode (impact tests at 1 Hz resolution) is not resolved better than that and
+    its damping wanders by more than 5 % between orders; computational poles drifting along the
+    band edge move in frequency and keep the strict test, as do well-resolved modes."""
     if prev_s is None or len(prev_s) == 0 or len(s) == 0:
         return np.zeros(len(s), bool)
     f, z = np.abs(s), -s.real / np.abs(s)
@@ -118,7 +120,9 @@ def _stability(prev_s, prev_L, s, L, df_hz=0.0, tol_f=0.01, tol_z=0.05, tol_mac=
     num = np.abs(np.sum(prev_L[j].conj() * L, axis=1)) ** 2
     den = np.maximum(np.sum(np.abs(prev_L[j]) ** 2, axis=1) * np.sum(np.abs(L) ** 2, axis=1), 1e-300)
     dfreq = np.abs(fp[j] - f)
-    floor = np.where(dfreq <= 0.1 * tol_f * f, np.pi * df_hz / f, 0.0)  # f in rad/s: df / (2 f_hz)
+    # f in rad/s: 2 zeta f_hz = zeta f / pi is the half-power bandwidth [Hz], df / (2 f_hz) = pi df / f.
+    resolution_limited = (dfreq <= 0.1 * tol_f * f) & (z * f / np.pi < 5 * df_hz)
+    floor = np.where(resolution_limited, np.pi * df_hz / f, 0.0)
     tol_dz = np.maximum(tol_z * np.maximum(z, 1e-12), floor)
     return (dfreq <= tol_f * f) & (np.abs(zp[j] - z) <= tol_dz) & (num / den >= tol_mac)
 
