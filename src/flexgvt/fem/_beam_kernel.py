@@ -271,12 +271,13 @@ def _beam_chunk(x, R, nodes, E0s, L0s, stiff, arch, want_tangent, g_out, K_out, 
                 for m in range(7):
                     acc += B[a, m] * H[m, l]
                 BH[a, l] = acc
-        for a in range(12):
-            for b in range(12):
+        for a in range(12):  # B H B^T is symmetric (H is): one triangle, mirrored
+            for b in range(a, 12):
                 acc = 0.0
                 for l in range(7):
                     acc += BH[a, l] * B[b, l]
                 K[a, b] = acc
+                K[b, a] = acc
         jl_inv_apply(t1, c1, f[1:4], mu[0], 1.0)
         jl_inv_apply(t2, c2, f[4:7], mu[1], 1.0)
         for k in range(12):

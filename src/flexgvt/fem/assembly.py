@@ -21,10 +21,9 @@ def _scatter_add(out, target, values):  # pragma: no cover - compiled
 
 
 @numba.njit(cache=True)
-def _symmetric_lower(K, M, entries, mirror, alpha, out):  # pragma: no cover - compiled
-    for k in range(entries.size):
-        e = entries[k]
-        out[k] = 0.5 * (K[e] + K[mirror[k]]) + alpha * M[e]
+def _symmetric_part(K, M, mirror, alpha, out):  # pragma: no cover - compiled
+    for k in range(out.size):
+        out[k] = 0.5 * (K[k] + K[mirror[k]]) + alpha * M[k]
 
 
 class Pattern:
@@ -79,17 +78,8 @@ class Pattern:
             self._transpose = np.searchsorted(self._uniq, swapped)
         return self._transpose
 
-    def symmetric_lower(self, K_data: np.ndarray, M_data: np.ndarray, alpha: float) -> sp.csc_matrix:
-        """Lower triangle of the symmetric part of K + alpha M (data of two matrices on this pattern)."""
-        if not hasattr(self, "_lower"):
-            n = self.n
-            rows, cols = self._uniq % n, self._uniq // n
-            entries = np.flatnonzero(rows >= cols)
-            indptr = np.searchsorted(cols[entries], np.arange(n + 1)).astype(np.int32)
-            self._lower = entries, self.transpose[entries], self.indices[entries], indptr
-        entries, mirror, indices, indptr = self._lower
-        data = np.empty(len(entries))
-        _symmetric_lower(K_data, M_data, entries, mirror, alpha, data)
-        A = sp.csc_matrix((data, indices, indptr), shape=(self.n, self.n))
-        A.has_sorted_indices = True
-        return A
+    def symmetric(self, K_data: np.ndarray, M_data: np.ndarray, alpha: float) -> sp.csc_matrix:
+        """Symmetric part of K + alpha M (data of two matrices on this pattern), both triangles."""
+        data = np.empty(self.nnz)
+        _symmetric_part(K_data, M_data, self.transpose, alpha, data)
+        return self.matrix(data)

@@ -31,7 +31,8 @@ class CholmodCache:
 
     def factor(self, A: sp.csc_matrix):
         """Numeric Cholesky of symmetric A (only its lower triangle is read; in place, same symbolic
-        analysis), or None if not positive definite.
+        analysis), or None if not positive definite. Pass both triangles where they are at hand:
+        the simplicial factorisation of a lower-only matrix is measured 1.8x slower (it transposes).
 
         The returned object is only valid until the next call.
         """

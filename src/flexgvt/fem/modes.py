@@ -72,7 +72,9 @@ def _cholesky_inverse(K: sp.spmatrix, M: sp.spmatrix, sigma: float) -> spla.Line
     (below every eigenvalue); None lets eigsh factorise with SuperLU."""
     if not HAVE_CHOLMOD:
         return None
-    factor = CholmodCache().factor(sp.tril(K - sigma * M).tocsc())
+    A = (K - sigma * M).tocsc()  # both triangles: CHOLMOD's simplicial refactorisation reads it faster than the lower one
+    A.sort_indices()
+    factor = CholmodCache().factor(A)
     if factor is None:
         return None
     return spla.LinearOperator(K.shape, matvec=factor.solve_A, dtype=float)

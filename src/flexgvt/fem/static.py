@@ -127,7 +127,7 @@ class _Factor:
         self.K = K
         self.stabilisation = 0.0
         if cholmod is not None and HAVE_CHOLMOD:
-            chol = cholmod.factor(system.stabilised_tangent(K, M, STABILISATION, part="lower"))
+            chol = cholmod.factor(system.stabilised_tangent(K, M, STABILISATION, part="symmetric"))
             if chol is not None:
                 self._solve = chol.solve_A
                 return

@@ -493,22 +493,21 @@ class System:
     def stabilised_tangent(self, K: sp.csc_matrix, M: sp.csc_matrix, alpha: float,
                            part: str = "full") -> sp.csc_matrix:
         """The matrix Newton factorises, K + alpha M for K and M of this system's evaluate() and
-        mass_matrix(): part "full", "symmetric" (its symmetric part) or "lower" (the lower triangle
-        of the symmetric part, all a Cholesky factorisation reads). Without rigid links K and M
-        live on one pattern and this is elementwise on their data.
+        mass_matrix(): part "full" or "symmetric" (its symmetric part, what a Cholesky factorisation
+        reads). Without rigid links K and M live on one pattern and this is elementwise on their
+        data.
         """
         p = self.pattern
         if not self.has_links and K.nnz == M.nnz == p.nnz:
             if part == "full":
                 return p.matrix(K.data + alpha * M.data)
-            if part == "symmetric":
-                return p.matrix(0.5 * (K.data + K.data[p.transpose]) + alpha * M.data)
-            return p.symmetric_lower(K.data, M.data, alpha)
+            return p.symmetric(K.data, M.data, alpha)
         A = (K + alpha * M).tocsc()
         if part == "full":
             return A
-        A = 0.5 * (A + A.T)
-        return (sp.tril(A) if part == "lower" else A).tocsc()
+        A = (0.5 * (A + A.T)).tocsc()
+        A.sort_indices()
+        return A
 
     # ------------------------------------------------------------------ mass and damping
     def mass_matrix(self, x: np.ndarray, R: np.ndarray) -> sp.csc_matrix:
