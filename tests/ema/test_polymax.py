@@ -62,3 +62,18 @@ def test_selection_by_hand_and_bad_input(gvt):
     bad[3, 0, 0] = np.nan
     with pytest.raises(EMAError, match="NaN"):
         polymax((frfs.frequencies_hz, bad))
+
+
+def test_narrow_band_far_from_zero_drops_the_ill_posed_orders_with_a_warning():
+    """A 500-900 Hz band (a real wheel FRF's, 0.33 Hz lines) at orders up to 40: the basis Gram
+    matrix loses definiteness above about order 20; the orders above are dropped with a warning
+    naming the band, and the mode is still found (this used to stop with 'singular')."""
+    model = ModalModel(np.array([667.7]), np.array([0.008]), np.ones((1, 4)))
+    f = np.arange(0.0, 5000.0, 1 / 3)
+    frfs = synthesize_frfs(model, f, [0, 1, 2, 3], [0], quantity="accelerance", snr_db=40, seed=3)
+    with pytest.warns(UserWarning, match="500-900 Hz"):
+        stab = polymax(frfs, max_order=40, frequency_band=(500.0, 900.0))
+    assert 10 < max(stab.orders) < 40 and len(stab.poles) == len(stab.orders)
+    modes = stab.select()
+    np.testing.assert_allclose(modes.frequencies_hz, [667.7], rtol=1e-4)
+    np.testing.assert_allclose(modes.damping_ratio, [0.008], rtol=0.05)

@@ -9,10 +9,11 @@ matrix and participation factors from its eigenvectors.
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.linalg import cholesky, solve_triangular
+from scipy.linalg import cholesky, lapack, solve_triangular
 
 from ..errors import EMAError
 
@@ -127,6 +128,22 @@ def _stability(prev_s, prev_L, s, L, df_hz=0.0, tol_f=0.01, tol_z=0.05, tol_mac=
     return (dfreq <= tol_f * f) & (np.abs(zp[j] - z) <= tol_dz) & (num / den >= tol_mac)
 
 
+def _well_posed_order(Om, w2, P):
+    """Highest model order <= P whose basis Gram matrices R_o (Toeplitz in the lag) are positive
+    definite: on a narrow band far from 0 Hz the basis exp(i w dt r) covers a short arc of the unit
+    circle and its Gram matrix loses definiteness at high order."""
+    r = (Om.T @ w2).real  # (2P+1, n_o)
+    idx = np.arange(P + 1)
+    D = idx[None, :] - idx[:, None] + P
+    cols = [0] if bool(np.all(w2 == w2[:, :1])) else range(w2.shape[1])
+    best = P
+    for o in cols:
+        _, info = lapack.dpotrf(r[D, o], lower=1)
+        if info > 0:  # the leading (info - 1) block is positive definite: orders up to info - 2
+            best = min(best, info - 2)
+    return best
+
+
 def _reduced_normal_matrices(Om, w2, Hk, P):
     """Reduced normal matrices M_p = 2 (T - sum_o S_o^T R_o^-1 S_o) of every order p = 1..P.
 
@@ -212,6 +229,16 @@ def polymax(frfs, max_order: int = 40, frequency_band=None, orders=None, weighti
         w2 /= w2.mean(axis=0, keepdims=True)
     else:
         raise EMAError(f"weighting '{weighting}' must be 'unit' or 'inverse'")
+    usable = _well_posed_order(Om, w2, P)
+    if usable < P:
+        kept = [p for p in orders if p <= usable]
+        if not kept:
+            raise EMAError(f"PolyMAX: the normal equations are singular from model order {usable + 1} on the band "
+                           f"{lo:g}-{hi:g} Hz (a narrow band far from 0 Hz); widen the band towards 0 Hz")
+        warnings.warn(f"PolyMAX: model orders above {usable} dropped: the basis is ill-conditioned on the band "
+                      f"{lo:g}-{hi:g} Hz (narrow and far from 0 Hz); widen the band for higher orders", stacklevel=2)
+        orders, P = kept, usable
+        Om = Om[:, len(lags) // 2 - P: len(lags) // 2 + P + 1]
     stab = Stabilisation(freq, H, orders, [], [], [], outputs, inputs, (lo, hi), weighting)
     wanted = set(orders)
     prev_s = prev_L = None
