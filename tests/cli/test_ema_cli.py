@@ -52,7 +52,7 @@ def test_identify_wide_band_from_the_command_line(tmp_path):
     assert result.exit_code == 0, result.output
     got = json.loads((tmp_path / "w.json").read_text())["frequencies_hz"]
     # The command gives what the library gives on the file (accuracy itself: tests/ema/test_wideband.py).
-    direct = fg.ema.identify_wide_band(fg.io.read_uff(uff).frfs, frequency_band=(0.1, 60.0), max_order=30)
+    direct = fg.ema.identify_wide_band(fg.io.read_uff(uff).frfs, frequency_band=(0.1, 60.0), max_order=40)
     np.testing.assert_allclose(got, direct.frequencies_hz, rtol=1e-12)
     np.testing.assert_allclose(got, f, rtol=5e-3)  # all five found, none spurious
     bad = runner.invoke(app, ["ema", "identify", str(uff), "--wide", "--poles", "2.0", "--out", str(out)])

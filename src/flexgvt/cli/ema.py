@@ -20,7 +20,7 @@ console = Console()
 @app.command()
 def identify(path: Path = typer.Argument(..., help="UFF file with FRFs (dataset 58, function type 4)"),
              band: Optional[list[float]] = typer.Option(None, "--band", help="fit band: --band F_MIN --band F_MAX [Hz]"),
-             max_order: int = typer.Option(30, help="highest model order of the stabilisation diagram"),
+             max_order: int = typer.Option(40, help="highest model order of the stabilisation diagram (as fg.ema.polymax)"),
              poles: Optional[str] = typer.Option(None, help="pick poles by hand: comma-separated frequencies [Hz]"),
              wide: bool = typer.Option(False, "--wide", help="fit band by band (modes over decades of frequency, "
                                        "e.g. 0.2 Hz suspension modes with 100 Hz elastic modes)"),
