@@ -104,9 +104,10 @@ def capture_tangents(model, cfg):
     captured = []
     original = fg_static._Factor.__init__
 
-    def recording(self, system, K, M, reference, cholmod=None):
+    def recording(self, system, ev, M, reference, cholmod=None):
+        K = system.tangent_of(ev)
         captured.append((K + fg_static.STABILISATION * M).tocsc())  # the matrix flexgvt factorises
-        original(self, system, K, M, reference, cholmod)
+        original(self, system, ev, M, reference, cholmod)
 
     fg_static._Factor.__init__ = recording
     try:
@@ -301,7 +302,7 @@ def profile_breakdown(model, cfg):
     patches = [
         wrap(fg_system, "beam_forces", "beam kernel (numba, forces + tangent)"),
         wrap(fg_assembly.Pattern, "assemble", "sparse assembly (compiled scatter -> csc)"),
-        wrap(fg_system.System, "stabilised_tangent", "Newton matrix (symmetric part + alpha M)"),
+        wrap(fg_system.System, "newton_matrix", "Newton matrix (symmetric part of the element tangents + alpha M, one pass)"),
         wrap(fg_linsolve.CholmodCache, "factor", "CHOLMOD numeric refactorisation"),
         wrap(fg_system.System, "evaluate", "evaluate: rest (np.add.at scatter, point loads, reduce)"),
         wrap(fg_system.System, "update", "state update (expm_so3)"),

@@ -21,6 +21,18 @@ def _scatter_add(out, target, values):  # pragma: no cover - compiled
 
 
 @numba.njit(cache=True)
+def _scatter_add_symmetric(out, target, values):  # pragma: no cover - compiled
+    n, d = values.shape[0], values.shape[1]
+    for e in range(n):
+        base = e * d * d
+        for a in range(d):
+            for b in range(d):
+                t = target[base + a * d + b]
+                if t >= 0:
+                    out[t] += 0.5 * (values[e, a, b] + values[e, b, a])
+
+
+@numba.njit(cache=True)
 def _symmetric_part(K, M, mirror, alpha, out):  # pragma: no cover - compiled
     for k in range(out.size):
         out[k] = 0.5 * (K[k] + K[mirror[k]]) + alpha * M[k]
@@ -59,6 +71,14 @@ class Pattern:
         for target, v in zip(self._targets, values):
             if v.size:
                 _scatter_add(out, target, np.ascontiguousarray(v, dtype=float).reshape(-1))
+        return out
+
+    def add_symmetric(self, out: np.ndarray, values: list[np.ndarray]) -> np.ndarray:
+        """Add the symmetric parts of element matrices (one (n, d, d) array per block type) to
+        stored-entry data ``out`` in place, in one pass (no assembled unsymmetric matrix)."""
+        for target, v in zip(self._targets, values):
+            if v.size:
+                _scatter_add_symmetric(out, target, np.ascontiguousarray(v, dtype=float))
         return out
 
     def matrix(self, data: np.ndarray) -> sp.csc_matrix:

@@ -20,7 +20,7 @@ from ..model import Configuration, Model
 from ..model.configuration import parse_dofs
 from .rotations import logm_so3, relative_spins
 from .linsolve import HAVE_CHOLMOD, CholmodCache, superlu
-from .system import System
+from .system import Evaluation, System
 
 
 @dataclass(frozen=True)
@@ -122,15 +122,16 @@ class _Factor:
     """Factorised K + alpha M (CHOLMOD on its symmetric part where available, else SuperLU), with
     optional iterative refinement on K; a diagonal term is added only if every factorisation fails."""
 
-    def __init__(self, system: System, K: sp.csc_matrix, M: sp.csc_matrix, reference: float,
+    def __init__(self, system: System, ev: Evaluation, M: sp.csc_matrix, reference: float,
                  cholmod: CholmodCache | None = None):
-        self.K = K
+        self._system, self._ev = system, ev
         self.stabilisation = 0.0
         if cholmod is not None and HAVE_CHOLMOD:
-            chol = cholmod.factor(system.stabilised_tangent(K, M, STABILISATION, part="symmetric"))
+            chol = cholmod.factor(system.newton_matrix(ev, M, STABILISATION))
             if chol is not None:
                 self._solve = chol.solve_A
                 return
+        K = self.K
         base = system.stabilised_tangent(K, M, STABILISATION)
         diag = np.abs(K.diagonal())
         scale = np.where(diag > 0, diag, reference)
@@ -144,6 +145,10 @@ class _Factor:
             return
         raise SingularModelError("the tangent stiffness is singular even with a stabilising stiffness; "
                                  "the model has an unrestrained mechanism without mass")
+
+    @property
+    def K(self) -> sp.csc_matrix:
+        return self._system.tangent_of(self._ev)
 
     def solve(self, b: np.ndarray, refine: int = 0) -> np.ndarray:
         """Solve (K + alpha M) x = b, then ``refine`` steps of iterative refinement towards K x = b.
@@ -233,7 +238,7 @@ def solve_static(model: Model, configuration: Configuration, *, settings: Static
         fac = None
         first_energy = None
         it = 0
-        ev = system.evaluate(x, R, lam)
+        ev = system.evaluate(x, R, lam, assemble=False)
         while it < settings.max_iterations:
             r = ev.internal - ev.external
             ref = max(np.linalg.norm(ev.external), load_ref * lam, 1e-300)
@@ -244,7 +249,7 @@ def solve_static(model: Model, configuration: Configuration, *, settings: Static
                 history.append(IterationRecord(step, lam, it, res, 0.0, 0.0))
                 return x, R, ev, stabilised
             try:
-                fac = _Factor(system, ev.tangent, mass, load_ref, cholmod)
+                fac = _Factor(system, ev, mass, load_ref, cholmod)
             except SingularModelError:
                 return None
             delta = -fac.solve(r)
@@ -278,7 +283,7 @@ def solve_static(model: Model, configuration: Configuration, *, settings: Static
                 if np.isfinite(res_new) and res_new <= max(res, settings.tolerance):
                     history.append(IterationRecord(step, lam, it, res_new, 0.0, 0.0))
                     return x, R, ev, stabilised
-            ev = system.evaluate(x, R, lam)
+            ev = system.evaluate(x, R, lam, assemble=False)
         return None
 
     def chord_finish(x, R, lam, fac, energy_limit, step, it, stabilised):
@@ -415,7 +420,8 @@ def solve_linear_static(model: Model, configuration: Configuration) -> State:
     ev = system.evaluate(x, R, 1.0, tangent=False)
     # The stiffness of the unloaded structure: the load stiffness of the applied loads (weight of
     # offset masses, forces on rigid-link offsets and interpolation references) is second order.
-    K = system.evaluate(x, R, 0.0).tangent
+    ev0 = system.evaluate(x, R, 0.0)
+    K = ev0.tangent
     _rigid_body_check(system, K, ev.external - ev.internal, x, R)
     M = system.mass_matrix(x, R)
     r = ev.internal - ev.external
@@ -423,7 +429,7 @@ def solve_linear_static(model: Model, configuration: Configuration) -> State:
         r = r + _prescribed_forces(system, model, configuration)
         x, R = system.impose(x, R, 1.0)
     ref = max(np.linalg.norm(ev.external), np.linalg.norm(r), 1e-300)
-    fac = _Factor(system, K, M, ref)
+    fac = _Factor(system, ev0, M, ref)
     delta = -fac.solve(r, refine=4) if np.any(r) else np.zeros_like(r)
     if np.linalg.norm(K @ delta + r) > 1e-6 * ref:
         raise SingularModelError(f"configuration '{configuration.name}': the stiffness matrix is singular and the loads "

@@ -174,6 +174,7 @@ class Evaluation:
     axial_forces: np.ndarray
     cord_tension: np.ndarray
     cord_length: np.ndarray
+    blocks: list | None = None  # element tangents, when evaluate(assemble=False) left K unassembled
 
 
 class System:
@@ -398,8 +399,13 @@ class System:
         vals = np.concatenate([v.reshape(-1) for v in vectors])
         return np.bincount(self._scatter_dofs, weights=vals, minlength=6 * self.n_nodes)
 
-    def evaluate(self, x: np.ndarray, R: np.ndarray, lam: float, tangent: bool = True) -> Evaluation:
-        """Internal and applied forces (reduced) and the consistent tangent at a state and load factor."""
+    def evaluate(self, x: np.ndarray, R: np.ndarray, lam: float, tangent: bool = True,
+                 assemble: bool = True) -> Evaluation:
+        """Internal and applied forces (reduced) and the consistent tangent at a state and load factor.
+
+        assemble=False (no rigid links): the element tangents are kept in ``blocks`` for
+        :meth:`newton_matrix` or :meth:`tangent_of` instead of an assembled ``tangent``.
+        """
         gb, Kb, N = beam_forces(x, R, self.cm.beams, tangent)
         m = self.masses
         gm, Km = mass_gravity(R[m.nodes], m.offset, lam * self.mass_weight) if len(m.nodes) else \
@@ -425,12 +431,29 @@ class System:
         g_full = self._scatter([gb, gm, gc, gs])
         f_full = lam * self.applied
         T = self.transformation(x, R) if self.has_links else None
-        K = None
-        if tangent:
+        K = blocks = None
+        if tangent and not assemble and not self.has_links:
+            blocks = [Kb, Km, Kc, Ks]
+        elif tangent:
             K = self.pattern.assemble([Kb, Km, Kc, Ks])
             if self.has_links:
                 K = self._reduce_with_links(K, T, x, R, g_full - f_full)
-        return Evaluation(self.reduce_vector(g_full, T), self.reduce_vector(f_full, T), K, N, tension, length)
+        return Evaluation(self.reduce_vector(g_full, T), self.reduce_vector(f_full, T), K, N, tension, length,
+                          blocks)
+
+    def tangent_of(self, ev: Evaluation) -> sp.csc_matrix:
+        """The assembled tangent of an evaluation (assembling its element blocks if needed)."""
+        if ev.tangent is None and ev.blocks is not None:
+            ev.tangent = self.pattern.assemble(ev.blocks)
+        return ev.tangent
+
+    def newton_matrix(self, ev: Evaluation, M: sp.csc_matrix, alpha: float) -> sp.csc_matrix:
+        """Symmetric part of the tangent plus alpha M (what Newton's Cholesky factorises); from the
+        element blocks in one pass when the evaluation kept them."""
+        p = self.pattern
+        if ev.tangent is None and ev.blocks is not None and M.nnz == p.nnz:
+            return p.matrix(p.add_symmetric(alpha * M.data, ev.blocks))
+        return self.stabilised_tangent(self.tangent_of(ev), M, alpha, part="symmetric")
 
     def _reduce_with_links(self, K_full, T, x, R, r_full) -> sp.csc_matrix:
         """T^T K T plus the geometric term of the rotating rigid-link offsets and interpolation fits."""
