@@ -128,6 +128,9 @@ def _stability(prev_s, prev_L, s, L, df_hz=0.0, tol_f=0.01, tol_z=0.05, tol_mac=
     return (dfreq <= tol_f * f) & (np.abs(zp[j] - z) <= tol_dz) & (num / den >= tol_mac)
 
 
+_GRAM_PIVOT = 1e-6  # smallest squared Cholesky pivot of the basis Gram matrix, relative to its diagonal
+
+
 def _well_posed_order(Om, w2, P):
     """Highest model order <= P whose basis Gram matrices R_o (Toeplitz in the lag) are positive
     definite: on a narrow band far from 0 Hz the basis exp(i w dt r) covers a short arc of the unit
@@ -138,9 +141,13 @@ def _well_posed_order(Om, w2, P):
     cols = [0] if bool(np.all(w2 == w2[:, :1])) else range(w2.shape[1])
     best = P
     for o in cols:
-        _, info = lapack.dpotrf(r[D, o], lower=1)
-        if info > 0:  # the leading (info - 1) block is positive definite: orders up to info - 2
-            best = min(best, info - 2)
+        L, info = lapack.dpotrf(r[D, o], lower=1)
+        rows = info - 1 if info > 0 else P + 1  # the leading block that is positive definite
+        # Pivots below 1e-6 of r(0) are one round-off ulp of the lag sums away from breakdown:
+        # a Cholesky of the same matrix blocked differently (another BLAS) fails there.
+        weak = np.flatnonzero(np.diag(L)[:rows] ** 2 < _GRAM_PIVOT * r[P, o])
+        rows = min(rows, int(weak[0]) if weak.size else rows)
+        best = min(best, rows - 1)  # order p uses p + 1 basis powers
     return best
 
 
