@@ -1,0 +1,50 @@
+"""The CHOLMOD cache leaves exactly-zero entries out of its analysis and re-analyses when one turns non-zero."""
+
+import numpy as np
+import pytest
+import scipy.sparse as sp
+
+from flexgvt.fem.linsolve import HAVE_CHOLMOD, CholmodCache
+
+pytestmark = pytest.mark.skipif(not HAVE_CHOLMOD, reason="scikit-sparse not installed")
+
+
+def _spd_on_pattern(rng, n, couple):
+    """A symmetric positive definite matrix on a fixed dense pattern whose off-diagonal entries
+    coupling the even and odd unknowns are zero unless ``couple``."""
+    A = rng.standard_normal((n, n))
+    A = A @ A.T + n * np.eye(n)
+    parity = np.arange(n) % 2
+    if not couple:
+        A[parity[:, None] != parity[None, :]] = 0.0
+    full = sp.csc_matrix(np.ones((n, n)))  # the assembled pattern keeps every entry
+    full.data[:] = A.T.reshape(-1)  # column-major values of A on the dense pattern
+    return full, A
+
+
+def test_zero_entries_are_pruned_and_a_new_nonzero_triggers_a_new_analysis():
+    rng = np.random.default_rng(0)
+    n = 12
+    cache = CholmodCache()
+    b = rng.standard_normal(n)
+    A1, D1 = _spd_on_pattern(rng, n, couple=False)
+    f = cache.factor(A1)
+    assert f.L().nnz < n * (n + 1) // 2  # half the couplings left out
+    np.testing.assert_allclose(D1 @ f.solve_A(b), b, atol=1e-10)
+    first = cache.factor_object
+    A2, D2 = _spd_on_pattern(rng, n, couple=False)  # same zeros: refactorisation only
+    f = cache.factor(A2)
+    assert cache.factor_object is first
+    np.testing.assert_allclose(D2 @ f.solve_A(b), b, atol=1e-10)
+    A3, D3 = _spd_on_pattern(rng, n, couple=True)  # the couplings turn non-zero
+    f = cache.factor(A3)
+    assert cache.factor_object is not first
+    np.testing.assert_allclose(D3 @ f.solve_A(b), b, atol=1e-10)
+    A4, D4 = _spd_on_pattern(rng, n, couple=False)  # the grown pattern holds the zeros too
+    f = cache.factor(A4)
+    np.testing.assert_allclose(D4 @ f.solve_A(b), b, atol=1e-10)
+
+
+def test_not_positive_definite_gives_none():
+    A = sp.csc_matrix(np.array([[1.0, 2.0], [2.0, 1.0]]))
+    assert CholmodCache().factor(A) is None
