@@ -233,6 +233,10 @@ def _beam_chunk(x, R, nodes, E0s, L0s, stiff, arch, want_tangent, g_out, K_out, 
         local_rotations(Rr, R1, R2, E0, t1, t2, A33, T33, q4)
         c1, e1 = jl_inv_coeffs(t1)
         c2, e2 = jl_inv_coeffs(t2)
+        N_out[el] = local_energy(ln - L0, t1, t2, L0, stiff[el], arch[el], f, H)
+        # g = B f with B[k] = (dln, Jinv1 wb1, Jinv2 wb2): the rotation parts are wb . (Jinv^T f) = wb . mu.
+        jl_inv_apply(t1, c1, f[1:4], mu[0], 1.0)
+        jl_inv_apply(t2, c2, f[4:7], mu[1], 1.0)
         qb1 = _dot(r1, q)
         qb2 = _dot(r2, q)
         _cross(q1, r3, a1)
@@ -250,18 +254,14 @@ def _beam_chunk(x, R, nodes, E0s, L0s, stiff, arch, want_tangent, g_out, K_out, 
                     # R_r^T W_s[k]: row (k - base) of R_r^T for the node's own spin DOFs.
                     wl = Rr[k - base, i] if base <= k < base + 3 else 0.0
                     wb[s, k, i] = wl - om[k, i]
-            jl_inv_apply(t1, c1, wb[0, k], dth[0, k], -1.0)
-            jl_inv_apply(t2, c2, wb[1, k], dth[1, k], -1.0)
-            B[k, 0] = dln[k]
-            for i in range(3):
-                B[k, 1 + i] = dth[0, k, i]
-                B[k, 4 + i] = dth[1, k, i]
-        N_out[el] = local_energy(ln - L0, t1, t2, L0, stiff[el], arch[el], f, H)
-        for k in range(12):
-            acc = 0.0
-            for l in range(7):
-                acc += B[k, l] * f[l]
-            g_out[el, k] = acc
+            g_out[el, k] = dln[k] * f[0] + _dot(wb[0, k], mu[0]) + _dot(wb[1, k], mu[1])
+            if want_tangent:
+                jl_inv_apply(t1, c1, wb[0, k], dth[0, k], -1.0)
+                jl_inv_apply(t2, c2, wb[1, k], dth[1, k], -1.0)
+                B[k, 0] = dln[k]
+                for i in range(3):
+                    B[k, 1 + i] = dth[0, k, i]
+                    B[k, 4 + i] = dth[1, k, i]
         if not want_tangent:
             continue
         K = K_out[el]
@@ -278,8 +278,6 @@ def _beam_chunk(x, R, nodes, E0s, L0s, stiff, arch, want_tangent, g_out, K_out, 
                     acc += BH[a, l] * B[b, l]
                 K[a, b] = acc
                 K[b, a] = acc
-        jl_inv_apply(t1, c1, f[1:4], mu[0], 1.0)
-        jl_inv_apply(t2, c2, f[4:7], mu[1], 1.0)
         for k in range(12):
             for i in range(3):
                 omg[k, i] = Rr[i, 0] * om[k, 0] + Rr[i, 1] * om[k, 1] + Rr[i, 2] * om[k, 2]

@@ -38,6 +38,39 @@ def _symmetric_part(K, M, mirror, alpha, out):  # pragma: no cover - compiled
         out[k] = 0.5 * (K[k] + K[mirror[k]]) + alpha * M[k]
 
 
+@numba.njit(cache=True)
+def _build_pattern(rows, cols, n):  # pragma: no cover - compiled
+    """CSC pattern of the entries (rows[k], cols[k]) (negative: dropped) and the stored-entry index
+    of each: a counting sort by column, then each column's few rows sorted and merged."""
+    count = np.zeros(n + 1, np.int64)
+    for k in range(rows.size):
+        if rows[k] >= 0 and cols[k] >= 0:
+            count[cols[k] + 1] += 1
+    start = np.cumsum(count)
+    fill = start[:-1].copy()
+    order = np.empty(start[-1], np.int64)
+    for k in range(rows.size):
+        if rows[k] >= 0 and cols[k] >= 0:
+            order[fill[cols[k]]] = k
+            fill[cols[k]] += 1
+    target = np.full(rows.size, -1, np.int64)
+    indices = np.empty(start[-1], np.int32)
+    indptr = np.zeros(n + 1, np.int32)
+    nnz = 0
+    for c in range(n):
+        seg = order[start[c]:start[c + 1]]
+        seg = seg[np.argsort(rows[seg], kind="mergesort")]
+        last = -1
+        for k in seg:
+            if rows[k] != last:
+                last = rows[k]
+                indices[nnz] = last
+                nnz += 1
+            target[k] = nnz - 1
+        indptr[c + 1] = nnz
+    return target, indptr, indices[:nnz].copy()
+
+
 class Pattern:
     """Sparse pattern of element blocks mapped to (reduced) DOFs.
 
@@ -53,17 +86,11 @@ class Pattern:
             sizes.append(rows[-1].size)
         rows = dof_map[np.concatenate(rows)] if rows else np.zeros(0, int)
         cols = dof_map[np.concatenate(cols)] if cols else np.zeros(0, int)
-        keep = (rows >= 0) & (cols >= 0)
-        keys = cols.astype(np.int64) * n + rows
-        uniq, inverse = np.unique(keys[keep], return_inverse=True)
-        target = np.full(len(keys), -1, np.int64)
-        target[keep] = inverse
+        target, self.indptr, self.indices = _build_pattern(rows.astype(np.int64), cols.astype(np.int64), n)
         self._targets = np.split(target, np.cumsum(sizes)[:-1]) if sizes else []
-        self._uniq = uniq
-        self.indices = (uniq % n).astype(np.int32)
-        self.indptr = np.searchsorted(uniq // n, np.arange(n + 1)).astype(np.int32)
+        self._uniq = np.repeat(np.arange(n, dtype=np.int64), np.diff(self.indptr)) * n + self.indices
         self.n = n
-        self.nnz = len(uniq)
+        self.nnz = len(self.indices)
 
     def data(self, values: list[np.ndarray]) -> np.ndarray:
         """Stored-entry values (nnz,) from one array of element matrices per block type."""

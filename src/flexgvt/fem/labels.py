@@ -43,16 +43,17 @@ def energy_fractions(modes, state) -> np.ndarray:
         EA, GJ, EIy, EIz, phy, phz = b.section_stiffness.T
         L = b.L0
         vertical = np.abs(Rr[:, 2, 2]) >= np.abs(Rr[:, 2, 1])  # local z closer to global z: bending about y is OOP
-        for m, phi in enumerate(shapes):
-            loc = [np.einsum("nji,nj->ni", Rr, phi[nodes, sl]) for nodes in (n1, n2) for sl in (slice(0, 3), slice(3, 6))]
-            u1, t1, u2, t2 = loc
-            ext = 0.5 * EA / L * (u2[:, 0] - u1[:, 0]) ** 2
-            tor = 0.5 * GJ / L * (t2[:, 0] - t1[:, 0]) ** 2
-            by = _bending_energy(EIy, phy, L, u1[:, 2], t1[:, 1], u2[:, 2], t2[:, 1], -1.0)
-            bz = _bending_energy(EIz, phz, L, u1[:, 1], t1[:, 2], u2[:, 1], t2[:, 2], 1.0)
-            oop = np.where(vertical, by, bz).sum()
-            ip = np.where(vertical, bz, by).sum()
-            out[m, :4] = oop, ip, tor.sum(), ext.sum()
+        # All modes at once: (n_modes, n_elements, 3) local translations and rotations of each end.
+        u1, t1, u2, t2 = (sum(shapes[:, nodes, sl][..., j, None] * Rr[None, :, j, :] for j in range(3))
+                          for nodes in (n1, n2) for sl in (slice(0, 3), slice(3, 6)))
+        ext = 0.5 * EA / L * (u2[..., 0] - u1[..., 0]) ** 2
+        tor = 0.5 * GJ / L * (t2[..., 0] - t1[..., 0]) ** 2
+        by = _bending_energy(EIy, phy, L, u1[..., 2], t1[..., 1], u2[..., 2], t2[..., 1], -1.0)
+        bz = _bending_energy(EIz, phz, L, u1[..., 1], t1[..., 2], u2[..., 1], t2[..., 2], 1.0)
+        out[:, 0] = np.where(vertical, by, bz).sum(axis=1)
+        out[:, 1] = np.where(vertical, bz, by).sum(axis=1)
+        out[:, 2] = tor.sum(axis=1)
+        out[:, 3] = ext.sum(axis=1)
     total_pe = 0.5 * np.abs(modes.eigenvalues.real if modes.eigenvalues is not None else 0.0)
     if modes.complex_shapes is not None:
         total_pe = 0.5 * (2 * np.pi * modes.frequencies_hz) ** 2
