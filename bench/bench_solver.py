@@ -304,7 +304,7 @@ def profile_breakdown(model, cfg):
         wrap(fg_assembly.Pattern, "assemble", "sparse assembly (compiled scatter -> csc)"),
         wrap(fg_system.System, "newton_matrix", "Newton matrix (symmetric part of the element tangents + alpha M, one pass)"),
         wrap(fg_linsolve.CholmodCache, "factor", "CHOLMOD numeric refactorisation"),
-        wrap(fg_system.System, "evaluate", "evaluate: rest (np.add.at scatter, point loads, reduce)"),
+        wrap(fg_system.System, "evaluate", "evaluate: rest (force scatter, point loads, reduce)"),
         wrap(fg_system.System, "update", "state update (expm_so3)"),
         wrap(fg_system.System, "mass_matrix", "mass matrix: rest (corotated element matrices)"),
         wrap(fg_system.System, "__init__", "System set-up (DOF map, loads, pattern)"),
@@ -493,7 +493,8 @@ def render(results, prof, cpu, ncores, vers, libs, warmup, t_first, t_import) ->
     L.append("")
     L.append("**Floor** = the sparse factorisations the Newton solve needs (one per Newton iteration, with the "
              "library flexgvt uses (CHOLMOD analyse-once + refactor where scikit-sparse is installed, else SuperLU), "
-             "on the very matrices flexgvt factorised) + the eigensolve alone "
+             "on the very matrices flexgvt factorised, their exactly-zero entries left out as both do: the strip "
+             "bends in its symmetry plane, so half of the element pattern is zero) + the eigensolve alone "
              f"(`eigsh(K, {N_MODES}, M, sigma=0)`, same K and M, shift-invert through the same library). **Peer** = OpenSeesPy, corotational "
              "`elasticBeamColumn` with consistent mass, the same nodal weights in 20 `LoadControl` steps (Newton, "
              "`BandGen`), `eigen -genBandArpack 20` about the deformed state, same process.")

@@ -45,6 +45,10 @@ def test_zero_entries_are_pruned_and_a_new_nonzero_triggers_a_new_analysis():
     np.testing.assert_allclose(D4 @ f.solve_A(b), b, atol=1e-10)
 
 
-def test_not_positive_definite_gives_none():
-    A = sp.csc_matrix(np.array([[1.0, 2.0], [2.0, 1.0]]))
-    assert CholmodCache().factor(A) is None
+def test_indefinite_matrix_is_factorised_and_a_zero_pivot_refused():
+    """LDL^T without pivoting: an indefinite matrix with sound pivots solves exactly; a zero pivot
+    (singular leading block) gives None so that the caller takes a pivoted LU."""
+    A = sp.csc_matrix(np.array([[1.0, 2.0], [2.0, 1.0]]))  # eigenvalues 3 and -1
+    f = CholmodCache().factor(A)
+    np.testing.assert_allclose(A @ f.solve_A(np.array([1.0, 0.0])), [1.0, 0.0], atol=1e-14)
+    assert CholmodCache().factor(sp.csc_matrix(np.array([[1.0, 1.0], [1.0, 1.0]]))) is None

@@ -12,7 +12,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from ..errors import SolverError
-from .linsolve import HAVE_CHOLMOD, CholmodCache
+from .linsolve import HAVE_CHOLMOD, CholmodCache, serial_blas
 from .static import State
 
 DENSE_LIMIT = 200  # reduced DOFs below which dense eigensolvers are used
@@ -68,8 +68,8 @@ DEFAULT_SHIFT = -(2 * np.pi * 0.01) ** 2
 
 
 def _cholesky_inverse(K: sp.spmatrix, M: sp.spmatrix, sigma: float) -> spla.LinearOperator | None:
-    """(K - sigma M)^-1 through CHOLMOD when it is installed and K - sigma M is positive definite
-    (below every eigenvalue); None lets eigsh factorise with SuperLU."""
+    """(K - sigma M)^-1 through CHOLMOD's LDL^T when it is installed and no pivot is tiny (sigma not
+    at an eigenvalue); None lets eigsh factorise with SuperLU."""
     if not HAVE_CHOLMOD:
         return None
     A = (K - sigma * M).tocsc()  # both triangles: CHOLMOD's simplicial refactorisation reads it faster than the lower one
@@ -165,6 +165,7 @@ def complex_modes(K, C, M, n_modes: int):
     return s, v
 
 
+@serial_blas
 def solve_modes(state: State, n_modes: int = 15, *, damped: bool | None = None, shift: float | None = None,
                 label: bool = True) -> Modes:
     """Modes about ``state`` with its tangent stiffness (symmetric part: stress and load stiffness included).

@@ -19,7 +19,7 @@ from ..errors import ConvergenceError, ModelError, SingularModelError
 from ..model import Configuration, Model
 from ..model.configuration import parse_dofs
 from .rotations import logm_so3, relative_spins
-from .linsolve import HAVE_CHOLMOD, CholmodCache, superlu
+from .linsolve import HAVE_CHOLMOD, CholmodCache, serial_blas, superlu
 from .system import Evaluation, System
 
 
@@ -196,6 +196,7 @@ def _limit_rotation(delta: np.ndarray, system: System, limit: float = 0.5) -> np
     return delta * (limit / rot) if rot > limit else delta
 
 
+@serial_blas
 def solve_static(model: Model, configuration: Configuration, *, settings: StaticSettings | None = None,
                  start: State | None = None, load_factors: np.ndarray | None = None,
                  progress: Callable[[float], None] | None = None, keep_steps: bool = False):
@@ -411,6 +412,7 @@ def _prescribed_forces(system: System, model: Model, configuration: Configuratio
     return (K @ u)[loose.dof_map[free_full]]
 
 
+@serial_blas
 def solve_linear_static(model: Model, configuration: Configuration) -> State:
     """Linear static solution (small displacements) about the undeformed state, with the stiffness of
     the unloaded structure (no load stiffness, as Nastran SOL 101)."""
