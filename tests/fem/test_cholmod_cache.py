@@ -52,3 +52,9 @@ def test_indefinite_matrix_is_factorised_and_a_zero_pivot_refused():
     f = CholmodCache().factor(A)
     np.testing.assert_allclose(A @ f.solve_A(np.array([1.0, 0.0])), [1.0, 0.0], atol=1e-14)
     assert CholmodCache().factor(sp.csc_matrix(np.array([[1.0, 1.0], [1.0, 1.0]]))) is None
+
+
+def test_a_diagonal_entry_missing_from_the_pattern_is_a_zero_pivot():
+    A = sp.csc_matrix(np.array([[0.0, 1.0], [1.0, 2.0]]))
+    A.eliminate_zeros()  # no stored (0, 0) entry
+    assert CholmodCache().factor(A) is None

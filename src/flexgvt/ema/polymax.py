@@ -143,8 +143,8 @@ def _well_posed_order(Om, w2, P):
     for o in cols:
         L, info = lapack.dpotrf(r[D, o], lower=1)
         rows = info - 1 if info > 0 else P + 1  # the leading block that is positive definite
-        # Pivots below 1e-6 of r(0) are one round-off ulp of the lag sums away from breakdown:
-        # a Cholesky of the same matrix blocked differently (another BLAS) fails there.
+        # A squared pivot below 1e-6 of r(0): the basis is nearly dependent, and the factorisation
+        # breaks down a few orders later at an order that depends on the BLAS build (25 or 27 seen).
         weak = np.flatnonzero(np.diag(L)[:rows] ** 2 < _GRAM_PIVOT * r[P, o])
         rows = min(rows, int(weak[0]) if weak.size else rows)
         best = min(best, rows - 1)  # order p uses p + 1 basis powers
