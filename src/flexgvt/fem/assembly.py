@@ -88,7 +88,6 @@ class Pattern:
         cols = dof_map[np.concatenate(cols)] if cols else np.zeros(0, int)
         target, self.indptr, self.indices = _build_pattern(rows.astype(np.int64), cols.astype(np.int64), n)
         self._targets = np.split(target, np.cumsum(sizes)[:-1]) if sizes else []
-        self._uniq = np.repeat(np.arange(n, dtype=np.int64), np.diff(self.indptr)) * n + self.indices
         self.n = n
         self.nnz = len(self.indices)
 
@@ -121,8 +120,9 @@ class Pattern:
         """Permutation p with data[p] the data of the transposed matrix (the pattern is symmetric)."""
         if not hasattr(self, "_transpose"):
             n = self.n
-            swapped = (self._uniq % n) * n + self._uniq // n
-            self._transpose = np.searchsorted(self._uniq, swapped)
+            keys = np.repeat(np.arange(n, dtype=np.int64), np.diff(self.indptr)) * n + self.indices  # sorted
+            swapped = (keys % n) * n + keys // n
+            self._transpose = np.searchsorted(keys, swapped)
         return self._transpose
 
     def symmetric(self, K_data: np.ndarray, M_data: np.ndarray, alpha: float) -> sp.csc_matrix:

@@ -43,7 +43,6 @@ class CholmodCache:
         self._full = None  # (shape, indptr, indices) of the full pattern the kept set refers to
         self._keep = None  # bool (nnz,): entries of the full pattern in the analysed one
         self._kept_idx = self._dropped_idx = None
-        self._diag_pos = self._diag_cols = None  # stored diagonal entries of the analysed pattern
         self._pruned = None  # csc matrix on the analysed pattern, its data overwritten each call
 
     def _same_pattern(self, A: sp.csc_matrix) -> bool:
@@ -62,9 +61,6 @@ class CholmodCache:
         self._full = (A.shape, A.indptr, A.indices)
         self._keep = keep
         self._kept_idx = np.flatnonzero(keep)
-        pruned_cols = np.repeat(np.arange(A.shape[1]), counts)
-        self._diag_pos = np.flatnonzero(self._pruned.indices == pruned_cols)
-        self._diag_cols = pruned_cols[self._diag_pos]
         self._dropped_idx = np.flatnonzero(~keep)
         self.factor_object = _cholmod.analyze(self._pruned, mode="simplicial")
 
@@ -97,8 +93,7 @@ class CholmodCache:
         # symmetric part of a tangent at a stretched predicted state often is): accepted unless a
         # pivot is tiny against its diagonal entry, where unpivoted elimination loses accuracy.
         D = self.factor_object.D()
-        diag = np.zeros(A.shape[0])  # a diagonal entry missing from the pattern counts as zero
-        diag[self._diag_cols] = np.abs(self._pruned.data[self._diag_pos])
+        diag = np.abs(self._pruned.diagonal())  # an entry missing from the pattern counts as zero
         if not np.all(np.abs(D) > _PIVOT_TOLERANCE * diag):  # also false for NaN
             return None
         return self.factor_object
