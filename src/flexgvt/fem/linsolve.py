@@ -13,6 +13,7 @@ from __future__ import annotations
 import functools
 import warnings
 
+import numba
 import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
@@ -26,6 +27,21 @@ from threadpoolctl import ThreadpoolController
 
 HAVE_CHOLMOD = _cholmod is not None
 _PIVOT_TOLERANCE = 1e-12  # smallest accepted |pivot| of LDL^T relative to its diagonal entry
+
+
+@numba.njit(cache=True, nogil=True)
+def _gather(data, kept, dropped, out):  # pragma: no cover - compiled
+    """out = data[kept]; True if data[dropped] holds a non-zero (the pruned pattern must grow)."""
+    for i in range(dropped.size):
+        if data[dropped[i]] != 0.0:
+            return True
+    for i in range(kept.size):
+        out[i] = data[kept[i]]
+    return False
+
+
+def _same_memory(a: np.ndarray, b: np.ndarray) -> bool:
+    return a.size == b.size and a.ctypes.data == b.ctypes.data
 
 
 class CholmodCache:
@@ -44,17 +60,23 @@ class CholmodCache:
         self._keep = None  # bool (nnz,): entries of the full pattern in the analysed one
         self._kept_idx = self._dropped_idx = None
         self._pruned = None  # csc matrix on the analysed pattern, its data overwritten each call
+        self._diag_idx = None  # position of each diagonal entry in the pruned data
 
     def _same_pattern(self, A: sp.csc_matrix) -> bool:
         if self._full is None:
             return False
         shape, indptr, indices = self._full
-        return (A.shape == shape and A.nnz == len(indices)
-                and (A.indices is indices or (np.array_equal(A.indptr, indptr) and np.array_equal(A.indices, indices))))
+        if A.shape != shape or A.nnz != len(indices):
+            return False
+        # Matrices assembled on one Pattern share its index arrays (as views): no comparison needed.
+        if _same_memory(A.indices, indices) and _same_memory(A.indptr, indptr):
+            return True
+        return np.array_equal(A.indptr, indptr) and np.array_equal(A.indices, indices)
 
     def _analyse(self, A: sp.csc_matrix, keep: np.ndarray):
         cols = np.repeat(np.arange(A.shape[1]), np.diff(A.indptr))
-        keep = keep | (A.indices == cols)  # the diagonal always
+        diagonal = A.indices == cols
+        keep = keep | diagonal  # the diagonal always
         counts = np.bincount(cols[keep], minlength=A.shape[1])
         indptr = np.concatenate([[0], np.cumsum(counts)]).astype(A.indptr.dtype)
         self._pruned = sp.csc_matrix((A.data[keep], A.indices[keep], indptr), shape=A.shape)
@@ -62,6 +84,9 @@ class CholmodCache:
         self._keep = keep
         self._kept_idx = np.flatnonzero(keep)
         self._dropped_idx = np.flatnonzero(~keep)
+        diag_idx = np.full(A.shape[0], -1)  # -1: no stored diagonal entry (a zero pivot)
+        diag_idx[A.indices[diagonal]] = np.searchsorted(self._kept_idx, np.flatnonzero(diagonal))
+        self._diag_idx = diag_idx
         self.factor_object = _cholmod.analyze(self._pruned, mode="simplicial")
 
     def factor(self, A: sp.csc_matrix):
@@ -82,10 +107,8 @@ class CholmodCache:
             try:
                 if self.factor_object is None or not self._same_pattern(A):
                     self._analyse(A, A.data != 0)
-                elif np.any(A.data[self._dropped_idx] != 0):
+                elif _gather(A.data, self._kept_idx, self._dropped_idx, self._pruned.data):
                     self._analyse(A, self._keep | (A.data != 0))
-                else:
-                    np.take(A.data, self._kept_idx, out=self._pruned.data)
                 self.factor_object.cholesky_inplace(self._pruned)
             except _cholmod.CholmodNotPositiveDefiniteError:
                 return None
@@ -93,7 +116,7 @@ class CholmodCache:
         # symmetric part of a tangent at a stretched predicted state often is): accepted unless a
         # pivot is tiny against its diagonal entry, where unpivoted elimination loses accuracy.
         D = self.factor_object.D()
-        diag = np.abs(self._pruned.diagonal())  # an entry missing from the pattern counts as zero
+        diag = np.where(self._diag_idx >= 0, np.abs(self._pruned.data[self._diag_idx]), 0.0)
         if not np.all(np.abs(D) > _PIVOT_TOLERANCE * diag):  # also false for NaN
             return None
         return self.factor_object
