@@ -5,6 +5,7 @@ import numpy as np
 import pytest
 
 import flexgvt as fg
+from flexgvt.fem.beam import beam_forces
 from flexgvt.fem.rotations import expm_so3
 from flexgvt.fem.system import System
 
@@ -102,3 +103,30 @@ def test_rotated_structure_has_the_same_frequencies_loaded_and_unloaded():
         cfg_r = cfg.with_(gravity_direction=tuple(Q @ np.array(cfg.gravity_direction)))
         f1 = fg.solve_modes(fg.solve_static(rotated, cfg_r), 8).frequencies_hz
         np.testing.assert_allclose(f1, f0, rtol=1e-7)
+
+
+def test_reference_forces_replace_only_the_stress_dependent_part():
+    """Newton's first tangent of an increment takes the last converged state's beam forces in its
+    geometric part: with the element's own forces it is the exact tangent, with zero forces the
+    (symmetric) material tangent, and it is affine in the reference forces; the residual is exact."""
+    model, cfg = curved_model(False)
+    system = System(model, cfg)
+    rng = np.random.default_rng(5)
+    x, R = system.undeformed
+    x, R = system.update(x, R, 0.02 * rng.standard_normal(system.n_free) * np.where(system.rotation_mask, 10.0, 1.0))
+    beams = system.cm.beams
+    own = beam_forces(x, R, beams, False)[2]
+    K_exact = beam_forces(x, R, beams, True)[1]
+    g_ref, K_own, _ = beam_forces(x, R, beams, True, reference_forces=own)
+    np.testing.assert_allclose(K_own, K_exact, rtol=0, atol=1e-9 * np.abs(K_exact).max())
+    np.testing.assert_array_equal(g_ref, beam_forces(x, R, beams, False)[0])
+    K_zero = beam_forces(x, R, beams, True, reference_forces=np.zeros_like(own))[1]
+    scale = np.abs(K_zero).max()
+    assert np.abs(K_zero - K_zero.transpose(0, 2, 1)).max() < 1e-12 * scale
+    assert np.abs(K_exact - K_zero).max() > 1e-6 * scale  # the state is stressed: the check is not trivial
+    other = 3.0 * rng.standard_normal(own.shape) * np.abs(own).max()
+    K_a = beam_forces(x, R, beams, True, reference_forces=other)[1]
+    K_b = beam_forces(x, R, beams, True, reference_forces=2 * other)[1]
+    np.testing.assert_allclose(K_b - K_a, K_a - K_zero, rtol=0, atol=1e-9 * np.abs(K_a).max())
+    with pytest.raises(ValueError, match="reference_forces"):
+        beam_forces(x, R, beams, True, reference_forces=own[:-1])

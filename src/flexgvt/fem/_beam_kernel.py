@@ -164,18 +164,23 @@ def local_rotations(Rr, R1, R2, E0, t1, t2, A, tmp, q4):
 
 
 @njit(cache=True, nogil=True, parallel=True)
-def beam_kernel(x, R, nodes, E0s, L0s, stiff, arch, want_tangent, g_out, K_out, N_out, threads):
+def beam_kernel(x, R, nodes, E0s, L0s, stiff, arch, want_tangent, f_ref, g_out, K_out, f_out, threads):
     """All elements, in chunks over ``threads`` threads (elements are independent)."""
     n = nodes.shape[0]
     chunks = min(max(n // 256, 1), threads)
     for c in prange(chunks):
-        _beam_chunk(x, R, nodes, E0s, L0s, stiff, arch, want_tangent, g_out, K_out, N_out,
+        _beam_chunk(x, R, nodes, E0s, L0s, stiff, arch, want_tangent, f_ref, g_out, K_out, f_out,
                     c * n // chunks, (c + 1) * n // chunks)
 
 
 @njit(**_FAST)
-def _beam_chunk(x, R, nodes, E0s, L0s, stiff, arch, want_tangent, g_out, K_out, N_out, start, stop):
-    """Internal forces g_out (n, 12), tangent K_out (n, 12, 12) with K[a, b] = d g_a / d p_b, axial forces N_out."""
+def _beam_chunk(x, R, nodes, E0s, L0s, stiff, arch, want_tangent, f_ref, g_out, K_out, f_out, start, stop):
+    """Internal forces g_out (n, 12), tangent K_out (n, 12, 12) with K[a, b] = d g_a / d p_b and local
+    forces f_out (n, 7) = [N, M1, M2] conjugate to [elongation, local rotations of node 1, node 2].
+
+    f_ref (n, 7) or (0, 7): local forces that replace the element's own in the stress-dependent
+    (geometric) part of the tangent; the material part and the forces g_out stay exact.
+    """
     Rr = np.empty((3, 3))
     q1 = np.empty(3)
     q2 = np.empty(3)
@@ -233,7 +238,9 @@ def _beam_chunk(x, R, nodes, E0s, L0s, stiff, arch, want_tangent, g_out, K_out, 
         local_rotations(Rr, R1, R2, E0, t1, t2, A33, T33, q4)
         c1, e1 = jl_inv_coeffs(t1)
         c2, e2 = jl_inv_coeffs(t2)
-        N_out[el] = local_energy(ln - L0, t1, t2, L0, stiff[el], arch[el], f, H)
+        N = local_energy(ln - L0, t1, t2, L0, stiff[el], arch[el], f, H)
+        for i in range(7):
+            f_out[el, i] = f[i]
         # g = B f with B[k] = (dln, Jinv1 wb1, Jinv2 wb2): the rotation parts are wb . (Jinv^T f) = wb . mu.
         jl_inv_apply(t1, c1, f[1:4], mu[0], 1.0)
         jl_inv_apply(t2, c2, f[4:7], mu[1], 1.0)
@@ -264,6 +271,16 @@ def _beam_chunk(x, R, nodes, E0s, L0s, stiff, arch, want_tangent, g_out, K_out, 
                     B[k, 4 + i] = dth[1, k, i]
         if not want_tangent:
             continue
+        if f_ref.shape[0] > 0 and stiff[el, 0] != 0.0:
+            # H's stress terms (shallow-arch strain) with the reference axial force: the energy is
+            # evaluated at the elongation that gives that force, then the reference forces replace f.
+            EA = stiff[el, 0]
+            arch_strain = N / EA - (ln - L0) / L0
+            local_energy((f_ref[el, 0] / EA - arch_strain) * L0, t1, t2, L0, stiff[el], arch[el], f, H)
+            for i in range(7):
+                f[i] = f_ref[el, i]
+            jl_inv_apply(t1, c1, f[1:4], mu[0], 1.0)
+            jl_inv_apply(t2, c2, f[4:7], mu[1], 1.0)
         K = K_out[el]
         for a in range(12):
             for l in range(7):

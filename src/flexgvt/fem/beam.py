@@ -80,20 +80,28 @@ def local_rotations(Rr, R1, R2, E0):
     return logm_so3(RrT @ R1 @ E0), logm_so3(RrT @ R2 @ E0)
 
 
-def beam_forces(x: np.ndarray, R: np.ndarray, data: BeamData, tangent: bool = True):
+def beam_forces(x: np.ndarray, R: np.ndarray, data: BeamData, tangent: bool = True,
+                reference_forces: np.ndarray | None = None):
     """Internal forces and consistent tangent of all beams at nodal positions x (n_nodes, 3), rotations R.
 
     Returns g (n, 12) conjugate to [dx1, spin1, dx2, spin2], K (n, 12, 12) with
     K[a, b] = d g_a / d p_b (exact, non-symmetric away from equilibrium; its symmetric part is
-    the energy Hessian) or None, and the axial forces N (n,) [N].
+    the energy Hessian) or None, and the local forces (n, 7): [N, M1 (3), M2 (3)] [N, N m],
+    conjugate to the elongation and the local rotations of the two nodes (column 0 is the axial
+    force). reference_forces (n, 7): local forces to use in the stress-dependent (geometric) part
+    of the tangent instead of the element's own (those of another state); g stays exact.
     """
     n = len(data.L0)
     g = np.empty((n, 12))
     K = np.empty((n, 12, 12)) if tangent else np.empty((0, 12, 12))
-    N = np.empty(n)
+    local = np.empty((n, 7))
+    ref = np.empty((0, 7)) if reference_forces is None or not tangent else \
+        np.ascontiguousarray(reference_forces, dtype=float)
+    if ref.shape[0] not in (0, n):
+        raise ValueError(f"reference_forces has {ref.shape[0]} rows for {n} beam elements")
     beam_kernel(np.ascontiguousarray(x), np.ascontiguousarray(R), data.nodes, data.E0, data.L0, data.stiffness,
-                data.arch, tangent, g, K, N, numba.get_num_threads())
-    return g, (K if tangent else None), N
+                data.arch, tangent, ref, g, K, local, numba.get_num_threads())
+    return g, (K if tangent else None), local
 
 
 def local_mass_matrices(data: BeamData) -> np.ndarray:

@@ -91,8 +91,10 @@ class StaticSettings:
     spent at the round-off floor of stiff axial members); intermediate_energy_tolerance: the
     same for load levels on the way, whose state only seeds the next increment (the problem is
     elastic, nothing accumulates; the final and requested levels keep the strict tolerance);
-    there up to chord_steps steps with the last factor finish the increment when the first of
-    them already meets it; min_increment: smallest load increment before giving up;
+    there the increment ends without a new tangent once the correction computed with the last
+    factor meets it; chord_steps: corrections with that factor tried first when it does not
+    (each must cut the energy tenfold; 0 by default: from a stretched state they diverge more
+    often than they help); min_increment: smallest load increment before giving up;
     max_increment_growth: largest growth of an increment after an easy step (1.0 keeps every
     increment equal); desired_iterations: the increment is scaled by sqrt(desired / taken)
     after each step.
@@ -104,7 +106,7 @@ class StaticSettings:
     energy_tolerance: float = 1e-14
     relative_energy_tolerance: float = 1e-12
     intermediate_energy_tolerance: float = 1e-6
-    chord_steps: int = 3
+    chord_steps: int = 0
     min_increment: float = 1e-5
     max_increment_growth: float = 1.5
     desired_iterations: int = 5
@@ -228,9 +230,11 @@ def solve_static(model: Model, configuration: Configuration, *, settings: Static
                      ev.axial_forces, ev.cord_tension, ev.cord_length, stabilised,
                      time.perf_counter() - t0, system)
 
-    def newton(x, R, lam, step, energy_tolerance=settings.relative_energy_tolerance):
+    def newton(x, R, lam, step, energy_tolerance=settings.relative_energy_tolerance, reference=None):
         """Iterate to equilibrium at load factor lam.
 
+        reference: the evaluation at the last converged state when (x, R) is a predicted state; the
+        first tangent takes its beam forces for the stress-dependent part (see the predictor).
         Returns (x, R, ev, stabilised) or None. The residual is checked before factorising.
         """
         stabilised = False
@@ -239,7 +243,7 @@ def solve_static(model: Model, configuration: Configuration, *, settings: Static
         fac = None
         first_energy = None
         it = 0
-        ev = system.evaluate(x, R, lam, assemble=False)
+        ev = system.evaluate(x, R, lam, assemble=False, reference=reference)
         while it < settings.max_iterations:
             r = ev.internal - ev.external
             ref = max(np.linalg.norm(ev.external), load_ref * lam, 1e-300)
@@ -272,7 +276,7 @@ def solve_static(model: Model, configuration: Configuration, *, settings: Static
             it += 1
             if first_energy is None:
                 first_energy = energy
-                if energy_tolerance >= settings.intermediate_energy_tolerance and settings.chord_steps > 0:
+                if energy_tolerance >= settings.intermediate_energy_tolerance:
                     got = chord_finish(x, R, lam, fac, energy_tolerance * first_energy, step, it, stabilised)
                     if got is not None:
                         return got
@@ -281,53 +285,53 @@ def solve_static(model: Model, configuration: Configuration, *, settings: Static
                 ev = system.evaluate(x, R, lam, tangent=False)
                 r = ev.internal - ev.external
                 res_new = np.linalg.norm(r) / ref
-                if np.isfinite(res_new) and res_new <= max(res, settings.tolerance):
+                # (a correction below the absolute energy floor may move the residual within round-off)
+                if np.isfinite(res_new) and (res_new <= max(res, settings.tolerance)
+                                             or (energy < settings.energy_tolerance and res_new <= 2 * res)):
                     history.append(IterationRecord(step, lam, it, res_new, 0.0, 0.0))
                     return x, R, ev, stabilised
             ev = system.evaluate(x, R, lam, assemble=False)
         return None
 
     def chord_finish(x, R, lam, fac, energy_limit, step, it, stabilised):
-        """Finish an intermediate increment with chord steps (the last factor, no new tangent) when
-        the first one's correction energy is already below the limit.
+        """Finish an intermediate increment with the last factor (modified Newton, no new tangent).
 
-        After the first Newton step of an increment has removed the predictor's axial stretch the
-        remaining correction is small and the old factor describes it well; chord steps go on
-        while each cuts the energy tenfold (at most ``settings.chord_steps``). Returns None if the
-        first is not good enough (the caller goes on with Newton from x, R).
+        A state is accepted once the energy of its correction with that factor is below the limit
+        (the correction itself is not applied: the test is on the state's remaining error); up to
+        ``settings.chord_steps`` corrections are applied before that while each cuts the energy
+        tenfold. Returns None if that fails (the caller goes on with Newton from its own x, R).
         """
-        ev = system.evaluate(x, R, lam, tangent=False)
-        r = ev.internal - ev.external
-        ref = max(np.linalg.norm(ev.external), load_ref * lam, 1e-300)
-        res = np.linalg.norm(r) / ref
-        scale = max(ref * (np.abs(system.cm.xyz).max() + 1.0), 1e-300)
-        last = None
-        done = 0
-        for _ in range(settings.chord_steps):
+        scale = None
+        last = np.inf
+        for done in range(settings.chord_steps + 1):
+            ev = system.evaluate(x, R, lam, tangent=False)
+            r = ev.internal - ev.external
+            ref = max(np.linalg.norm(ev.external), load_ref * lam, 1e-300)
+            res = np.linalg.norm(r) / ref
+            scale = scale or max(ref * (np.abs(system.cm.xyz).max() + 1.0), 1e-300)
             delta = -fac.solve(r)
             energy = abs(delta @ r) / scale
-            if not (np.isfinite(energy) and energy <= (energy_limit if last is None else 0.1 * last)):
-                break
-            x_new, R_new = system.update(x, R, _limit_rotation(delta, system))
-            ev_new = system.evaluate(x_new, R_new, lam, tangent=False)
-            r_new = ev_new.internal - ev_new.external
-            res_new = np.linalg.norm(r_new) / ref
-            if not (np.isfinite(res_new) and res_new <= max(res, settings.tolerance)):
-                break
+            if not (np.isfinite(res) and np.isfinite(energy)):
+                return None
             history.append(IterationRecord(step, lam, it + done, res, energy, fac.stabilisation))
-            x, R, ev, r, res, last = x_new, R_new, ev_new, r_new, res_new, energy
-            done += 1
-            if energy <= 1e-6 * energy_limit:
-                break
-        if last is None:
-            return None
-        history.append(IterationRecord(step, lam, it + done, res, 0.0, 0.0))
-        return x, R, ev, stabilised
+            if energy <= energy_limit:
+                return x, R, ev, stabilised
+            if done == settings.chord_steps or energy > 0.1 * last:
+                return None
+            x, R = system.update(x, R, _limit_rotation(delta, system))
+            last = energy
+        return None
 
     def predict(x, R, lam, target, previous):
         """Secant predictor: the last converged increment extrapolated to the target load factor
-        (none for the first increment). It needs no factor, so an increment finished by chord
-        steps, whose last factor is that of the stretched predicted state, cannot spoil it."""
+        (none for the first increment). Extrapolating along rotating members stretches them by
+        O(rotation increment^2); the stiff axial terms turn that into forces far above the load
+        (~1e4-1e5 times for a thin strip), so Newton's first tangent from the predicted state takes
+        the converged state's beam forces in its stress-dependent part (see ``newton``). With the
+        predicted state's own ones the first correction left 25-7,000 times more error energy
+        (1,000-element strip under self-weight) and 3 of 20 increments needed two more tangents. A quadratic predictor
+        stretches less but amplifies the intermediate states' looser convergence (tried: more
+        iterations, and divergence with looser intermediate tolerances)."""
         if previous is None or previous[2] >= lam:
             return x, R
         xp, Rp, lp = previous
@@ -353,7 +357,8 @@ def solve_static(model: Model, configuration: Configuration, *, settings: Static
         state = make_state(x, R, 1.0, system.evaluate(x, R, 1.0, tangent=False), False)
         return (state, [state] * len(levels)) if keep_steps else state
     increment = 1.0 / settings.increments
-    last = make_state(x, R, 0.0, system.evaluate(x, R, 0.0, tangent=False), False)
+    converged = system.evaluate(x, R, 0.0, tangent=False)
+    last = make_state(x, R, 0.0, converged, False)
     if levels and levels[0] <= 0.0:
         saved.append(last)
     while lam < 1.0 - 1e-12:
@@ -365,7 +370,7 @@ def solve_static(model: Model, configuration: Configuration, *, settings: Static
         xs, Rs = predict(x, R, lam, target, previous)
         strict = target >= 1.0 - 1e-12 or any(abs(target - lv) < 1e-12 for lv in levels)
         tol = settings.relative_energy_tolerance if strict else settings.intermediate_energy_tolerance
-        got = newton(*system.impose(xs, Rs, target), target, step, tol)
+        got = newton(*system.impose(xs, Rs, target), target, step, tol, converged if xs is not x else None)
         if got is None:
             got = newton(*system.impose(x, R, target), target, step, tol)
         if got is None:
@@ -382,6 +387,7 @@ def solve_static(model: Model, configuration: Configuration, *, settings: Static
             continue
         previous = (x, R, lam)
         x, R, ev, stab = got
+        converged = ev
         lam = target
         last = make_state(x, R, lam, ev, stab or last.stabilised_mechanism)
         if any(abs(lam - lv) < 1e-12 for lv in levels):

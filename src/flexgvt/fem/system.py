@@ -175,6 +175,7 @@ class Evaluation:
     cord_tension: np.ndarray
     cord_length: np.ndarray
     blocks: list | None = None  # element tangents, when evaluate(assemble=False) left K unassembled
+    beam_forces: np.ndarray | None = None  # (n_beams, 7) local forces [N, M1, M2] (see beam.beam_forces)
 
 
 class System:
@@ -400,13 +401,17 @@ class System:
         return np.bincount(self._scatter_dofs, weights=vals, minlength=6 * self.n_nodes)
 
     def evaluate(self, x: np.ndarray, R: np.ndarray, lam: float, tangent: bool = True,
-                 assemble: bool = True) -> Evaluation:
+                 assemble: bool = True, reference: Evaluation | None = None) -> Evaluation:
         """Internal and applied forces (reduced) and the consistent tangent at a state and load factor.
 
         assemble=False (no rigid links): the element tangents are kept in ``blocks`` for
         :meth:`newton_matrix` or :meth:`tangent_of` instead of an assembled ``tangent``.
+        reference: an evaluation at another state whose beam forces replace the beams' own in the
+        stress-dependent part of the tangent (see solve_static's predictor); forces stay exact.
         """
-        gb, Kb, N = beam_forces(x, R, self.cm.beams, tangent)
+        ref = reference.beam_forces if reference is not None else None
+        gb, Kb, local = beam_forces(x, R, self.cm.beams, tangent, reference_forces=ref)
+        N = local[:, 0]
         m = self.masses
         gm, Km = mass_gravity(R[m.nodes], m.offset, lam * self.mass_weight) if len(m.nodes) else \
             (np.zeros((0, 6)), np.zeros((0, 6, 6)))
@@ -439,7 +444,7 @@ class System:
             if self.has_links:
                 K = self._reduce_with_links(K, T, x, R, g_full - f_full)
         return Evaluation(self.reduce_vector(g_full, T), self.reduce_vector(f_full, T), K, N, tension, length,
-                          blocks)
+                          blocks, local)
 
     def tangent_of(self, ev: Evaluation) -> sp.csc_matrix:
         """The assembled tangent of an evaluation (assembling its element blocks if needed)."""
