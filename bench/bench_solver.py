@@ -118,6 +118,7 @@ def capture_tangents(model, cfg):
     ev = system.evaluate(state.positions, state.rotations, state.load_factor)
     K = (0.5 * (ev.tangent + ev.tangent.T)).tocsc()
     M = system.mass_matrix(state.positions, state.rotations).tocsc()
+    M.eliminate_zeros()  # as flexgvt's eigensolve multiplies by M
     return state, captured, K, M
 
 

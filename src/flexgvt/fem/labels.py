@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, replace
 
+import numba
 import numpy as np
 from scipy.optimize import linear_sum_assignment
 
@@ -15,13 +16,38 @@ CLASS_NAMES = {"OOP": "out-of-plane bending", "IP": "in-plane bending", "T": "to
 _RIGID = ("fore-aft", "lateral", "plunge", "roll", "pitch", "yaw")
 
 
-def _bending_energy(EI, phi, L, d1, r1, d2, r2, sign):
+@numba.njit(cache=True, inline="always")
+def _bending_energy(EI, phi, L, d1, r1, d2, r2, sign):  # pragma: no cover - compiled
     """Energy of a Timoshenko bending block; sign=+1 for (v, rz), -1 for (w, ry)."""
     k = EI / (L**3 * (1 + phi))
     s = sign * L
     a = (12 * (d1 - d2) ** 2 + 12 * s * (d1 - d2) * (r1 + r2)
          + (4 + phi) * L**2 * (r1**2 + r2**2) + 2 * (2 - phi) * L**2 * r1 * r2)
     return 0.5 * k * a
+
+
+@numba.njit(cache=True)
+def _beam_energies(shapes, nodes, Rr, stiffness, L, vertical, out):  # pragma: no cover - compiled
+    """out[m] += (OOP, IP, torsion, extension) strain energies of mode m summed over the beams."""
+    loc = np.empty((4, 3))  # local u1, t1, u2, t2
+    for m in range(shapes.shape[0]):
+        for e in range(nodes.shape[0]):
+            for blk in range(4):
+                node = nodes[e, blk // 2]
+                off = 3 * (blk % 2)
+                for j in range(3):
+                    loc[blk, j] = (shapes[m, node, off] * Rr[e, 0, j] + shapes[m, node, off + 1] * Rr[e, 1, j]
+                                   + shapes[m, node, off + 2] * Rr[e, 2, j])
+            EA, GJ, EIy, EIz, phy, phz = stiffness[e]
+            Le = L[e]
+            ext = 0.5 * EA / Le * (loc[2, 0] - loc[0, 0]) ** 2
+            tor = 0.5 * GJ / Le * (loc[3, 0] - loc[1, 0]) ** 2
+            by = _bending_energy(EIy, phy, Le, loc[0, 2], loc[1, 1], loc[2, 2], loc[3, 1], -1.0)
+            bz = _bending_energy(EIz, phz, Le, loc[0, 1], loc[1, 2], loc[2, 1], loc[3, 2], 1.0)
+            out[m, 0] += by if vertical[e] else bz
+            out[m, 1] += bz if vertical[e] else by
+            out[m, 2] += tor
+            out[m, 3] += ext
 
 
 def energy_fractions(modes, state) -> np.ndarray:
@@ -40,20 +66,9 @@ def energy_fractions(modes, state) -> np.ndarray:
         n1, n2 = b.nodes[:, 0], b.nodes[:, 1]
         Rr = corotated_frames(state.positions[n1], state.positions[n2], state.rotations[n1], state.rotations[n2],
                               b.E0)[0]
-        EA, GJ, EIy, EIz, phy, phz = b.section_stiffness.T
-        L = b.L0
         vertical = np.abs(Rr[:, 2, 2]) >= np.abs(Rr[:, 2, 1])  # local z closer to global z: bending about y is OOP
-        # All modes at once: (n_modes, n_elements, 3) local translations and rotations of each end.
-        u1, t1, u2, t2 = (sum(shapes[:, nodes, sl][..., j, None] * Rr[None, :, j, :] for j in range(3))
-                          for nodes in (n1, n2) for sl in (slice(0, 3), slice(3, 6)))
-        ext = 0.5 * EA / L * (u2[..., 0] - u1[..., 0]) ** 2
-        tor = 0.5 * GJ / L * (t2[..., 0] - t1[..., 0]) ** 2
-        by = _bending_energy(EIy, phy, L, u1[..., 2], t1[..., 1], u2[..., 2], t2[..., 1], -1.0)
-        bz = _bending_energy(EIz, phz, L, u1[..., 1], t1[..., 2], u2[..., 1], t2[..., 2], 1.0)
-        out[:, 0] = np.where(vertical, by, bz).sum(axis=1)
-        out[:, 1] = np.where(vertical, bz, by).sum(axis=1)
-        out[:, 2] = tor.sum(axis=1)
-        out[:, 3] = ext.sum(axis=1)
+        _beam_energies(np.ascontiguousarray(shapes, dtype=float), b.nodes, np.ascontiguousarray(Rr),
+                       np.ascontiguousarray(b.section_stiffness, dtype=float), b.L0, vertical, out)
     total_pe = 0.5 * np.abs(modes.eigenvalues.real if modes.eigenvalues is not None else 0.0)
     if modes.complex_shapes is not None:
         total_pe = 0.5 * (2 * np.pi * modes.frequencies_hz) ** 2

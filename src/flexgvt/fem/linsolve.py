@@ -40,6 +40,44 @@ def _gather(data, kept, dropped, out):  # pragma: no cover - compiled
     return False
 
 
+@numba.njit(cache=True)
+def _prune(data, indptr, indices, keep):  # pragma: no cover - compiled
+    """Pattern of the kept entries (and every diagonal one): pruned (indptr, indices, data), the
+    kept and dropped positions in the full data, each diagonal entry's position in the pruned
+    data (-1: not stored) and the updated keep mask."""
+    n = indptr.size - 1
+    nnz = indices.size
+    keep = keep.copy()
+    count = 0
+    for c in range(n):
+        for k in range(indptr[c], indptr[c + 1]):
+            if indices[k] == c:
+                keep[k] = True
+            if keep[k]:
+                count += 1
+    p_indptr = np.zeros(n + 1, indptr.dtype)
+    p_indices = np.empty(count, indices.dtype)
+    p_data = np.empty(count)
+    kept = np.empty(count, np.int64)
+    dropped = np.empty(nnz - count, np.int64)
+    diag = np.full(n, -1, np.int64)
+    i = j = 0
+    for c in range(n):
+        for k in range(indptr[c], indptr[c + 1]):
+            if keep[k]:
+                if indices[k] == c:
+                    diag[c] = i
+                p_indices[i] = indices[k]
+                p_data[i] = data[k]
+                kept[i] = k
+                i += 1
+            else:
+                dropped[j] = k
+                j += 1
+        p_indptr[c + 1] = i
+    return p_indptr, p_indices, p_data, kept, dropped, diag, keep
+
+
 def _same_memory(a: np.ndarray, b: np.ndarray) -> bool:
     return a.size == b.size and a.ctypes.data == b.ctypes.data
 
@@ -74,19 +112,10 @@ class CholmodCache:
         return np.array_equal(A.indptr, indptr) and np.array_equal(A.indices, indices)
 
     def _analyse(self, A: sp.csc_matrix, keep: np.ndarray):
-        cols = np.repeat(np.arange(A.shape[1]), np.diff(A.indptr))
-        diagonal = A.indices == cols
-        keep = keep | diagonal  # the diagonal always
-        counts = np.bincount(cols[keep], minlength=A.shape[1])
-        indptr = np.concatenate([[0], np.cumsum(counts)]).astype(A.indptr.dtype)
-        self._pruned = sp.csc_matrix((A.data[keep], A.indices[keep], indptr), shape=A.shape)
+        indptr, indices, data, self._kept_idx, self._dropped_idx, self._diag_idx, self._keep = _prune(
+            A.data, A.indptr, A.indices, keep)
+        self._pruned = sp.csc_matrix((data, indices, indptr), shape=A.shape)
         self._full = (A.shape, A.indptr, A.indices)
-        self._keep = keep
-        self._kept_idx = np.flatnonzero(keep)
-        self._dropped_idx = np.flatnonzero(~keep)
-        diag_idx = np.full(A.shape[0], -1)  # -1: no stored diagonal entry (a zero pivot)
-        diag_idx[A.indices[diagonal]] = np.searchsorted(self._kept_idx, np.flatnonzero(diagonal))
-        self._diag_idx = diag_idx
         self.factor_object = _cholmod.analyze(self._pruned, mode="simplicial")
 
     def factor(self, A: sp.csc_matrix):

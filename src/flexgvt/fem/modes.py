@@ -72,7 +72,12 @@ def _cholesky_inverse(K: sp.spmatrix, M: sp.spmatrix, sigma: float) -> spla.Line
     at an eigenvalue); None lets eigsh factorise with SuperLU."""
     if not HAVE_CHOLMOD:
         return None
-    A = (K - sigma * M).tocsc()  # both triangles: CHOLMOD's simplicial refactorisation reads it faster than the lower one
+    # Both triangles: CHOLMOD's simplicial refactorisation reads them faster than the lower one.
+    if (sp.isspmatrix_csc(K) and sp.isspmatrix_csc(M) and K.has_sorted_indices and K.nnz == M.nnz
+            and np.array_equal(K.indptr, M.indptr) and np.array_equal(K.indices, M.indices)):
+        A = sp.csc_matrix((K.data - sigma * M.data, K.indices, K.indptr), shape=K.shape)  # one pattern
+    else:
+        A = (K - sigma * M).tocsc()
     A.sort_indices()
     factor = CholmodCache().factor(A)
     if factor is None:
@@ -110,7 +115,9 @@ def real_modes(K: sp.spmatrix, M: sp.spmatrix, n_modes: int, shift: float | None
         try:
             # A margin of extra pairs: ARPACK can miss members of clusters such as six rigid-body modes.
             k_run = min(n - 2, k + (max(2, k // 10) if clamped else max(6, k // 4)))
-            lam, phi = spla.eigsh(K.tocsc(), k=k_run, M=M.tocsr(), sigma=sigma, which="LM", mode="normal",
+            Mop = M.tocsr()  # ARPACK multiplies by M a few times per pair: leave exact zeros out
+            Mop.eliminate_zeros()
+            lam, phi = spla.eigsh(K.tocsc(), k=k_run, M=Mop, sigma=sigma, which="LM", mode="normal",
                                   OPinv=_cholesky_inverse(K, M, sigma), tol=1e-12)
         except RuntimeError as exc:
             raise SolverError(f"eigensolver failed ({exc}); the model may have a mechanism with no mass") from exc
@@ -176,9 +183,9 @@ def solve_modes(state: State, n_modes: int = 15, *, damped: bool | None = None, 
     """
     system = state.system
     x, R = state.positions, state.rotations
-    ev = system.evaluate(x, R, state.load_factor)
-    K = (0.5 * (ev.tangent + ev.tangent.T)).tocsc()
+    ev = system.evaluate(x, R, state.load_factor, assemble=False)
     M = system.mass_matrix(x, R)
+    K = system.newton_matrix(ev, M, 0.0)  # the symmetric part of the tangent
     clamped = system.unrestrained_rigid_motions(system.cm.xyz)[1].shape[1] == 0
     lam, phi = real_modes(K, M, n_modes, shift, clamped)
     T = system.transformation(x, R) if system.has_links else None
