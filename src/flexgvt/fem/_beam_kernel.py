@@ -222,10 +222,8 @@ def _beam_chunk(x, R, nodes, E0s, L0s, stiff, arch, want_tangent, f_ref, g_out, 
     r3 = np.empty(3)
     BH = np.empty((12, 7))
     musum = np.empty(3)
-    val_k = np.empty(12)
-    w_k = np.empty(12)
-    p2_k = np.empty(12)
-    p3_k = np.empty(12)
+    U = np.empty((3, 12))
+    G = np.empty((2, 3, 3))
     for el in range(start, stop):
         i1, i2 = nodes[el, 0], nodes[el, 1]
         x1, x2 = x[i1], x[i2]
@@ -295,14 +293,24 @@ def _beam_chunk(x, R, nodes, E0s, L0s, stiff, arch, want_tangent, f_ref, g_out, 
                     acc += BH[a, l] * B[b, l]
                 K[a, b] = acc
                 K[b, a] = acc
+        # (d Jinv[dth])^T m is linear in dth: its 3x3 matrix G (columns from unit vectors), per node.
+        for i in range(3):
+            for m in range(3):
+                tmp[m] = 1.0 if m == i else 0.0
+            jl_inv_dT_apply(t1, c1, e1, tmp, f[1:4], tmp2)
+            for m in range(3):
+                G[0, m, i] = tmp2[m]
+            jl_inv_dT_apply(t2, c2, e2, tmp, f[4:7], tmp2)
+            for m in range(3):
+                G[1, m, i] = tmp2[m]
         for k in range(12):
             for i in range(3):
                 omg[k, i] = Rr[i, 0] * om[k, 0] + Rr[i, 1] * om[k, 1] + Rr[i, 2] * om[k, 2]
                 dr1[k, i] = (D[k, i] - r1[i] * dln[k]) / ln
+                for s in range(2):
+                    nu[s, k, i] = G[s, i, 0] * dth[s, k, 0] + G[s, i, 1] * dth[s, k, 1] + G[s, i, 2] * dth[s, k, 2]
             _cross(omg[k], r2, dr2[k])
             _cross(omg[k], r3, dr3[k])
-            jl_inv_dT_apply(t1, c1, e1, dth[0, k], f[1:4], nu[0, k])
-            jl_inv_dT_apply(t2, c2, e2, dth[1, k], f[4:7], nu[1, k])
         # Spin directions of the nodal e2 vectors and the frame-twist ingredients.
         for k in range(12):
             for i in range(3):
@@ -329,31 +337,29 @@ def _beam_chunk(x, R, nodes, E0s, L0s, stiff, arch, want_tangent, f_ref, g_out, 
         f0 = f[0]
         for i in range(3):
             musum[i] = mu[0, i] + mu[1, i]
-        # Column j of the geometric part; the k-dependent picks of the sparse D[k] and spin rows
-        # first go into small arrays so the loop over k has no branches.
+        # Geometric part, column j: d g_k / d p_j of the terms wb . mu and dln f0. Each is om[k] . u_j
+        # (dense, rank 3: wb[s, k] = W_s[k] - om[k] and the frame-twist om[k, 0] depends on the
+        # frame through qb1, qb2) plus terms on the rows where D[k] or W_s[k] is non-zero.
+        c0s = musum[0] / qb2
+        beta = musum[1] + c0s * qb1
         for j in range(12):
+            dl = dln[j] / ln
+            U[0, j] = c0s * dqb2[j] - (nu[0, j, 0] + nu[1, j, 0])
+            U[1, j] = beta * dl - c0s * dqb1[j] - (nu[0, j, 1] + nu[1, j, 1])
+            U[2, j] = musum[2] * dl - (nu[0, j, 2] + nu[1, j, 2])
             _cross(mu[0], om[j], tmp)
             _cross(mu[1], om[j], tmp2)
-            for k in range(12):
-                val_k[k] = _dot(nu[0, j], wb[0, k]) + _dot(nu[1, j], wb[1, k])
-                w_k[k] = 0.0
-                p2_k[k] = 0.0
-                p3_k[k] = 0.0
             for i in range(3):
-                val_k[3 + i] -= _dot(tmp, Rr[i])
-                w_k[3 + i] = da1[j, i]
-                val_k[9 + i] -= _dot(tmp2, Rr[i])
-                w_k[9 + i] = da2[j, i]
-                # D[k] = -e_i (k < 3), +e_i (6 <= k < 9)
-                val_k[i] -= f0 * dr1[j, i]
-                val_k[6 + i] += f0 * dr1[j, i]
-                p2_k[i] = -dr2[j, i] / ln
-                p2_k[6 + i] = dr2[j, i] / ln
-                p3_k[i] = -dr3[j, i] / ln
-                p3_k[6 + i] = dr3[j, i] / ln
-            dl = dln[j] / ln
-            for k in range(12):
-                d3 = p2_k[k] - om[k, 2] * dl
-                d2 = -p3_k[k] - om[k, 1] * dl
-                d1 = (dqb1[j] * om[k, 1] + qb1 * d2 + 0.5 * w_k[k] - om[k, 0] * dqb2[j]) / qb2
-                K[k, j] += val_k[k] - (musum[0] * d1 + musum[1] * d2 + musum[2] * d3)  # K[a, b] = d g_a / d p_b
+                tmp[i] = nu[0, j, i] - tmp[i]
+                tmp2[i] = nu[1, j, i] - tmp2[i]
+            for i in range(3):
+                # spin rows of node 1 and node 2: W_s[k] is row (k - base) of Rr
+                K[3 + i, j] += _dot(Rr[i], tmp) - 0.5 * c0s * da1[j, i]
+                K[9 + i, j] += _dot(Rr[i], tmp2) - 0.5 * c0s * da2[j, i]
+                # translation rows: D[k] = -e_i (k < 3), +e_i (6 <= k < 9)
+                t = f0 * dr1[j, i] + (beta * dr3[j, i] - musum[2] * dr2[j, i]) / ln
+                K[i, j] -= t
+                K[6 + i, j] += t
+        for k in range(12):  # K[a, b] = d g_a / d p_b
+            for j in range(12):
+                K[k, j] += om[k, 0] * U[0, j] + om[k, 1] * U[1, j] + om[k, 2] * U[2, j]
