@@ -58,10 +58,16 @@ def _build_pattern(rows, cols, n):  # pragma: no cover - compiled
     indptr = np.zeros(n + 1, np.int32)
     nnz = 0
     for c in range(n):
-        seg = order[start[c]:start[c + 1]]
-        seg = seg[np.argsort(rows[seg], kind="mergesort")]
+        a, b = start[c], start[c + 1]
+        for i in range(a + 1, b):  # insertion sort by row: a column holds a few dozen entries
+            k = order[i]
+            j = i - 1
+            while j >= a and rows[order[j]] > rows[k]:
+                order[j + 1] = order[j]
+                j -= 1
+            order[j + 1] = k
         last = -1
-        for k in seg:
+        for k in order[a:b]:
             if rows[k] != last:
                 last = rows[k]
                 indices[nnz] = last
