@@ -528,7 +528,9 @@ def render(results, prof, cpu, ncores, vers, libs, warmup, t_first, t_import) ->
                  f"{'met' if ok_t else 'NOT met'}**; within 3x of the floor -> **{r1['total'] / r1['floor']:.2f}x: "
                  f"{'met' if ok_r else 'NOT met'}**. The floor is {fmt(r1['floor'])} "
                  f"({r1['n_iter']} factorisations with {r1['fl']['factor_kind']}); without scikit-sparse the "
-                 "SuperLU path is the one timed in the next table.")
+                 "SuperLU path is the one timed in the next table. On this shared 2-core VM both the total and "
+                 "the floor move by 10-30 % between runs minutes apart (minima over 9 repeats each), so one "
+                 "run's ratio is one sample: repeat the script before reading a ratio near 3 as met or not.")
         L.append("")
     L.append("Factorisation alternatives on the same matrices (all Newton iterations' tangents; CHOLMOD and the "
              "eigensolve with CHOLMOD factorise the symmetric part, which equals the tangent at equilibrium; "
