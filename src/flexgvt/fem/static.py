@@ -230,20 +230,24 @@ def solve_static(model: Model, configuration: Configuration, *, settings: Static
                      ev.axial_forces, ev.cord_tension, ev.cord_length, stabilised,
                      time.perf_counter() - t0, system)
 
-    def newton(x, R, lam, step, energy_tolerance=settings.relative_energy_tolerance, reference=None):
+    def newton(x, R, lam, step, energy_tolerance=settings.relative_energy_tolerance, reference=None,
+               predicted=True):
         """Iterate to equilibrium at load factor lam.
 
-        reference: the evaluation at the last converged state when (x, R) is a predicted state; the
-        first tangent takes its beam forces for the stress-dependent part (see the predictor).
+        reference: the evaluation at the last converged state. The tangent at the first
+        extrapolated state takes its beam forces for the stress-dependent part (see the predictor):
+        at (x, R) when it is a predicted state, else (x, R) is that converged state and the first
+        correction is the tangent predictor, so the tangent after it.
         Returns (x, R, ev, stabilised) or None. The residual is checked before factorising.
         """
+        intermediate = energy_tolerance >= settings.intermediate_energy_tolerance
         stabilised = False
         previous = np.inf
         growth = 0
         fac = None
         first_energy = None
         it = 0
-        ev = system.evaluate(x, R, lam, assemble=False, reference=reference)
+        ev = system.evaluate(x, R, lam, assemble=False, reference=reference if predicted else None)
         while it < settings.max_iterations:
             r = ev.internal - ev.external
             ref = max(np.linalg.norm(ev.external), load_ref * lam, 1e-300)
@@ -276,10 +280,11 @@ def solve_static(model: Model, configuration: Configuration, *, settings: Static
             it += 1
             if first_energy is None:
                 first_energy = energy
-                if energy_tolerance >= settings.intermediate_energy_tolerance:
-                    got = chord_finish(x, R, lam, fac, energy_tolerance * first_energy, step, it, stabilised)
-                    if got is not None:
-                        return got
+            if intermediate and (it == 1 or energy > energy_tolerance * first_energy):
+                # Test the corrected state with the factor at hand before a new tangent.
+                got = chord_finish(x, R, lam, fac, energy_tolerance * first_energy, step, it, stabilised)
+                if got is not None:
+                    return got
             elif energy <= energy_tolerance * first_energy:
                 # Converged in energy: check the corrected state's residual without a tangent.
                 ev = system.evaluate(x, R, lam, tangent=False)
@@ -290,7 +295,7 @@ def solve_static(model: Model, configuration: Configuration, *, settings: Static
                                              or (energy < settings.energy_tolerance and res_new <= 2 * res)):
                     history.append(IterationRecord(step, lam, it, res_new, 0.0, 0.0))
                     return x, R, ev, stabilised
-            ev = system.evaluate(x, R, lam, assemble=False)
+            ev = system.evaluate(x, R, lam, assemble=False, reference=reference if it == 1 and not predicted else None)
         return None
 
     def chord_finish(x, R, lam, fac, energy_limit, step, it, stabilised):
@@ -370,9 +375,9 @@ def solve_static(model: Model, configuration: Configuration, *, settings: Static
         xs, Rs = predict(x, R, lam, target, previous)
         strict = target >= 1.0 - 1e-12 or any(abs(target - lv) < 1e-12 for lv in levels)
         tol = settings.relative_energy_tolerance if strict else settings.intermediate_energy_tolerance
-        got = newton(*system.impose(xs, Rs, target), target, step, tol, converged if xs is not x else None)
-        if got is None:
-            got = newton(*system.impose(x, R, target), target, step, tol)
+        got = newton(*system.impose(xs, Rs, target), target, step, tol, converged, predicted=xs is not x)
+        if got is None and xs is not x:  # from the converged state instead, without the predictor
+            got = newton(*system.impose(x, R, target), target, step, tol, converged, predicted=False)
         if got is None:
             increment *= 0.5
             if increment < settings.min_increment:
