@@ -334,9 +334,9 @@ def solve_static(model: Model, configuration: Configuration, *, settings: Static
         (~1e4-1e5 times for a thin strip), so Newton's first tangent from the predicted state takes
         the converged state's beam forces in its stress-dependent part (see ``newton``). With the
         predicted state's own ones the first correction left 25-7,000 times more error energy
-        (1,000-element strip under self-weight) and 3 of 20 increments needed two more tangents. A quadratic predictor
-        stretches less but amplifies the intermediate states' looser convergence (tried: more
-        iterations, and divergence with looser intermediate tolerances)."""
+        (1,000-element strip under self-weight) and 3 of 20 increments needed two more tangents.
+        A quadratic predictor stretches less but amplifies the intermediate states' looser
+        convergence (tried: more iterations, and divergence with looser intermediate tolerances)."""
         if previous is None or previous[2] >= lam:
             return x, R
         xp, Rp, lp = previous
