@@ -155,7 +155,28 @@ def beam_mass_matrices(x: np.ndarray, R: np.ndarray, data: BeamData, local: np.n
     """(n, 12, 12) global mass matrices about the current state: local matrices in the corotated frame."""
     n1, n2 = data.nodes[:, 0], data.nodes[:, 1]
     Rr = corotated_frames(x[n1], x[n2], R[n1], R[n2], data.E0)[0]
-    E = np.zeros((len(Rr), 12, 12))
-    for b in range(4):
-        E[:, 3 * b:3 * b + 3, 3 * b:3 * b + 3] = Rr
-    return E @ local @ np.swapaxes(E, 1, 2)
+    out = np.empty((len(Rr), 12, 12))
+    _rotate_blocks(np.ascontiguousarray(Rr), np.ascontiguousarray(local, dtype=float), out)
+    return out
+
+
+@numba.njit(cache=True)
+def _rotate_blocks(Rr, local, out):  # pragma: no cover - compiled
+    """out[e] = E local[e] E^T with E = diag(Rr[e], Rr[e], Rr[e], Rr[e]), block by 3x3 block."""
+    tmp = np.empty((3, 3))
+    for e in range(Rr.shape[0]):
+        Q = Rr[e]
+        for bi in range(4):
+            for bj in range(4):
+                for i in range(3):
+                    for j in range(3):
+                        acc = 0.0
+                        for k in range(3):
+                            acc += local[e, 3 * bi + i, 3 * bj + k] * Q[j, k]
+                        tmp[i, j] = acc  # local block times Q^T
+                for i in range(3):
+                    for j in range(3):
+                        acc = 0.0
+                        for k in range(3):
+                            acc += Q[i, k] * tmp[k, j]
+                        out[e, 3 * bi + i, 3 * bj + j] = acc
