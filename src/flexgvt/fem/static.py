@@ -221,6 +221,7 @@ def solve_static(model: Model, configuration: Configuration, *, settings: Static
     cholmod = CholmodCache() if settings.cholmod else None
     ev0 = system.evaluate(x, R, 1.0, tangent=False)
     load_ref = max(np.linalg.norm(ev0.external), np.linalg.norm(ev0.internal), 1e-12)
+    length = np.abs(system.cm.xyz).max() + 1.0  # correction energies |du . r| are per (load x length) [m]
     _rigid_body_check(system, system.evaluate(x, R, 0.0).tangent, ev0.external - ev0.internal, x, R)
     levels = sorted(set(np.round(np.asarray(load_factors, float), 12))) if load_factors is not None else []
     saved: list[State] = []
@@ -262,7 +263,7 @@ def solve_static(model: Model, configuration: Configuration, *, settings: Static
             except SingularModelError:
                 return None
             delta = -fac.solve(r)
-            energy = abs(delta @ r) / max(ref * (np.abs(system.cm.xyz).max() + 1.0), 1e-300)
+            energy = abs(delta @ r) / max(ref * length, 1e-300)
             history.append(IterationRecord(step, lam, it, res, energy, fac.stabilisation))
             stabilised |= fac.stabilisation > 0
             # The energy norm is converged and the residual has stagnated at its round-off floor
@@ -306,16 +307,14 @@ def solve_static(model: Model, configuration: Configuration, *, settings: Static
         ``settings.chord_steps`` corrections are applied before that while each cuts the energy
         tenfold. Returns None if that fails (the caller goes on with Newton from its own x, R).
         """
-        scale = None
         last = np.inf
         for done in range(settings.chord_steps + 1):
             ev = system.evaluate(x, R, lam, tangent=False)
             r = ev.internal - ev.external
             ref = max(np.linalg.norm(ev.external), load_ref * lam, 1e-300)
             res = np.linalg.norm(r) / ref
-            scale = scale or max(ref * (np.abs(system.cm.xyz).max() + 1.0), 1e-300)
             delta = -fac.solve(r)
-            energy = abs(delta @ r) / scale
+            energy = abs(delta @ r) / max(ref * length, 1e-300)
             if not (np.isfinite(res) and np.isfinite(energy)):
                 return None
             history.append(IterationRecord(step, lam, it + done, res, energy, fac.stabilisation))
