@@ -74,8 +74,11 @@ def jl_inv_dT_apply(theta, c, e, dth, m, out):
 
 
 @njit(**_FAST)
-def local_energy(u, t1, t2, L0, st, arch_on, f, H):
-    """Gradient f (7) and Hessian H (7, 7) of the local strain energy in [u, theta1, theta2]; returns N.
+def local_energy(u, t1, t2, L0, st, arch_on, f, ge, hc):
+    """Gradient f (7) of the local strain energy in [u, theta1, theta2] and its Hessian as six
+    rank-one terms, H = sum_t hc[t] h_t h_t^T with h_0 = ge (the axial strain gradient, written
+    here), h_1 = e1 - e4 (torsion), h_2,3 = e2 +- e5 and h_4,5 = e3 +- e6 (bending per plane);
+    returns N.
 
     st = (EA, GJ, kd_y, ko_y, kd_z, ko_z): the energy is linear in these coefficients (bending
     energy 1/2 (kd (a^2 + b^2) + 2 ko a b) per plane), so derivatives with respect to any
@@ -86,33 +89,25 @@ def local_energy(u, t1, t2, L0, st, arch_on, f, H):
     a1, a2, b1, b2 = t1[1], t2[1], t1[2], t2[2]
     arch = arch_on * (2 * a1 * a1 - a1 * a2 + 2 * a2 * a2 + 2 * b1 * b1 - b1 * b2 + 2 * b2 * b2) / 30.0
     eps = u / L0 + arch
-    ge = f  # reuse f as scratch for the strain gradient, overwritten below
-    for i in range(7):
-        ge[i] = 0.0
     ge[0] = 1.0 / L0
+    ge[1] = 0.0
+    ge[4] = 0.0
     ge[2] = arch_on * (4 * a1 - a2) / 30.0
     ge[5] = arch_on * (4 * a2 - a1) / 30.0
     ge[3] = arch_on * (4 * b1 - b2) / 30.0
     ge[6] = arch_on * (4 * b2 - b1) / 30.0
     N = EA * eps
     for i in range(7):
-        for j in range(7):
-            H[i, j] = EA * L0 * ge[i] * ge[j]
-    for i in range(7):
         f[i] = N * L0 * ge[i]
-    for i, j in ((2, 5), (3, 6)):
-        H[i, i] += arch_on * N * L0 * 4.0 / 30.0
-        H[j, j] += arch_on * N * L0 * 4.0 / 30.0
-        H[i, j] -= arch_on * N * L0 / 30.0
-        H[j, i] -= arch_on * N * L0 / 30.0
     kt = GJ / L0
     tw = t2[0] - t1[0]
     f[1] -= kt * tw
     f[4] += kt * tw
-    H[1, 1] += kt
-    H[4, 4] += kt
-    H[1, 4] -= kt
-    H[4, 1] -= kt
+    hc[0] = EA * L0
+    hc[1] = kt
+    # Per bending plane the 2x2 block [[p, o], [o, p]] (bending plus the arch term's stress part)
+    # is (p + o)/2 (e_i + e_j)(e_i + e_j)^T + (p - o)/2 (e_i - e_j)(e_i - e_j)^T.
+    stress = arch_on * N * L0 / 30.0
     for axis in range(2):
         if axis == 0:
             i, j, kd, ko, ti, tj = 2, 5, st[2], st[3], t1[1], t2[1]
@@ -120,10 +115,10 @@ def local_energy(u, t1, t2, L0, st, arch_on, f, H):
             i, j, kd, ko, ti, tj = 3, 6, st[4], st[5], t1[2], t2[2]
         f[i] += kd * ti + ko * tj
         f[j] += ko * ti + kd * tj
-        H[i, i] += kd
-        H[j, j] += kd
-        H[i, j] += ko
-        H[j, i] += ko
+        p = kd + 4.0 * stress
+        o = ko - stress
+        hc[2 + 2 * axis] = 0.5 * (p + o)
+        hc[3 + 2 * axis] = 0.5 * (p - o)
     return N
 
 
@@ -173,6 +168,13 @@ def beam_kernel(x, R, nodes, E0s, L0s, stiff, arch, want_tangent, f_ref, g_out, 
                     c * n // chunks, (c + 1) * n // chunks)
 
 
+# The internal forces depend on the nodal translations only through x2 - x1, and they balance
+# (g_x1 = -g_x2): the kernel works on 9 DOFs [dx (node 2 relative to node 1), spin1, spin2] and
+# expands to the element's 12 at the end, K12[a, b] = s_a s_b K9[m_a, m_b].
+_FULL_TO_9 = np.array([0, 1, 2, 3, 4, 5, 0, 1, 2, 6, 7, 8])
+_FULL_SIGN = np.array([-1.0, -1.0, -1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0])
+
+
 @njit(**_FAST)
 def _beam_chunk(x, R, nodes, E0s, L0s, stiff, arch, want_tangent, f_ref, g_out, K_out, f_out, start, stop):
     """Internal forces g_out (n, 12), tangent K_out (n, 12, 12) with K[a, b] = d g_a / d p_b and local
@@ -181,6 +183,8 @@ def _beam_chunk(x, R, nodes, E0s, L0s, stiff, arch, want_tangent, f_ref, g_out, 
     f_ref (n, 7) or (0, 7): local forces that replace the element's own in the stress-dependent
     (geometric) part of the tangent; the material part and the forces g_out stay exact.
     """
+    m9 = _FULL_TO_9
+    sg = _FULL_SIGN
     Rr = np.empty((3, 3))
     q1 = np.empty(3)
     q2 = np.empty(3)
@@ -188,42 +192,40 @@ def _beam_chunk(x, R, nodes, E0s, L0s, stiff, arch, want_tangent, f_ref, g_out, 
     t1 = np.empty(3)
     t2 = np.empty(3)
     f = np.empty(7)
-    H = np.empty((7, 7))
-    B = np.zeros((12, 7))
-    om = np.zeros((12, 3))
-    wb = np.zeros((2, 12, 3))
-    dth = np.zeros((2, 12, 3))
-    D = np.zeros((12, 3))
-    for i in range(3):
-        D[i, i] = -1.0
-        D[6 + i, i] = 1.0
+    ge = np.empty(7)
+    hc = np.empty(6)
+    w = np.empty((6, 9))
+    B = np.zeros((9, 7))
+    om = np.zeros((9, 3))
+    wb = np.zeros((2, 9, 3))
+    dth = np.zeros((2, 9, 3))
     a1 = np.empty(3)
     a2 = np.empty(3)
     tmp = np.empty(3)
     tmp2 = np.empty(3)
     mu = np.empty((2, 3))
-    nu = np.empty((2, 12, 3))
-    dr1 = np.empty((12, 3))
-    dr2 = np.empty((12, 3))
-    dr3 = np.empty((12, 3))
-    omg = np.empty((12, 3))
-    dq1 = np.zeros((12, 3))
-    dq2 = np.zeros((12, 3))
-    dqb1 = np.empty(12)
-    dqb2 = np.empty(12)
-    da1 = np.empty((12, 3))
-    da2 = np.empty((12, 3))
-    dln = np.empty(12)
+    nu = np.empty((2, 9, 3))
+    dr1 = np.zeros((9, 3))
+    dr2 = np.empty((9, 3))
+    dr3 = np.empty((9, 3))
+    omg = np.empty((9, 3))
+    dq = np.zeros((9, 3))  # d q1 (rows 3-5) and d q2 (rows 6-8): spins of the nodal e2 vectors
+    dqb1 = np.empty(9)
+    dqb2 = np.empty(9)
+    da1 = np.empty((9, 3))
+    da2 = np.empty((9, 3))
+    dln = np.zeros(9)
+    g9 = np.empty(9)
     A33 = np.empty((3, 3))
     T33 = np.empty((3, 3))
     q4 = np.empty(4)
     r1 = np.empty(3)
     r2 = np.empty(3)
     r3 = np.empty(3)
-    BH = np.empty((12, 7))
     musum = np.empty(3)
-    U = np.empty((3, 12))
+    U = np.empty((3, 9))
     G = np.empty((2, 3, 3))
+    K9 = np.empty((9, 9))
     for el in range(start, stop):
         i1, i2 = nodes[el, 0], nodes[el, 1]
         x1, x2 = x[i1], x[i2]
@@ -236,7 +238,7 @@ def _beam_chunk(x, R, nodes, E0s, L0s, stiff, arch, want_tangent, f_ref, g_out, 
         local_rotations(Rr, R1, R2, E0, t1, t2, A33, T33, q4)
         c1, e1 = jl_inv_coeffs(t1)
         c2, e2 = jl_inv_coeffs(t2)
-        N = local_energy(ln - L0, t1, t2, L0, stiff[el], arch[el], f, H)
+        N = local_energy(ln - L0, t1, t2, L0, stiff[el], arch[el], f, ge, hc)
         for i in range(7):
             f_out[el, i] = f[i]
         # g = B f with B[k] = (dln, Jinv1 wb1, Jinv2 wb2): the rotation parts are wb . (Jinv^T f) = wb . mu.
@@ -246,20 +248,23 @@ def _beam_chunk(x, R, nodes, E0s, L0s, stiff, arch, want_tangent, f_ref, g_out, 
         qb2 = _dot(r2, q)
         _cross(q1, r3, a1)
         _cross(q2, r3, a2)
-        for k in range(12):
-            dln[k] = _dot(r1, D[k])
-            om[k, 2] = _dot(r2, D[k]) / ln
-            om[k, 1] = -_dot(r3, D[k]) / ln
-            w1 = a1[k - 3] if 3 <= k < 6 else 0.0
-            w2 = a2[k - 9] if k >= 9 else 0.0
-            om[k, 0] = (qb1 * om[k, 1] + 0.5 * (w1 + w2)) / qb2
-            for s in range(2):
-                base = 3 if s == 0 else 9
-                for i in range(3):
-                    # R_r^T W_s[k]: row (k - base) of R_r^T for the node's own spin DOFs.
-                    wl = Rr[k - base, i] if base <= k < base + 3 else 0.0
-                    wb[s, k, i] = wl - om[k, i]
-            g_out[el, k] = dln[k] * f[0] + _dot(wb[0, k], mu[0]) + _dot(wb[1, k], mu[1])
+        for k in range(9):
+            # Spin of the frame for a unit DOF k: about r2, r3 from the chord (translations), about
+            # r1 from the twist of the mean e2 vector (q through qb1 and the spins of q1, q2).
+            if k < 3:
+                dln[k] = r1[k]
+                om[k, 1] = -r3[k] / ln
+                om[k, 2] = r2[k] / ln
+                om[k, 0] = qb1 * om[k, 1] / qb2
+            else:
+                om[k, 1] = 0.0
+                om[k, 2] = 0.0
+                om[k, 0] = 0.5 * (a1[k - 3] if k < 6 else a2[k - 6]) / qb2
+            for i in range(3):
+                # R_r^T W_s[k]: row (k - base) of R_r^T for the node's own spin DOFs.
+                wb[0, k, i] = (Rr[k - 3, i] if 3 <= k < 6 else 0.0) - om[k, i]
+                wb[1, k, i] = (Rr[k - 6, i] if k >= 6 else 0.0) - om[k, i]
+            g9[k] = dln[k] * f[0] + _dot(wb[0, k], mu[0]) + _dot(wb[1, k], mu[1])
             if want_tangent:
                 jl_inv_apply(t1, c1, wb[0, k], dth[0, k], -1.0)
                 jl_inv_apply(t2, c2, wb[1, k], dth[1, k], -1.0)
@@ -267,6 +272,8 @@ def _beam_chunk(x, R, nodes, E0s, L0s, stiff, arch, want_tangent, f_ref, g_out, 
                 for i in range(3):
                     B[k, 1 + i] = dth[0, k, i]
                     B[k, 4 + i] = dth[1, k, i]
+        for a in range(12):
+            g_out[el, a] = sg[a] * g9[m9[a]]
         if not want_tangent:
             continue
         if f_ref.shape[0] > 0 and stiff[el, 0] != 0.0:
@@ -274,25 +281,29 @@ def _beam_chunk(x, R, nodes, E0s, L0s, stiff, arch, want_tangent, f_ref, g_out, 
             # evaluated at the elongation that gives that force, then the reference forces replace f.
             EA = stiff[el, 0]
             arch_strain = N / EA - (ln - L0) / L0
-            local_energy((f_ref[el, 0] / EA - arch_strain) * L0, t1, t2, L0, stiff[el], arch[el], f, H)
+            local_energy((f_ref[el, 0] / EA - arch_strain) * L0, t1, t2, L0, stiff[el], arch[el], f, ge, hc)
             for i in range(7):
                 f[i] = f_ref[el, i]
             jl_inv_apply(t1, c1, f[1:4], mu[0], 1.0)
             jl_inv_apply(t2, c2, f[4:7], mu[1], 1.0)
-        K = K_out[el]
-        for a in range(12):
-            for l in range(7):
+        # Material part B H B^T = sum_t hc[t] (B h_t)(B h_t)^T: one triangle, mirrored.
+        for a in range(9):
+            acc = 0.0
+            for m in range(7):
+                acc += B[a, m] * ge[m]
+            w[0, a] = acc
+            w[1, a] = B[a, 1] - B[a, 4]
+            w[2, a] = B[a, 2] + B[a, 5]
+            w[3, a] = B[a, 2] - B[a, 5]
+            w[4, a] = B[a, 3] + B[a, 6]
+            w[5, a] = B[a, 3] - B[a, 6]
+        for a in range(9):
+            for b in range(a, 9):
                 acc = 0.0
-                for m in range(7):
-                    acc += B[a, m] * H[m, l]
-                BH[a, l] = acc
-        for a in range(12):  # B H B^T is symmetric (H is): one triangle, mirrored
-            for b in range(a, 12):
-                acc = 0.0
-                for l in range(7):
-                    acc += BH[a, l] * B[b, l]
-                K[a, b] = acc
-                K[b, a] = acc
+                for t in range(6):
+                    acc += hc[t] * w[t, a] * w[t, b]
+                K9[a, b] = acc
+                K9[b, a] = acc
         # (d Jinv[dth])^T m is linear in dth: its 3x3 matrix G (columns from unit vectors), per node.
         for i in range(3):
             for m in range(3):
@@ -303,37 +314,32 @@ def _beam_chunk(x, R, nodes, E0s, L0s, stiff, arch, want_tangent, f_ref, g_out, 
             jl_inv_dT_apply(t2, c2, e2, tmp, f[4:7], tmp2)
             for m in range(3):
                 G[1, m, i] = tmp2[m]
-        for k in range(12):
+        for k in range(9):
             for i in range(3):
                 omg[k, i] = Rr[i, 0] * om[k, 0] + Rr[i, 1] * om[k, 1] + Rr[i, 2] * om[k, 2]
-                dr1[k, i] = (D[k, i] - r1[i] * dln[k]) / ln
                 for s in range(2):
                     nu[s, k, i] = G[s, i, 0] * dth[s, k, 0] + G[s, i, 1] * dth[s, k, 1] + G[s, i, 2] * dth[s, k, 2]
             _cross(omg[k], r2, dr2[k])
             _cross(omg[k], r3, dr3[k])
-        # Spin directions of the nodal e2 vectors and the frame-twist ingredients.
-        for k in range(12):
+        for k in range(3):  # the chord direction moves with the relative translation only
             for i in range(3):
-                dq1[k, i] = 0.0
-                dq2[k, i] = 0.0
+                dr1[k, i] = ((1.0 if i == k else 0.0) - r1[i] * r1[k]) / ln
         # e_i x q:  e0 x q = (0, -q2, q1), e1 x q = (q2, 0, -q0), e2 x q = (-q1, q0, 0)
-        dq1[3, 1], dq1[3, 2], dq1[4, 0], dq1[4, 2], dq1[5, 0], dq1[5, 1] = -q1[2], q1[1], q1[2], -q1[0], -q1[1], q1[0]
-        dq2[9, 1], dq2[9, 2], dq2[10, 0], dq2[10, 2], dq2[11, 0], dq2[11, 1] = -q2[2], q2[1], q2[2], -q2[0], -q2[1], q2[0]
-        for j in range(12):
-            dqb1[j] = _dot(dr1[j], q)
-            dqb2[j] = _dot(dr2[j], q)
-            for i in range(3):
-                dqa = 0.5 * (dq1[j, i] + dq2[j, i])
-                dqb1[j] += dqa * r1[i]
-                dqb2[j] += dqa * r2[i]
-            _cross(dq1[j], r3, tmp)
-            _cross(q1, dr3[j], tmp2)
-            for i in range(3):
-                da1[j, i] = tmp[i] + tmp2[i]
-            _cross(dq2[j], r3, tmp)
-            _cross(q2, dr3[j], tmp2)
-            for i in range(3):
-                da2[j, i] = tmp[i] + tmp2[i]
+        dq[3, 1], dq[3, 2], dq[4, 0], dq[4, 2], dq[5, 0], dq[5, 1] = -q1[2], q1[1], q1[2], -q1[0], -q1[1], q1[0]
+        dq[6, 1], dq[6, 2], dq[7, 0], dq[7, 2], dq[8, 0], dq[8, 1] = -q2[2], q2[1], q2[2], -q2[0], -q2[1], q2[0]
+        for j in range(9):
+            dqb1[j] = _dot(dr1[j], q) + 0.5 * _dot(dq[j], r1)
+            dqb2[j] = _dot(dr2[j], q) + 0.5 * _dot(dq[j], r2)
+            _cross(q1, dr3[j], da1[j])
+            _cross(q2, dr3[j], da2[j])
+            if 3 <= j < 6:
+                _cross(dq[j], r3, tmp)
+                for i in range(3):
+                    da1[j, i] += tmp[i]
+            elif j >= 6:
+                _cross(dq[j], r3, tmp)
+                for i in range(3):
+                    da2[j, i] += tmp[i]
         f0 = f[0]
         for i in range(3):
             musum[i] = mu[0, i] + mu[1, i]
@@ -342,7 +348,7 @@ def _beam_chunk(x, R, nodes, E0s, L0s, stiff, arch, want_tangent, f_ref, g_out, 
         # frame through qb1, qb2) plus terms on the rows where D[k] or W_s[k] is non-zero.
         c0s = musum[0] / qb2
         beta = musum[1] + c0s * qb1
-        for j in range(12):
+        for j in range(9):
             dl = dln[j] / ln
             U[0, j] = c0s * dqb2[j] - (nu[0, j, 0] + nu[1, j, 0])
             U[1, j] = beta * dl - c0s * dqb1[j] - (nu[0, j, 1] + nu[1, j, 1])
@@ -354,12 +360,15 @@ def _beam_chunk(x, R, nodes, E0s, L0s, stiff, arch, want_tangent, f_ref, g_out, 
                 tmp2[i] = nu[1, j, i] - tmp2[i]
             for i in range(3):
                 # spin rows of node 1 and node 2: W_s[k] is row (k - base) of Rr
-                K[3 + i, j] += _dot(Rr[i], tmp) - 0.5 * c0s * da1[j, i]
-                K[9 + i, j] += _dot(Rr[i], tmp2) - 0.5 * c0s * da2[j, i]
-                # translation rows: D[k] = -e_i (k < 3), +e_i (6 <= k < 9)
-                t = f0 * dr1[j, i] + (beta * dr3[j, i] - musum[2] * dr2[j, i]) / ln
-                K[i, j] -= t
-                K[6 + i, j] += t
-        for k in range(12):  # K[a, b] = d g_a / d p_b
-            for j in range(12):
-                K[k, j] += om[k, 0] * U[0, j] + om[k, 1] * U[1, j] + om[k, 2] * U[2, j]
+                K9[3 + i, j] += _dot(Rr[i], tmp) - 0.5 * c0s * da1[j, i]
+                K9[6 + i, j] += _dot(Rr[i], tmp2) - 0.5 * c0s * da2[j, i]
+                # relative translation rows (D[k] = e_i)
+                K9[i, j] += f0 * dr1[j, i] + (beta * dr3[j, i] - musum[2] * dr2[j, i]) / ln
+        for a in range(9):
+            for b in range(9):
+                K9[a, b] += om[a, 0] * U[0, b] + om[a, 1] * U[1, b] + om[a, 2] * U[2, b]
+        K = K_out[el]
+        for a in range(12):  # K[a, b] = d g_a / d p_b, expanded from the 9 DOFs
+            ra, sa = m9[a], sg[a]
+            for b in range(12):
+                K[a, b] = sa * sg[b] * K9[ra, m9[b]]
