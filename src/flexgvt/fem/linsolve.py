@@ -78,8 +78,19 @@ def _prune(data, indptr, indices, keep):  # pragma: no cover - compiled
     return p_indptr, p_indices, p_data, kept, dropped, diag, keep
 
 
+@numba.njit(cache=True, nogil=True)
+def _pivots_ok(D, data, diag_idx, tolerance):  # pragma: no cover - compiled
+    """Every |D[i]| above tolerance times |A_ii| (false for NaN)."""
+    for i in range(D.size):
+        k = diag_idx[i]
+        a = abs(data[k]) if k >= 0 else 0.0
+        if not abs(D[i]) > tolerance * a:
+            return False
+    return True
+
+
 def _same_memory(a: np.ndarray, b: np.ndarray) -> bool:
-    return a.size == b.size and a.ctypes.data == b.ctypes.data
+    return a is b or (a.size == b.size and a.__array_interface__["data"][0] == b.__array_interface__["data"][0])
 
 
 class CholmodCache:
@@ -144,9 +155,7 @@ class CholmodCache:
         # The simplicial factor is LDL^T, computed without pivoting, for indefinite matrices too (the
         # symmetric part of a tangent at a stretched predicted state often is): accepted unless a
         # pivot is tiny against its diagonal entry, where unpivoted elimination loses accuracy.
-        D = self.factor_object.D()
-        diag = np.where(self._diag_idx >= 0, np.abs(self._pruned.data[self._diag_idx]), 0.0)
-        if not np.all(np.abs(D) > _PIVOT_TOLERANCE * diag):  # also false for NaN
+        if not _pivots_ok(self.factor_object.D(), self._pruned.data, self._diag_idx, _PIVOT_TOLERANCE):
             return None
         return self.factor_object
 

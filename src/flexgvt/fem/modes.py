@@ -67,9 +67,11 @@ def _frequency_hz(lam: np.ndarray) -> np.ndarray:
 DEFAULT_SHIFT = -(2 * np.pi * 0.01) ** 2
 
 
-def _cholesky_inverse(K: sp.spmatrix, M: sp.spmatrix, sigma: float) -> spla.LinearOperator | None:
+def _cholesky_inverse(K: sp.spmatrix, M: sp.spmatrix, sigma: float,
+                      cache: CholmodCache | None = None) -> spla.LinearOperator | None:
     """(K - sigma M)^-1 through CHOLMOD's LDL^T when it is installed and no pivot is tiny (sigma not
-    at an eigenvalue); None lets eigsh factorise with SuperLU."""
+    at an eigenvalue); None lets eigsh factorise with SuperLU. cache: a symbolic analysis of the
+    pattern to reuse (the system's, from its static solve)."""
     if not HAVE_CHOLMOD:
         return None
     # Both triangles: CHOLMOD's simplicial refactorisation reads them faster than the lower one.
@@ -79,17 +81,19 @@ def _cholesky_inverse(K: sp.spmatrix, M: sp.spmatrix, sigma: float) -> spla.Line
     else:
         A = (K - sigma * M).tocsc()
     A.sort_indices()
-    factor = CholmodCache().factor(A)
+    factor = (cache or CholmodCache()).factor(A)
     if factor is None:
         return None
     return spla.LinearOperator(K.shape, matvec=factor.solve_A, dtype=float)
 
 
-def real_modes(K: sp.spmatrix, M: sp.spmatrix, n_modes: int, shift: float | None = None, clamped: bool = False):
+def real_modes(K: sp.spmatrix, M: sp.spmatrix, n_modes: int, shift: float | None = None, clamped: bool = False,
+               cholmod: CholmodCache | None = None):
     """Lowest n_modes of K phi = lam M phi (K symmetric, possibly singular or indefinite).
 
     clamped: the constraints restrain every rigid-body motion (no cluster of near-zero modes), so
-    the sparse eigensolver runs without a margin of extra pairs.
+    the sparse eigensolver runs without a margin of extra pairs. cholmod: a symbolic analysis of
+    K's pattern to reuse.
     """
     n = K.shape[0]
     k = min(n_modes, n)
@@ -120,7 +124,7 @@ def real_modes(K: sp.spmatrix, M: sp.spmatrix, n_modes: int, shift: float | None
             Mop = M.tocsr()  # ARPACK multiplies by M a few times per pair: leave exact zeros out
             Mop.eliminate_zeros()
             lam, phi = spla.eigsh(K.tocsc(), k=k_run, M=Mop, sigma=sigma, which="LM", mode="normal",
-                                  OPinv=_cholesky_inverse(K, M, sigma), tol=1e-12)
+                                  OPinv=_cholesky_inverse(K, M, sigma, cholmod), tol=1e-12)
         except RuntimeError as exc:
             raise SolverError(f"eigensolver failed ({exc}); the model may have a mechanism with no mass") from exc
         order = np.argsort(lam)[:k]
@@ -189,7 +193,7 @@ def solve_modes(state: State, n_modes: int = 15, *, damped: bool | None = None, 
     M = system.mass_matrix(x, R)
     K = system.newton_matrix(ev, M, 0.0)  # the symmetric part of the tangent
     clamped = system.unrestrained_rigid_motions(system.cm.xyz)[1].shape[1] == 0
-    lam, phi = real_modes(K, M, n_modes, shift, clamped)
+    lam, phi = real_modes(K, M, n_modes, shift, clamped, system.cholmod_cache)
     T = system.transformation(x, R) if system.has_links else None
     n = system.n_nodes
     use_damping = system.has_damping if damped is None else damped

@@ -32,8 +32,9 @@ def _spin_rotations(phi, R, out):  # pragma: no cover - compiled
     for n in range(phi.shape[0]):
         p0, p1, p2 = phi[n, 0], phi[n, 1], phi[n, 2]
         t2 = p0 * p0 + p1 * p1 + p2 * p2
-        if t2 < 1e-12:
-            a, b = 1.0 - t2 / 6.0, 0.5 - t2 / 24.0
+        if t2 < 1e-4:  # series (next terms ~ t^10 / 11!, below 1e-27): no sin and cos
+            a = 1.0 - t2 / 6.0 * (1.0 - t2 / 20.0 * (1.0 - t2 / 42.0 * (1.0 - t2 / 72.0)))
+            b = 0.5 - t2 / 24.0 * (1.0 - t2 / 30.0 * (1.0 - t2 / 56.0 * (1.0 - t2 / 90.0)))
         else:
             t = np.sqrt(t2)
             a, b = np.sin(t) / t, (1.0 - np.cos(t)) / t2

@@ -164,13 +164,17 @@ class _Factor:
         return x
 
 
-def _rigid_body_check(system: System, K: sp.csc_matrix, f_red: np.ndarray, x: np.ndarray, R: np.ndarray) -> None:
-    """Raise a clear error if the loads push along a rigid-body motion that nothing restrains."""
+def _rigid_body_check(system: System, K: sp.csc_matrix | Callable[[], sp.csc_matrix], f_red: np.ndarray,
+                      x: np.ndarray, R: np.ndarray) -> None:
+    """Raise a clear error if the loads push along a rigid-body motion that nothing restrains.
+    K: the undeformed tangent, or a function giving it (called only if a rigid motion is free)."""
     names = ["translation along x", "translation along y", "translation along z",
              "rotation about x", "rotation about y", "rotation about z"]
     modes, basis = system.unrestrained_rigid_motions(x)
     if basis.shape[1] == 0:
         return
+    if callable(K):
+        K = K()
     T = system.transformation(x, R) if system.has_links else None
     full = modes @ basis
     phi = np.stack([system.reduce_vector(full[:, j], T) for j in range(full.shape[1])], axis=1)
@@ -218,11 +222,11 @@ def solve_static(model: Model, configuration: Configuration, *, settings: Static
     x, R = system.undeformed
     history: list[IterationRecord] = []
     mass = system.mass_matrix(x, R)
-    cholmod = CholmodCache() if settings.cholmod else None
+    cholmod = system.cholmod_cache if settings.cholmod else None
     ev0 = system.evaluate(x, R, 1.0, tangent=False)
     load_ref = max(np.linalg.norm(ev0.external), np.linalg.norm(ev0.internal), 1e-12)
     length = np.abs(system.cm.xyz).max() + 1.0  # correction energies |du . r| are per (load x length) [m]
-    _rigid_body_check(system, system.evaluate(x, R, 0.0).tangent, ev0.external - ev0.internal, x, R)
+    _rigid_body_check(system, lambda: system.evaluate(x, R, 0.0).tangent, ev0.external - ev0.internal, x, R)
     levels = sorted(set(np.round(np.asarray(load_factors, float), 12))) if load_factors is not None else []
     saved: list[State] = []
 

@@ -19,6 +19,7 @@ from .assembly import Pattern
 from .beam import (BeamData, beam_forces, beam_mass_matrices, element_frames, kernel_coefficients,
                    local_mass_matrices)
 from .interpolation import InterpolationData, compile_interpolations, fit, geometric_block, jacobian
+from .linsolve import CholmodCache
 from .points import cord_damping, cord_forces, mass_gravity, mass_matrix, spring_damping, spring_forces
 from .rotations import expm_so3, skew, spin
 
@@ -577,6 +578,12 @@ class System:
             return A
         T = self.transformation(x, R)
         return (T.T @ A @ T).tocsc()
+
+    @cached_property
+    def cholmod_cache(self) -> CholmodCache:
+        """The symbolic Cholesky analysis of this system's pattern, shared by every solve on it
+        (Newton iterations, warm-started solves, the modes about its states)."""
+        return CholmodCache()
 
     @cached_property
     def has_damping(self) -> bool:
