@@ -11,7 +11,9 @@ from numba import njit, prange
 
 from .rotations import logm3 as logm
 
-_FAST = dict(cache=True, fastmath={"contract", "reassoc", "arcp", "nsz"}, nogil=True)
+# error_model="numpy": a division by zero gives inf/NaN (caught by the Newton loop's finiteness
+# checks) instead of an exception test on every division.
+_FAST = dict(cache=True, fastmath={"contract", "reassoc", "arcp", "nsz"}, nogil=True, error_model="numpy")
 
 
 @njit(**_FAST, inline="always")
@@ -26,7 +28,7 @@ def _dot(a, b):
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 
 
-@njit(**_FAST)
+@njit(**_FAST, inline="always")
 def jl_inv_coeffs(theta):
     """c(t) and e(t) = c'(t)/t of Jinv = I - S/2 + c S^2."""
     t2 = _dot(theta, theta)
@@ -45,7 +47,7 @@ def _cx(a0, a1, a2, b0, b1, b2):
     return a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0
 
 
-@njit(**_FAST)
+@njit(**_FAST, inline="always")
 def jl_inv_apply(theta, c, v, out, sign):
     """out = Jinv(theta) @ v (sign=-1) or Jinv(theta)^T @ v (sign=+1)."""
     t0, t1, t2 = theta[0], theta[1], theta[2]
@@ -56,7 +58,7 @@ def jl_inv_apply(theta, c, v, out, sign):
     out[2] = v[2] + sign * 0.5 * u2 + c * w2
 
 
-@njit(**_FAST)
+@njit(**_FAST, inline="always")
 def jl_inv_dT_apply(theta, c, e, dth, m, out):
     """out = (d Jinv[dth])^T m."""
     t0, t1, t2 = theta[0], theta[1], theta[2]
@@ -73,7 +75,7 @@ def jl_inv_dT_apply(theta, c, e, dth, m, out):
     out[2] = 0.5 * y2 + e * td * a2 + c * (b2 + z2)
 
 
-@njit(**_FAST)
+@njit(**_FAST, inline="always")
 def local_energy(u, t1, t2, L0, st, arch_on, f, ge, hc):
     """Gradient f (7) of the local strain energy in [u, theta1, theta2] and its Hessian as six
     rank-one terms, H = sum_t hc[t] h_t h_t^T with h_0 = ge (the axial strain gradient, written
@@ -122,7 +124,7 @@ def local_energy(u, t1, t2, L0, st, arch_on, f, ge, hc):
     return N
 
 
-@njit(**_FAST)
+@njit(**_FAST, inline="always")
 def corotated(x1, x2, R1, R2, E0, Rr, q1, q2, q):
     """Element frame Rr (columns r1, r2, r3) and nodal e2 vectors; returns the chord length."""
     d0, d1, d2 = x2[0] - x1[0], x2[1] - x1[1], x2[2] - x1[2]
@@ -139,7 +141,7 @@ def corotated(x1, x2, R1, R2, E0, Rr, q1, q2, q):
     return ln
 
 
-@njit(**_FAST)
+@njit(**_FAST, inline="always")
 def _rel(Rr, Rn, E0, A, tmp):
     """A = Rr^T Rn E0 without temporaries."""
     for i in range(3):
@@ -150,7 +152,7 @@ def _rel(Rr, Rn, E0, A, tmp):
             A[i, j] = Rr[0, i] * tmp[0, j] + Rr[1, i] * tmp[1, j] + Rr[2, i] * tmp[2, j]
 
 
-@njit(**_FAST)
+@njit(**_FAST, inline="always")
 def local_rotations(Rr, R1, R2, E0, t1, t2, A, tmp, q4):
     _rel(Rr, R1, E0, A, tmp)
     logm(A, t1, q4)

@@ -98,6 +98,7 @@ def real_modes(K: sp.spmatrix, M: sp.spmatrix, n_modes: int, shift: float | None
     n = K.shape[0]
     k = min(n_modes, n)
     dm = np.abs(M.diagonal())
+    Mop = M
     sigma = DEFAULT_SHIFT if shift is None else shift
     if n <= DENSE_LIMIT or k >= n - 1:
         A = K.toarray()
@@ -129,7 +130,7 @@ def real_modes(K: sp.spmatrix, M: sp.spmatrix, n_modes: int, shift: float | None
             raise SolverError(f"eigensolver failed ({exc}); the model may have a mechanism with no mass") from exc
         order = np.argsort(lam)[:k]
         lam, phi = lam[order], phi[:, order]
-    mm = np.einsum("ij,ij->j", phi, M @ phi)
+    mm = np.einsum("ij,ij->j", phi, Mop @ phi)
     bad = mm <= 0
     if np.any(bad):
         raise SolverError("a mode has zero or negative modal mass: some DOFs carry stiffness but no mass and no "
@@ -192,7 +193,7 @@ def solve_modes(state: State, n_modes: int = 15, *, damped: bool | None = None, 
     ev = system.evaluate(x, R, state.load_factor, assemble=False)
     M = system.mass_matrix(x, R)
     K = system.newton_matrix(ev, M, 0.0)  # the symmetric part of the tangent
-    clamped = system.unrestrained_rigid_motions(system.cm.xyz)[1].shape[1] == 0
+    clamped = system.unrestrained_rigid_motions(system.cm.xyz, basis_only=True).shape[1] == 0
     lam, phi = real_modes(K, M, n_modes, shift, clamped, system.cholmod_cache)
     T = system.transformation(x, R) if system.has_links else None
     n = system.n_nodes

@@ -72,7 +72,7 @@ def expm_so3(phi: np.ndarray) -> np.ndarray:
     return np.eye(3) + a[..., None, None] * S + b[..., None, None] * (S @ S)
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, inline="always")
 def logm3(R, out, q):  # pragma: no cover - compiled
     """Rotation vector of R (Shepperd quaternion, q: scratch (4,)), angle in [0, pi]."""
     tr = R[0, 0] + R[1, 1] + R[2, 2]

@@ -282,25 +282,34 @@ class System:
         a = np.where(s.a >= 0, s.a, s.b)  # grounded springs: node a block is zeroed below
         return np.concatenate([6 * a[:, None] + np.arange(6), 6 * s.b[:, None] + np.arange(6)], axis=1)
 
-    def unrestrained_rigid_motions(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Rigid-body motions about the centroid of positions x, (6n, 6), and a basis (6, k) of
-        their combinations that the fixed DOFs leave free (k = 0 for a clamped structure)."""
-        n = self.n_nodes
-        c = x.mean(axis=0)
-        modes = np.zeros((n, 6, 6))
+    @staticmethod
+    def _rigid_motions(x: np.ndarray, centre: np.ndarray) -> np.ndarray:
+        """(n, 6, 6): DOF values of the six unit rigid motions about ``centre`` at nodes x."""
+        modes = np.zeros((len(x), 6, 6))
         for a in range(3):
             e = np.zeros(3)
             e[a] = 1.0
             modes[:, a, a] = 1.0
-            modes[:, :3, 3 + a] = np.cross(e, x - c)
+            modes[:, :3, 3 + a] = np.cross(e, x - centre)
             modes[:, 3 + a, 3 + a] = 1.0
-        modes = modes.reshape(6 * n, 6)
-        fixed_rows = modes[self.fixed]
-        if not len(fixed_rows):
-            return modes, np.eye(6)
-        _, sv, vt = np.linalg.svd(fixed_rows, full_matrices=True)
-        rank = int(np.sum(sv > 1e-9 * max(sv.max(), 1e-300)))
-        return modes, vt[rank:].T
+        return modes
+
+    def unrestrained_rigid_motions(self, x: np.ndarray, *, basis_only: bool = False):
+        """Rigid-body motions about the centroid of positions x, (6n, 6), and a basis (6, k) of
+        their combinations that the fixed DOFs leave free (k = 0 for a clamped structure);
+        basis_only: the basis alone (the motions are built only at the fixed nodes)."""
+        c = x.mean(axis=0)
+        fixed = self.fixed.reshape(-1, 6)
+        at = np.flatnonzero(fixed.any(axis=1))
+        fixed_rows = self._rigid_motions(x[at], c)[fixed[at]]
+        basis = np.eye(6)
+        if len(fixed_rows):
+            _, sv, vt = np.linalg.svd(fixed_rows, full_matrices=True)
+            rank = int(np.sum(sv > 1e-9 * max(sv.max(), 1e-300)))
+            basis = vt[rank:].T
+        if basis_only:
+            return basis
+        return self._rigid_motions(x, c).reshape(6 * self.n_nodes, 6), basis
 
     @property
     def has_prescribed(self) -> bool:
