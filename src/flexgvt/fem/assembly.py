@@ -41,7 +41,8 @@ def _symmetric_part(K, M, mirror, alpha, out):  # pragma: no cover - compiled
 @numba.njit(cache=True)
 def _build_pattern(rows, cols, n):  # pragma: no cover - compiled
     """CSC pattern of the entries (rows[k], cols[k]) (negative: dropped) and the stored-entry index
-    of each: a counting sort by column, then each column's few rows sorted and merged."""
+    of each: a counting sort by column, then per column its distinct rows (marked, not sorted
+    with their duplicates), sorted and numbered."""
     count = np.zeros(n + 1, np.int64)
     for k in range(rows.size):
         if rows[k] >= 0 and cols[k] >= 0:
@@ -56,23 +57,25 @@ def _build_pattern(rows, cols, n):  # pragma: no cover - compiled
     target = np.full(rows.size, -1, np.int64)
     indices = np.empty(start[-1], np.int32)
     indptr = np.zeros(n + 1, np.int32)
+    mark = np.full(n, -1, np.int64)  # column in which a row was last seen
+    pos = np.empty(n, np.int64)  # stored-entry index of a row in the current column
     nnz = 0
     for c in range(n):
-        a, b = start[c], start[c + 1]
-        for i in range(a + 1, b):  # insertion sort by row: a column holds a few dozen entries
-            k = order[i]
-            j = i - 1
-            while j >= a and rows[order[j]] > rows[k]:
-                order[j + 1] = order[j]
-                j -= 1
-            order[j + 1] = k
-        last = -1
-        for k in order[a:b]:
-            if rows[k] != last:
-                last = rows[k]
-                indices[nnz] = last
+        first = nnz
+        for i in range(start[c], start[c + 1]):
+            r = rows[order[i]]
+            if mark[r] != c:
+                mark[r] = c
+                j = nnz  # insertion sort of the column's distinct rows (a few dozen)
+                while j > first and indices[j - 1] > r:
+                    indices[j] = indices[j - 1]
+                    j -= 1
+                indices[j] = r
                 nnz += 1
-            target[k] = nnz - 1
+        for j in range(first, nnz):
+            pos[indices[j]] = j
+        for i in range(start[c], start[c + 1]):
+            target[order[i]] = pos[rows[order[i]]]
         indptr[c + 1] = nnz
     return target, indptr, indices[:nnz].copy()
 
@@ -92,7 +95,8 @@ class Pattern:
             sizes.append(rows[-1].size)
         rows = dof_map[np.concatenate(rows)] if rows else np.zeros(0, int)
         cols = dof_map[np.concatenate(cols)] if cols else np.zeros(0, int)
-        target, self.indptr, self.indices = _build_pattern(rows.astype(np.int64), cols.astype(np.int64), n)
+        target, self.indptr, self.indices = _build_pattern(rows.astype(np.int64, copy=False),
+                                                           cols.astype(np.int64, copy=False), n)
         self._targets = np.split(target, np.cumsum(sizes)[:-1]) if sizes else []
         self.n = n
         self.nnz = len(self.indices)

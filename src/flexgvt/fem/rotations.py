@@ -27,29 +27,56 @@ def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return np.stack([a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0], axis=-1)
 
 
+@numba.njit(cache=True, inline="always")
+def _spin_node(p0, p1, p2, R, out, n):  # pragma: no cover - compiled
+    """out[n] = exp(skew(p)) R[n] (Rodrigues)."""
+    t2 = p0 * p0 + p1 * p1 + p2 * p2
+    if t2 < 1e-4:  # series (next terms ~ t^10 / 11!, below 1e-27): no sin and cos
+        a = 1.0 - t2 / 6.0 * (1.0 - t2 / 20.0 * (1.0 - t2 / 42.0 * (1.0 - t2 / 72.0)))
+        b = 0.5 - t2 / 24.0 * (1.0 - t2 / 30.0 * (1.0 - t2 / 56.0 * (1.0 - t2 / 90.0)))
+    else:
+        t = np.sqrt(t2)
+        a, b = np.sin(t) / t, (1.0 - np.cos(t)) / t2
+    # Q = I + a S + b S^2 with S = skew(phi); S^2 = phi phi^T - t2 I
+    q00 = 1.0 + b * (p0 * p0 - t2)
+    q11 = 1.0 + b * (p1 * p1 - t2)
+    q22 = 1.0 + b * (p2 * p2 - t2)
+    q01, q10 = b * p0 * p1 - a * p2, b * p0 * p1 + a * p2
+    q02, q20 = b * p0 * p2 + a * p1, b * p0 * p2 - a * p1
+    q12, q21 = b * p1 * p2 - a * p0, b * p1 * p2 + a * p0
+    for j in range(3):
+        r0, r1, r2 = R[n, 0, j], R[n, 1, j], R[n, 2, j]
+        out[n, 0, j] = q00 * r0 + q01 * r1 + q02 * r2
+        out[n, 1, j] = q10 * r0 + q11 * r1 + q12 * r2
+        out[n, 2, j] = q20 * r0 + q21 * r1 + q22 * r2
+
+
 @numba.njit(cache=True)
 def _spin_rotations(phi, R, out):  # pragma: no cover - compiled
     for n in range(phi.shape[0]):
-        p0, p1, p2 = phi[n, 0], phi[n, 1], phi[n, 2]
-        t2 = p0 * p0 + p1 * p1 + p2 * p2
-        if t2 < 1e-4:  # series (next terms ~ t^10 / 11!, below 1e-27): no sin and cos
-            a = 1.0 - t2 / 6.0 * (1.0 - t2 / 20.0 * (1.0 - t2 / 42.0 * (1.0 - t2 / 72.0)))
-            b = 0.5 - t2 / 24.0 * (1.0 - t2 / 30.0 * (1.0 - t2 / 56.0 * (1.0 - t2 / 90.0)))
-        else:
-            t = np.sqrt(t2)
-            a, b = np.sin(t) / t, (1.0 - np.cos(t)) / t2
-        # Q = I + a S + b S^2 with S = skew(phi); S^2 = phi phi^T - t2 I
-        q00 = 1.0 + b * (p0 * p0 - t2)
-        q11 = 1.0 + b * (p1 * p1 - t2)
-        q22 = 1.0 + b * (p2 * p2 - t2)
-        q01, q10 = b * p0 * p1 - a * p2, b * p0 * p1 + a * p2
-        q02, q20 = b * p0 * p2 + a * p1, b * p0 * p2 - a * p1
-        q12, q21 = b * p1 * p2 - a * p0, b * p1 * p2 + a * p0
-        for j in range(3):
-            r0, r1, r2 = R[n, 0, j], R[n, 1, j], R[n, 2, j]
-            out[n, 0, j] = q00 * r0 + q01 * r1 + q02 * r2
-            out[n, 1, j] = q10 * r0 + q11 * r1 + q12 * r2
-            out[n, 2, j] = q20 * r0 + q21 * r1 + q22 * r2
+        _spin_node(phi[n, 0], phi[n, 1], phi[n, 2], R, out, n)
+
+
+@numba.njit(cache=True)
+def _step_nodes(x, R, delta, dof_map, x_out, R_out):  # pragma: no cover - compiled
+    """Nodal update from a reduced increment: x_out = x + dx, R_out = exp(skew(spin)) R, where
+    dof_map[6 n + c] is the reduced index of each DOF (-1: held, no increment)."""
+    d = np.empty(6)
+    for n in range(x.shape[0]):
+        for c in range(6):
+            k = dof_map[6 * n + c]
+            d[c] = delta[k] if k >= 0 else 0.0
+        for c in range(3):
+            x_out[n, c] = x[n, c] + d[c]
+        _spin_node(d[3], d[4], d[5], R, R_out, n)
+
+
+def step_nodes(x: np.ndarray, R: np.ndarray, delta: np.ndarray, dof_map: np.ndarray):
+    """(x + dx, exp(skew(spin)) R) for a reduced increment ``delta`` numbered by ``dof_map``."""
+    x_out, R_out = np.empty_like(x, dtype=float), np.empty_like(R, dtype=float)
+    _step_nodes(np.ascontiguousarray(x, dtype=float), np.ascontiguousarray(R, dtype=float),
+                np.ascontiguousarray(delta, dtype=float), dof_map, x_out, R_out)
+    return x_out, R_out
 
 
 def spin(R: np.ndarray, phi: np.ndarray) -> np.ndarray:

@@ -10,6 +10,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from functools import cached_property
 
+import numba
 import numpy as np
 import scipy.sparse as sp
 
@@ -21,7 +22,17 @@ from .beam import (BeamData, beam_forces, beam_mass_matrices, element_frames, ke
 from .interpolation import InterpolationData, compile_interpolations, fit, geometric_block, jacobian
 from .linsolve import CholmodCache
 from .points import cord_damping, cord_forces, mass_gravity, mass_matrix, spring_damping, spring_forces
-from .rotations import expm_so3, skew, spin
+from .rotations import expm_so3, skew, spin, step_nodes
+
+@numba.njit(cache=True)
+def _scatter_reduced(dofs, values, dof_map, out):  # pragma: no cover - compiled
+    """out[dof_map[dofs[e, a]]] += values[e, a] where the DOF is free (dof_map >= 0)."""
+    for e in range(dofs.shape[0]):
+        for a in range(dofs.shape[1]):
+            k = dof_map[dofs[e, a]]
+            if k >= 0:
+                out[k] += values[e, a]
+
 
 @dataclass(frozen=True)
 class PointMasses:
@@ -443,18 +454,26 @@ class System:
             gs[ground, :6] = 0.0
             Ks[ground, :6, :] = 0.0
             Ks[ground, :, :6] = 0.0
+        if not self.has_links:  # straight into the reduced vectors
+            internal = np.zeros(self.n_free)
+            for dofs, g in zip(self._blocks, (gb, gm, gc, gs)):
+                if len(g):
+                    _scatter_reduced(dofs, np.ascontiguousarray(g, dtype=float), self.dof_map, internal)
+            blocks = [Kb, Km, Kc, Ks] if tangent and not assemble else None
+            K = self.pattern.assemble([Kb, Km, Kc, Ks]) if tangent and assemble else None
+            return Evaluation(internal, lam * self._applied_reduced, K, N, tension, length, blocks, local)
         g_full = self._scatter([gb, gm, gc, gs])
         f_full = lam * self.applied
-        T = self.transformation(x, R) if self.has_links else None
-        K = blocks = None
-        if tangent and not assemble and not self.has_links:
-            blocks = [Kb, Km, Kc, Ks]
-        elif tangent:
-            K = self.pattern.assemble([Kb, Km, Kc, Ks])
-            if self.has_links:
-                K = self._reduce_with_links(K, T, x, R, g_full - f_full)
+        T = self.transformation(x, R)
+        K = None
+        if tangent:
+            K = self._reduce_with_links(self.pattern.assemble([Kb, Km, Kc, Ks]), T, x, R, g_full - f_full)
         return Evaluation(self.reduce_vector(g_full, T), self.reduce_vector(f_full, T), K, N, tension, length,
-                          blocks, local)
+                          None, local)
+
+    @cached_property
+    def _applied_reduced(self) -> np.ndarray:
+        return self.applied[self.dof_map >= 0]
 
     def tangent_of(self, ev: Evaluation) -> sp.csc_matrix:
         """The assembled tangent of an evaluation (assembling its element blocks if needed)."""
@@ -502,7 +521,9 @@ class System:
 
     def update(self, x: np.ndarray, R: np.ndarray, delta_red: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Apply a reduced increment: translations add, rotations compose by spatial spin."""
-        T = self.transformation(x, R) if self.has_links else None
+        if not self.has_links:
+            return step_nodes(x, R, delta_red, self.dof_map)
+        T = self.transformation(x, R)
         d = self.expand(delta_red, T).reshape(-1, 6)
         x_new = x + d[:, :3]
         R_new = spin(R, d[:, 3:])
