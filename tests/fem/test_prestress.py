@@ -119,3 +119,37 @@ def test_lateral_torsional_buckling_of_a_tip_loaded_strip():
     fit = np.polyfit(loads, [lowest_eigenvalue(P) for P in loads], 2)
     crossing = min(r.real for r in np.roots(fit) if abs(r.imag) < 1e-9 and r.real > 0.5 * p_cr)
     assert crossing == pytest.approx(p_cr, rel=5e-3)
+
+
+def test_free_strip_with_a_damper_complex_modes_count_each_rigid_motion_once():
+    """A free strip with a grounded damper at its tip (no stiffness): each of the six rigid
+    motions is one zero root (the state space holds it twice), the damped rigid motion adds its
+    overdamped root, and the elastic roots agree with the dense state-space solution."""
+    import scipy.linalg as sla
+
+    from flexgvt.model.components import Spring
+
+    sec = fg.RectangularSection(width=0.05, height=0.003, shear=False)
+    model, ids = straight_beam(40, 1.5, sec)
+    damper = Spring.make(int(ids[-1]), None, stiffness=0.0, damping=[0, 0, 0.05, 0, 0, 0])
+    state = fg.solve_linear_static(model, fg.Configuration("free, damped", fixed={}, springs=(damper,)))
+    modes = fg.solve_modes(state, 12, label=False)
+    s = modes.eigenvalues
+    assert np.sum(s == 0) == 6
+    system = state.system
+    x, R = state.positions, state.rotations
+    M = system.mass_matrix(x, R).toarray()
+    C = system.damping_matrix(x, R).toarray()
+    K = system.newton_matrix(system.evaluate(x, R, 1.0, assemble=False), system.mass_matrix(x, R), 0.0).toarray()
+    n = K.shape[0]
+    assert n > fg.fem.modes.DENSE_LIMIT // 2  # the sparse path is the one tested
+    A = np.block([[np.zeros((n, n)), np.eye(n)], [-K, -C]])
+    B = np.block([[np.eye(n), np.zeros((n, n))], [np.zeros((n, n)), M]])
+    roots = sla.eig(A, B, right=False)
+    elastic = roots[np.isfinite(roots) & (roots.imag > 1.0)]
+    elastic = elastic[np.argsort(elastic.imag)][:4]
+    overdamped = roots[np.isfinite(roots) & (np.abs(roots.imag) < 1e-6) & (roots.real < -0.1)]  # not round-off
+    np.testing.assert_allclose(s[6], overdamped.real.max(), rtol=1e-6)  # the rigid plunge under the damper
+    np.testing.assert_allclose(s[7:11], elastic, rtol=1e-7)
+    # zeta = -Re(s) / |s| carries the roots' relative error as an absolute one
+    np.testing.assert_allclose(modes.damping_ratio[7:11], -elastic.real / np.abs(elastic), rtol=0, atol=1e-7)

@@ -67,6 +67,18 @@ def _frequency_hz(lam: np.ndarray) -> np.ndarray:
 DEFAULT_SHIFT = -(2 * np.pi * 0.01) ** 2
 
 
+def _mac(a: np.ndarray, b: np.ndarray) -> float:
+    return float(np.abs(np.vdot(a, b)) ** 2 / max(np.vdot(a, a).real * np.vdot(b, b).real, 1e-300))
+
+
+def _lambda_max_bound(K: sp.spmatrix, m_diag: np.ndarray) -> float:
+    """A lower bound of the largest eigenvalue of K phi = lam M phi: the largest K_ii / M_ii [rad^2/s^2]."""
+    has_mass = m_diag > 0
+    if not np.any(has_mass):
+        return 0.0
+    return float(np.max(np.abs(K.diagonal())[has_mass] / m_diag[has_mass]))
+
+
 def _rigid_safe_shift(K: sp.spmatrix, m_diag: np.ndarray, sigma: float) -> float:
     """A shift no closer to zero than 100 times the round-off of the rigid-body eigenvalues.
 
@@ -74,14 +86,9 @@ def _rigid_safe_shift(K: sp.spmatrix, m_diag: np.ndarray, sigma: float) -> float
     singular and the elastic eigenvalues lose accuracy (measured, 60-element free-free strip,
     lambda_max ~ 6e12 rad^2/s^2: 3e-4 relative error with the default shift, 4e-9 with -0.01;
     the error does not shrink with tighter eigensolver tolerances). Any negative shift keeps the
-    lowest modes nearest to it; lambda_max is bounded below by the largest K_ii / M_ii.
+    lowest modes nearest to it.
     """
-    k_diag = np.abs(K.diagonal())
-    has_mass = m_diag > 0
-    if not np.any(has_mass):
-        return sigma
-    lam_max = float(np.max(k_diag[has_mass] / m_diag[has_mass]))
-    return min(sigma, -100 * np.finfo(float).eps * lam_max)
+    return min(sigma, -100 * np.finfo(float).eps * _lambda_max_bound(K, m_diag))
 
 
 def _cholesky_inverse(K: sp.spmatrix, M: sp.spmatrix, sigma: float,
@@ -158,9 +165,14 @@ def real_modes(K: sp.spmatrix, M: sp.spmatrix, n_modes: int, shift: float | None
     return lam, phi
 
 
-def complex_modes(K, C, M, n_modes: int):
-    """Lowest n_modes complex eigenpairs of (s^2 M + s C + K) phi = 0 (state-space, dense or sparse)."""
+def complex_modes(K, C, M, n_modes: int, clamped: bool = False):
+    """Lowest n_modes complex eigenpairs of (s^2 M + s C + K) phi = 0 (state-space, dense or sparse).
+
+    One root per mode: one of each conjugate pair, and one of the double zero root of each
+    undamped rigid-body motion (both have its shape). clamped: no rigid-body motion is free.
+    """
     n = K.shape[0]
+    lam_max = _lambda_max_bound(K, np.abs(M.diagonal()))
     if n <= DENSE_LIMIT // 2:
         Kd, Cd, Md = K.toarray(), C.toarray(), M.toarray()
         A = np.block([[np.zeros((n, n)), np.eye(n)], [-Kd, -Cd]])
@@ -171,6 +183,8 @@ def complex_modes(K, C, M, n_modes: int):
     else:
         # Shift-invert on the linearised pencil with sigma near zero through a complex LU of K + sigma C + sigma^2 M.
         sigma = 1e-3
+        if not clamped:  # rigid motions: K + sigma^2 M must stay clear of round-off (see _rigid_safe_shift)
+            sigma = max(sigma, np.sqrt(100 * np.finfo(float).eps * lam_max))
         Q = (K + sigma * C + sigma**2 * M).tocsc().astype(complex)
         lu = spla.splu(Q)
 
@@ -188,8 +202,18 @@ def complex_modes(K, C, M, n_modes: int):
         v = v[:n]
     keep = s.imag >= -1e-9 * np.maximum(np.abs(s), 1.0)  # one of each conjugate pair (and overdamped roots)
     s, v = s[keep], v[:, keep]
-    order = np.argsort(np.abs(s))[:n_modes]
+    order = np.argsort(np.abs(s))
     s, v = s[order], v[:, order]
+    # Roots at the round-off level of zero are rigid motions; each undamped one is a double root
+    # (two copies of its shape): keep the first copy of each shape.
+    zero = np.abs(s) < 10 * np.sqrt(np.finfo(float).eps * max(lam_max, 1.0))
+    taken = []
+    for j in np.flatnonzero(zero):
+        if all(_mac(v[:, i], v[:, j]) < 0.9 for i in taken):
+            taken.append(j)
+    s = np.where(zero, 0.0, s)
+    chosen = np.r_[taken, np.flatnonzero(~zero)].astype(int)[:n_modes]
+    s, v = s[chosen], v[:, chosen]
     # Normalise each mode so that its largest component is real and phi^H M phi = 1.
     big = v[np.argmax(np.abs(v), axis=0), np.arange(v.shape[1])]
     v = v * (np.abs(big) / np.where(big == 0, 1, big))
@@ -219,7 +243,7 @@ def solve_modes(state: State, n_modes: int = 15, *, damped: bool | None = None, 
     use_damping = system.has_damping if damped is None else damped
     if use_damping:
         C = system.damping_matrix(x, R)
-        s, v = complex_modes(K, C, M, n_modes)
+        s, v = complex_modes(K, C, M, n_modes, clamped)
         wn = np.abs(s)
         freq = np.where(wn < 1e-5 * max(wn.max(initial=0.0), 1.0), 0.0, wn / (2 * np.pi))
         zeta = np.where(wn > 0, -s.real / np.where(wn > 0, wn, 1), 0.0)
