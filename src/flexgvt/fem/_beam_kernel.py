@@ -217,7 +217,6 @@ def _beam_chunk(x, R, nodes, E0s, L0s, stiff, arch, want_tangent, f_ref, g_out, 
     da1 = np.empty((9, 3))
     da2 = np.empty((9, 3))
     dln = np.zeros(9)
-    g9 = np.empty(9)
     A33 = np.empty((3, 3))
     T33 = np.empty((3, 3))
     q4 = np.empty(4)
@@ -250,6 +249,21 @@ def _beam_chunk(x, R, nodes, E0s, L0s, stiff, arch, want_tangent, f_ref, g_out, 
         qb2 = _dot(r2, q)
         _cross(q1, r3, a1)
         _cross(q2, r3, a2)
+        # g = B f = dln f0 + wb . mu over the 9 DOFs, wb[s, k] = W_s[k] - om[k] (W_s[k]: row of R_r
+        # for the node's own spins), written out: om[k] = (qb1 om_1 / qb2, -r3[k] / ln, r2[k] / ln) for
+        # the relative translations and (a_s[i] / (2 qb2), 0, 0) for the spins of node s.
+        f0 = f[0]
+        ms0, ms1, ms2 = mu[0, 0] + mu[1, 0], mu[0, 1] + mu[1, 1], mu[0, 2] + mu[1, 2]
+        for k in range(3):
+            o1 = -r3[k] / ln
+            o2 = r2[k] / ln
+            gk = r1[k] * f0 - (qb1 * o1 / qb2 * ms0 + o1 * ms1 + o2 * ms2)
+            g_out[el, k] = -gk
+            g_out[el, 6 + k] = gk
+            g_out[el, 3 + k] = Rr[k, 0] * mu[0, 0] + Rr[k, 1] * mu[0, 1] + Rr[k, 2] * mu[0, 2] - 0.5 * a1[k] / qb2 * ms0
+            g_out[el, 9 + k] = Rr[k, 0] * mu[1, 0] + Rr[k, 1] * mu[1, 1] + Rr[k, 2] * mu[1, 2] - 0.5 * a2[k] / qb2 * ms0
+        if not want_tangent:
+            continue
         for k in range(9):
             # Spin of the frame for a unit DOF k: about r2, r3 from the chord (translations), about
             # r1 from the twist of the mean e2 vector (q through qb1 and the spins of q1, q2).
@@ -266,18 +280,12 @@ def _beam_chunk(x, R, nodes, E0s, L0s, stiff, arch, want_tangent, f_ref, g_out, 
                 # R_r^T W_s[k]: row (k - base) of R_r^T for the node's own spin DOFs.
                 wb[0, k, i] = (Rr[k - 3, i] if 3 <= k < 6 else 0.0) - om[k, i]
                 wb[1, k, i] = (Rr[k - 6, i] if k >= 6 else 0.0) - om[k, i]
-            g9[k] = dln[k] * f[0] + _dot(wb[0, k], mu[0]) + _dot(wb[1, k], mu[1])
-            if want_tangent:
-                jl_inv_apply(t1, c1, wb[0, k], dth[0, k], -1.0)
-                jl_inv_apply(t2, c2, wb[1, k], dth[1, k], -1.0)
-                B[k, 0] = dln[k]
-                for i in range(3):
-                    B[k, 1 + i] = dth[0, k, i]
-                    B[k, 4 + i] = dth[1, k, i]
-        for a in range(12):
-            g_out[el, a] = sg[a] * g9[m9[a]]
-        if not want_tangent:
-            continue
+            jl_inv_apply(t1, c1, wb[0, k], dth[0, k], -1.0)
+            jl_inv_apply(t2, c2, wb[1, k], dth[1, k], -1.0)
+            B[k, 0] = dln[k]
+            for i in range(3):
+                B[k, 1 + i] = dth[0, k, i]
+                B[k, 4 + i] = dth[1, k, i]
         if f_ref.shape[0] > 0 and stiff[el, 0] != 0.0:
             # H's stress terms (shallow-arch strain) with the reference axial force: the energy is
             # evaluated at the elongation that gives that force, then the reference forces replace f.

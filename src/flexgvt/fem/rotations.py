@@ -130,10 +130,13 @@ def logm3(R, out, q):  # pragma: no cover - compiled
     if q[0] < 0:
         for i in range(4):
             q[i] = -q[i]
-    sn = np.sqrt(q[1] ** 2 + q[2] ** 2 + q[3] ** 2)
-    if sn < 1e-8:
-        f = 2.0 / q[0] * (1.0 - sn * sn / (3.0 * q[0] * q[0]))
+    s2 = q[1] ** 2 + q[2] ** 2 + q[3] ** 2
+    if s2 < 0.01 * q[0] * q[0]:  # angle below 11 deg: 2 atan(z) / (z q0) with z = tan(angle / 2) by its
+        z2 = s2 / (q[0] * q[0])  # series (next term z^18 / 19 < 6e-20), no atan2
+        f = 2.0 / q[0] * (1.0 - z2 * (1.0 / 3 - z2 * (1.0 / 5 - z2 * (1.0 / 7 - z2 * (
+            1.0 / 9 - z2 * (1.0 / 11 - z2 * (1.0 / 13 - z2 * (1.0 / 15 - z2 / 17))))))))
     else:
+        sn = np.sqrt(s2)
         f = 2.0 * np.arctan2(sn, q[0]) / sn
     out[0] = f * q[1]
     out[1] = f * q[2]
