@@ -197,6 +197,7 @@ def _beam_chunk(x, R, nodes, E0s, L0s, stiff, arch, want_tangent, f_ref, g_out, 
     ge = np.empty(7)
     hc = np.empty(6)
     w = np.empty((6, 9))
+    hw = np.empty((6, 9))
     B = np.zeros((9, 7))
     om = np.zeros((9, 3))
     wb = np.zeros((2, 9, 3))
@@ -298,20 +299,19 @@ def _beam_chunk(x, R, nodes, E0s, L0s, stiff, arch, want_tangent, f_ref, g_out, 
             jl_inv_apply(t2, c2, f[4:7], mu[1], 1.0)
         # Material part B H B^T = sum_t hc[t] (B h_t)(B h_t)^T: one triangle, mirrored.
         for a in range(9):
-            acc = 0.0
-            for m in range(7):
-                acc += B[a, m] * ge[m]
-            w[0, a] = acc
+            w[0, a] = (B[a, 0] * ge[0] + B[a, 2] * ge[2] + B[a, 3] * ge[3] + B[a, 5] * ge[5]
+                       + B[a, 6] * ge[6])  # ge[1] = ge[4] = 0
             w[1, a] = B[a, 1] - B[a, 4]
             w[2, a] = B[a, 2] + B[a, 5]
             w[3, a] = B[a, 2] - B[a, 5]
             w[4, a] = B[a, 3] + B[a, 6]
             w[5, a] = B[a, 3] - B[a, 6]
+            for t in range(6):
+                hw[t, a] = hc[t] * w[t, a]
         for a in range(9):
             for b in range(a, 9):
-                acc = 0.0
-                for t in range(6):
-                    acc += hc[t] * w[t, a] * w[t, b]
+                acc = (hw[0, a] * w[0, b] + hw[1, a] * w[1, b] + hw[2, a] * w[2, b] + hw[3, a] * w[3, b]
+                       + hw[4, a] * w[4, b] + hw[5, a] * w[5, b])
                 K9[a, b] = acc
                 K9[b, a] = acc
         # (d Jinv[dth])^T m is linear in dth: its 3x3 matrix G (columns from unit vectors), per node.
@@ -374,9 +374,12 @@ def _beam_chunk(x, R, nodes, E0s, L0s, stiff, arch, want_tangent, f_ref, g_out, 
                 K9[6 + i, j] += _dot(Rr[i], tmp2) - 0.5 * c0s * da2[j, i]
                 # relative translation rows (D[k] = e_i)
                 K9[i, j] += f0 * dr1[j, i] + (beta * dr3[j, i] - musum[2] * dr2[j, i]) / ln
-        for a in range(9):
+        for a in range(9):  # the spins' om has its first component only
             for b in range(9):
-                K9[a, b] += om[a, 0] * U[0, b] + om[a, 1] * U[1, b] + om[a, 2] * U[2, b]
+                K9[a, b] += om[a, 0] * U[0, b]
+        for a in range(3):
+            for b in range(9):
+                K9[a, b] += om[a, 1] * U[1, b] + om[a, 2] * U[2, b]
         K = K_out[el]
         for a in range(12):  # K[a, b] = d g_a / d p_b, expanded from the 9 DOFs
             ra, sa = m9[a], sg[a]
