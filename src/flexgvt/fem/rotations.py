@@ -144,20 +144,25 @@ def logm3(R, out, q):  # pragma: no cover - compiled
 
 
 @numba.njit(cache=True)
-def _relative_spins(R, Rp, out):  # pragma: no cover - compiled
+def _scaled_increment(x, R, xp, Rp, dof_map, scale, out):  # pragma: no cover - compiled
     A = np.empty((3, 3))
     q = np.empty(4)
-    for n in range(R.shape[0]):
+    spin = np.empty(3)
+    for n in range(x.shape[0]):
         for i in range(3):
             for j in range(3):
                 A[i, j] = R[n, i, 0] * Rp[n, j, 0] + R[n, i, 1] * Rp[n, j, 1] + R[n, i, 2] * Rp[n, j, 2]
-        logm3(A, out[n], q)
+        logm3(A, spin, q)
+        for c in range(6):
+            k = dof_map[6 * n + c]
+            if k >= 0:
+                out[k] = scale * (x[n, c] - xp[n, c] if c < 3 else spin[c - 3])
 
 
-def relative_spins(R: np.ndarray, Rp: np.ndarray) -> np.ndarray:
-    """Spatial rotation vectors log(R Rp^T) (n, 3) [rad] taking rotations Rp to R, (n, 3, 3) each."""
-    out = np.empty((len(R), 3))
-    _relative_spins(np.ascontiguousarray(R, dtype=float), np.ascontiguousarray(Rp, dtype=float), out)
+def scaled_increment(x, R, xp, Rp, dof_map: np.ndarray, scale: float) -> np.ndarray:
+    """scale times the reduced increment (translations, spatial spins) from state (xp, Rp) to (x, R)."""
+    out = np.zeros(int(dof_map.max(initial=-1)) + 1)
+    _scaled_increment(*(np.ascontiguousarray(a, dtype=float) for a in (x, R, xp, Rp)), dof_map, float(scale), out)
     return out
 
 

@@ -18,7 +18,7 @@ import scipy.sparse as sp
 from ..errors import ConvergenceError, ModelError, SingularModelError
 from ..model import Configuration, Model
 from ..model.configuration import parse_dofs
-from .rotations import logm_so3, relative_spins
+from .rotations import logm_so3, scaled_increment
 from .linsolve import HAVE_CHOLMOD, CholmodCache, serial_blas, superlu
 from .system import Evaluation, System
 
@@ -343,8 +343,7 @@ def solve_static(model: Model, configuration: Configuration, *, settings: Static
         if previous is None or previous[2] >= lam:
             return x, R
         xp, Rp, lp = previous
-        d = np.concatenate([x - xp, relative_spins(R, Rp)], axis=1).reshape(-1)
-        delta = (target - lam) / (lam - lp) * d[system.dof_map >= 0]
+        delta = scaled_increment(x, R, xp, Rp, system.dof_map, (target - lam) / (lam - lp))
         if not np.all(np.isfinite(delta)):
             return x, R
         return system.update(x, R, _limit_rotation(delta, system))
