@@ -58,3 +58,43 @@ def test_a_diagonal_entry_missing_from_the_pattern_is_a_zero_pivot():
     A = sp.csc_matrix(np.array([[0.0, 1.0], [1.0, 2.0]]))
     A.eliminate_zeros()  # no stored (0, 0) entry
     assert CholmodCache().factor(A) is None
+
+
+def test_element_blocks_scattered_into_the_analysed_pattern_match_the_assembled_matrix():
+    """factor_blocks (the Newton solve's path) factorises the symmetric part of element matrices
+    plus alpha M as the assembled matrix would, refactorises on the same analysis while the zero
+    couplings stay zero, and re-analyses when an element block turns one non-zero."""
+    from flexgvt.fem.assembly import Pattern
+
+    rng = np.random.default_rng(1)
+    n_el, d = 6, 4  # a chain of 4-DOF elements sharing 2 DOFs with the next
+    dofs = np.array([[2 * e + k for k in range(d)] for e in range(n_el)])
+    n = int(dofs.max()) + 1
+    pattern = Pattern([dofs], np.arange(n), n)
+    mass = pattern.data([np.tile(np.eye(d), (n_el, 1, 1))])
+    parity = np.arange(d) % 2
+
+    def blocks(couple):
+        B = rng.standard_normal((n_el, d, d))
+        B = B @ np.swapaxes(B, 1, 2) + d * np.eye(d) + 0.3 * rng.standard_normal((n_el, d, d))  # not symmetric
+        if not couple:
+            B[:, parity[:, None] != parity[None, :]] = 0.0
+        return B
+
+    def assembled(B, alpha):
+        A = pattern.matrix(pattern.add_symmetric(alpha * mass, [B])).toarray()
+        np.testing.assert_allclose(A, A.T)
+        return A
+
+    cache = CholmodCache()
+    b = rng.standard_normal(n)
+    B1 = blocks(couple=False)
+    cache.factor_blocks(pattern, [B1], mass, 0.5)  # first call: analysis of the non-zero entries
+    analyses = cache._analyses
+    for couple in (False, False, True, False):
+        B = blocks(couple)
+        f = cache.factor_blocks(pattern, [B], mass, 0.5)
+        np.testing.assert_allclose(assembled(B, 0.5) @ f.solve_A(b), b, atol=1e-10)
+        assert cache._analyses == analyses + (1 if couple else 0)
+        assert cache._blocks_key is not None  # the scattered path ran (not only the assembled one)
+        analyses = cache._analyses

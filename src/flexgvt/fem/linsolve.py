@@ -79,6 +79,24 @@ def _prune(data, indptr, indices, keep):  # pragma: no cover - compiled
 
 
 @numba.njit(cache=True, nogil=True)
+def _scatter_symmetric_kept(out, target, values):  # pragma: no cover - compiled
+    """out[target] += symmetric parts of the element matrices values (n, d, d); target -1: a held
+    DOF, -2: an entry left out of the analysed pattern. True if one of those gets a non-zero."""
+    n, d = values.shape[0], values.shape[1]
+    grow = False
+    for e in range(n):
+        base = e * d * d
+        for a in range(d):
+            for b in range(d):
+                t = target[base + a * d + b]
+                if t >= 0:
+                    out[t] += 0.5 * (values[e, a, b] + values[e, b, a])
+                elif t == -2 and values[e, a, b] + values[e, b, a] != 0.0:
+                    grow = True
+    return grow
+
+
+@numba.njit(cache=True, nogil=True)
 def _pivots_ok(D, data, diag_idx, tolerance):  # pragma: no cover - compiled
     """Every |D[i]| above tolerance times |A_ii| (false for NaN)."""
     for i in range(D.size):
@@ -110,6 +128,9 @@ class CholmodCache:
         self._kept_idx = self._dropped_idx = None
         self._pruned = None  # csc matrix on the analysed pattern, its data overwritten each call
         self._diag_idx = None  # position of each diagonal entry in the pruned data
+        self._analyses = 0
+        self._blocks_key = self._block_targets = None  # element entries -> pruned data (factor_blocks)
+        self._mass_key = self._mass_kept = None  # the mass data on the kept entries
 
     def _same_pattern(self, A: sp.csc_matrix) -> bool:
         if self._full is None:
@@ -128,6 +149,51 @@ class CholmodCache:
         self._pruned = sp.csc_matrix((data, indices, indptr), shape=A.shape)
         self._full = (A.shape, A.indptr, A.indices)
         self.factor_object = _cholmod.analyze(self._pruned, mode="simplicial")
+        self._analyses += 1
+
+    def factor_blocks(self, pattern, blocks: list[np.ndarray], mass_data: np.ndarray, alpha: float):
+        """factor() of the symmetric part of element matrices ``blocks`` assembled on ``pattern``
+        (an assembly.Pattern) plus alpha times a matrix with data ``mass_data`` on it, scattered
+        straight into the analysed entries while they hold every non-zero (no full matrix)."""
+        if _cholmod is None:
+            return None
+        full = self._full
+        if (self.factor_object is not None and full[0] == (pattern.n, pattern.n)
+                and _same_memory(full[1], pattern.indptr) and _same_memory(full[2], pattern.indices)):
+            if self._blocks_key != (id(pattern), self._analyses):
+                where = np.full(pattern.nnz, -2, np.int64)
+                where[self._kept_idx] = np.arange(len(self._kept_idx))
+                self._block_targets = [np.where(t >= 0, where[np.maximum(t, 0)], -1) for t in pattern._targets]
+                self._blocks_key = (id(pattern), self._analyses)
+            if self._mass_key is None or self._mass_key[0] is not mass_data or self._mass_key[1] != self._analyses:
+                dropped = mass_data[self._dropped_idx]
+                self._mass_kept = mass_data[self._kept_idx] if not np.any(dropped) else None
+                self._mass_key = (mass_data, self._analyses)
+            if self._mass_kept is not None:
+                data = self._pruned.data
+                np.multiply(self._mass_kept, alpha, out=data)
+                grow = False
+                for target, v in zip(self._block_targets, blocks):
+                    if v.size:
+                        grow |= _scatter_symmetric_kept(data, target, np.ascontiguousarray(v, dtype=float))
+                if not grow:
+                    return self._refactor()
+        return self.factor(pattern.matrix(pattern.add_symmetric(alpha * mass_data, blocks)))
+
+    def _refactor(self):
+        """Numeric factorisation of the pruned matrix as it stands; None if a pivot is tiny."""
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            try:
+                self.factor_object.cholesky_inplace(self._pruned)
+            except _cholmod.CholmodNotPositiveDefiniteError:
+                return None
+        # The simplicial factor is LDL^T, computed without pivoting, for indefinite matrices too (the
+        # symmetric part of a tangent at a stretched predicted state often is): accepted unless a
+        # pivot is tiny against its diagonal entry, where unpivoted elimination loses accuracy.
+        if not _pivots_ok(self.factor_object.D(), self._pruned.data, self._diag_idx, _PIVOT_TOLERANCE):
+            return None
+        return self.factor_object
 
     def factor(self, A: sp.csc_matrix):
         """Numeric LDL^T of symmetric A (only its lower triangle is read; in place, same symbolic
@@ -142,22 +208,11 @@ class CholmodCache:
         if not (sp.isspmatrix_csc(A) and A.has_sorted_indices):
             A = sp.csc_matrix(A)
             A.sort_indices()
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            try:
-                if self.factor_object is None or not self._same_pattern(A):
-                    self._analyse(A, A.data != 0)
-                elif _gather(A.data, self._kept_idx, self._dropped_idx, self._pruned.data):
-                    self._analyse(A, self._keep | (A.data != 0))
-                self.factor_object.cholesky_inplace(self._pruned)
-            except _cholmod.CholmodNotPositiveDefiniteError:
-                return None
-        # The simplicial factor is LDL^T, computed without pivoting, for indefinite matrices too (the
-        # symmetric part of a tangent at a stretched predicted state often is): accepted unless a
-        # pivot is tiny against its diagonal entry, where unpivoted elimination loses accuracy.
-        if not _pivots_ok(self.factor_object.D(), self._pruned.data, self._diag_idx, _PIVOT_TOLERANCE):
-            return None
-        return self.factor_object
+        if self.factor_object is None or not self._same_pattern(A):
+            self._analyse(A, A.data != 0)
+        elif _gather(A.data, self._kept_idx, self._dropped_idx, self._pruned.data):
+            self._analyse(A, self._keep | (A.data != 0))
+        return self._refactor()
 
 
 def superlu(A: sp.csc_matrix):

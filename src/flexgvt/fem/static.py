@@ -129,7 +129,7 @@ class _Factor:
         self._system, self._ev = system, ev
         self.stabilisation = 0.0
         if cholmod is not None and HAVE_CHOLMOD:
-            chol = cholmod.factor(system.newton_matrix(ev, M, STABILISATION))
+            chol = system.factor_newton_matrix(ev, M, STABILISATION, cholmod)
             if chol is not None:
                 self._solve = chol.solve_A
                 return

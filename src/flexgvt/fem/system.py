@@ -489,6 +489,13 @@ class System:
             return p.matrix(p.add_symmetric(alpha * M.data, ev.blocks))
         return self.stabilised_tangent(self.tangent_of(ev), M, alpha, part="symmetric")
 
+    def factor_newton_matrix(self, ev: Evaluation, M: sp.csc_matrix, alpha: float, cache: CholmodCache):
+        """cache.factor(newton_matrix(ev, M, alpha)), the element blocks scattered straight into the
+        analysed pattern where the evaluation kept them (see CholmodCache.factor_blocks)."""
+        if ev.tangent is None and ev.blocks is not None and M.nnz == self.pattern.nnz:
+            return cache.factor_blocks(self.pattern, ev.blocks, M.data, alpha)
+        return cache.factor(self.newton_matrix(ev, M, alpha))
+
     def _reduce_with_links(self, K_full, T, x, R, r_full) -> sp.csc_matrix:
         """T^T K T plus the geometric term of the rotating rigid-link offsets and interpolation fits."""
         K = (T.T @ K_full @ T).tocsc()
