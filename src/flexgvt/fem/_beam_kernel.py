@@ -1,7 +1,8 @@
 """Compiled per-element kernel of the corotational beam (see beam.py for the formulation).
 
-Forward differentiation by hand of every kinematic quantity along the 12 element DOFs
-[dx1, spin1, dx2, spin2]; checked against finite differences in tests/fem/test_tangent.py.
+Forward differentiation by hand of every kinematic quantity along 9 independent element DOFs
+[x2 - x1, spin1, spin2] (the forces and tangent on the 12 [dx1, spin1, dx2, spin2] follow from
+translation invariance and balance); checked against finite differences in tests/fem/test_tangent.py.
 """
 
 from __future__ import annotations
