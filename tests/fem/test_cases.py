@@ -46,6 +46,12 @@ def test_strip_366_free_free_and_suspended_configurations():
     case = fg.cases.strip_366()
     free = fg.solve_modes(fg.solve_static(case.model, case.configurations["free_free"]), 8)
     assert np.sum(free.frequencies_hz < 1e-3) == 6
+    # The zero-frequency cluster is turned onto the six rigid motions, each named once.
+    assert sorted(free.labels[:6]) == sorted(f"RB {n}" for n in ("fore-aft", "lateral", "plunge", "roll", "pitch", "yaw"))
+    phi = free.matrix()[:, :6]
+    state = free.state
+    M = state.system.full_mass_matrix(state.positions, state.rotations)
+    np.testing.assert_allclose(phi.T @ (M @ phi), np.eye(6), atol=1e-9)  # still M-orthonormal
     first = free.frequencies_hz[6]
     assert first == pytest.approx(case.references["free_free_first_bending_hz"], rel=0.02)
     for name in ("outboard", "inboard"):

@@ -79,16 +79,19 @@ def energy_fractions(modes, state) -> np.ndarray:
 
 
 def _rigid_name(phi: np.ndarray, x: np.ndarray) -> str:
-    """Dominant rigid-body motion of a shape (least-squares fit of node translations)."""
+    """Dominant rigid-body motion of a shape: least-squares fit of the nodes' translations and
+    rotations (times the half size, so a rotation about a beam's own axis counts too)."""
     c = x.mean(axis=0)
-    A = np.zeros((3 * len(x), 6))
+    size = np.ptp(x, axis=0).max() / 2 or 1.0
+    A = np.zeros((len(x), 6, 6))
     for a in range(3):
-        A[a::3, a] = 1.0
         e = np.zeros(3)
         e[a] = 1.0
-        A[:, 3 + a] = np.cross(e, x - c).reshape(-1)
-    coef = np.linalg.lstsq(A, phi[:, :3].reshape(-1), rcond=None)[0]
-    size = np.ptp(x, axis=0).max() / 2 or 1.0
+        A[:, a, a] = 1.0
+        A[:, :3, 3 + a] = np.cross(e, x - c)
+        A[:, 3 + a, 3 + a] = size
+    b = np.concatenate([phi[:, :3], size * phi[:, 3:6]], axis=1)
+    coef = np.linalg.lstsq(A.reshape(-1, 6), b.reshape(-1), rcond=None)[0]
     coef[3:] *= size
     return _RIGID[int(np.argmax(np.abs(coef)))]
 

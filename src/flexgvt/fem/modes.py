@@ -55,10 +55,11 @@ class Modes:
                 for i, (f, z) in enumerate(zip(self.frequencies_hz, self.damping_ratio))]
 
 
-def _frequency_hz(lam: np.ndarray) -> np.ndarray:
-    """Frequencies [Hz] of eigenvalues [rad^2/s^2]; round-off-sized ones (rigid-body modes) become 0."""
+def _frequency_hz(lam: np.ndarray, round_off: float = 0.0) -> np.ndarray:
+    """Frequencies [Hz] of eigenvalues [rad^2/s^2]; round-off-sized ones (rigid-body modes) become 0:
+    below 1e-9 of the largest or ``round_off`` [rad^2/s^2]."""
     scale = max(np.abs(lam).max(initial=0.0), 1.0)
-    lam = np.where(np.abs(lam) < 1e-9 * scale, 0.0, lam)
+    lam = np.where(np.abs(lam) < max(1e-9 * scale, round_off), 0.0, lam)
     return np.sign(lam) * np.sqrt(np.abs(lam)) / (2 * np.pi)
 
 
@@ -227,6 +228,25 @@ def complex_modes(K, C, M, n_modes: int, clamped: bool = False):
     return s, v
 
 
+def _align_rigid_modes(phi: np.ndarray, zero: np.ndarray, system, x: np.ndarray, T, M) -> np.ndarray:
+    """Within the cluster of zero-frequency modes (any M-orthonormal basis of it is an
+    eigenbasis), the basis closest to the free rigid motions (fore-aft, lateral, plunge, roll,
+    pitch, yaw about the centroid, in that order): the orthogonal Procrustes rotation of the
+    cluster onto their M-projections. Left as it is unless the cluster is exactly those motions."""
+    idx = np.flatnonzero(zero)
+    motions, basis = system.unrestrained_rigid_motions(x)
+    if len(idx) < 2 or len(idx) != basis.shape[1]:
+        return phi
+    rigid = np.stack([system.reduce_vector(motions @ basis[:, j], T) for j in range(basis.shape[1])], axis=1)
+    C = phi[:, idx].T @ (M @ rigid)  # (cluster, motions): the motions' components in the cluster
+    u, sv, vt = np.linalg.svd(C)
+    if sv.min() < 1e-6 * sv.max():  # the cluster does not span the rigid motions (not only them)
+        return phi
+    out = phi.copy()
+    out[:, idx] = phi[:, idx] @ (u @ vt)
+    return out
+
+
 @serial_blas
 def solve_modes(state: State, n_modes: int = 15, *, damped: bool | None = None, shift: float | None = None,
                 label: bool = True) -> Modes:
@@ -242,7 +262,6 @@ def solve_modes(state: State, n_modes: int = 15, *, damped: bool | None = None, 
     M = system.mass_matrix(x, R)
     K = system.newton_matrix(ev, M, 0.0)  # the symmetric part of the tangent
     clamped = system.unrestrained_rigid_motions(system.cm.xyz, basis_only=True).shape[1] == 0
-    lam, phi = real_modes(K, M, n_modes, shift, clamped, system.cholmod_cache)
     T = system.transformation(x, R) if system.has_links else None
     n = system.n_nodes
     use_damping = system.has_damping if damped is None else damped
@@ -259,8 +278,13 @@ def solve_modes(state: State, n_modes: int = 15, *, damped: bool | None = None, 
         real = real / np.sqrt(np.where(mm > 0, mm, 1.0))[:, None, None]
         modes = Modes(freq, zeta, wd, real, system.cm.node_ids, complex_shapes=cshapes, eigenvalues=s, state=state)
     else:
+        lam, phi = real_modes(K, M, n_modes, shift, clamped, system.cholmod_cache)
+        # Rigid-body eigenvalues are zero to about eps * lambda_max (see _rigid_safe_shift).
+        f = _frequency_hz(lam, 0.0 if clamped else 100 * np.finfo(float).eps
+                          * _lambda_max_bound(K, np.abs(M.diagonal())))
+        if not clamped:
+            phi = _align_rigid_modes(phi, f == 0, system, x, T, M)
         shapes = system.expand(phi, T).T.reshape(len(lam), n, 6)
-        f = _frequency_hz(lam)
         modes = Modes(f, np.zeros(len(f)), f.copy(), shapes, system.cm.node_ids, eigenvalues=lam, state=state)
     if label:
         from .labels import label_modes
