@@ -208,16 +208,6 @@ def _beam_chunk(x, R, nodes, E0s, L0s, stiff, arch, want_tangent, f_ref, g_out, 
     tmp = np.empty(3)
     tmp2 = np.empty(3)
     mu = np.empty((2, 3))
-    nu = np.empty((2, 9, 3))
-    dr1 = np.zeros((9, 3))
-    dr2 = np.empty((9, 3))
-    dr3 = np.empty((9, 3))
-    omg = np.empty((9, 3))
-    dq = np.zeros((9, 3))  # d q1 (rows 3-5) and d q2 (rows 6-8): spins of the nodal e2 vectors
-    dqb1 = np.empty(9)
-    dqb2 = np.empty(9)
-    da1 = np.empty((9, 3))
-    da2 = np.empty((9, 3))
     dln = np.zeros(9)
     A33 = np.empty((3, 3))
     T33 = np.empty((3, 3))
@@ -225,7 +215,6 @@ def _beam_chunk(x, R, nodes, E0s, L0s, stiff, arch, want_tangent, f_ref, g_out, 
     r1 = np.empty(3)
     r2 = np.empty(3)
     r3 = np.empty(3)
-    musum = np.empty(3)
     U = np.empty((3, 9))
     G = np.empty((2, 3, 3))
     K9 = np.empty((9, 9))
@@ -325,56 +314,71 @@ def _beam_chunk(x, R, nodes, E0s, L0s, stiff, arch, want_tangent, f_ref, g_out, 
             jl_inv_dT_apply(t2, c2, e2, tmp, f[4:7], tmp2)
             for m in range(3):
                 G[1, m, i] = tmp2[m]
-        for k in range(9):
-            for i in range(3):
-                omg[k, i] = Rr[i, 0] * om[k, 0] + Rr[i, 1] * om[k, 1] + Rr[i, 2] * om[k, 2]
-                for s in range(2):
-                    nu[s, k, i] = G[s, i, 0] * dth[s, k, 0] + G[s, i, 1] * dth[s, k, 1] + G[s, i, 2] * dth[s, k, 2]
-            _cross(omg[k], r2, dr2[k])
-            _cross(omg[k], r3, dr3[k])
-        for k in range(3):  # the chord direction moves with the relative translation only
-            for i in range(3):
-                dr1[k, i] = ((1.0 if i == k else 0.0) - r1[i] * r1[k]) / ln
-        # e_i x q:  e0 x q = (0, -q2, q1), e1 x q = (q2, 0, -q0), e2 x q = (-q1, q0, 0)
-        dq[3, 1], dq[3, 2], dq[4, 0], dq[4, 2], dq[5, 0], dq[5, 1] = -q1[2], q1[1], q1[2], -q1[0], -q1[1], q1[0]
-        dq[6, 1], dq[6, 2], dq[7, 0], dq[7, 2], dq[8, 0], dq[8, 1] = -q2[2], q2[1], q2[2], -q2[0], -q2[1], q2[0]
-        for j in range(9):
-            dqb1[j] = _dot(dr1[j], q) + 0.5 * _dot(dq[j], r1)
-            dqb2[j] = _dot(dr2[j], q) + 0.5 * _dot(dq[j], r2)
-            _cross(q1, dr3[j], da1[j])
-            _cross(q2, dr3[j], da2[j])
-            if 3 <= j < 6:
-                _cross(dq[j], r3, tmp)
-                for i in range(3):
-                    da1[j, i] += tmp[i]
-            elif j >= 6:
-                _cross(dq[j], r3, tmp)
-                for i in range(3):
-                    da2[j, i] += tmp[i]
         f0 = f[0]
-        for i in range(3):
-            musum[i] = mu[0, i] + mu[1, i]
+        ms0, ms1, ms2 = mu[0, 0] + mu[1, 0], mu[0, 1] + mu[1, 1], mu[0, 2] + mu[1, 2]
         # Geometric part, column j: d g_k / d p_j of the terms wb . mu and dln f0. Each is om[k] . u_j
         # (dense, rank 3: wb[s, k] = W_s[k] - om[k] and the frame-twist om[k, 0] depends on the
-        # frame through qb1, qb2) plus terms on the rows where D[k] or W_s[k] is non-zero.
-        c0s = musum[0] / qb2
-        beta = musum[1] + c0s * qb1
+        # frame through qb1, qb2) plus terms on the rows where D[k] or W_s[k] is non-zero. One pass
+        # per column j with scalar temporaries: the frame's derivative (dr1, dr2, dr3 = omg x r),
+        # the twist ingredients (dqb1, dqb2, da1, da2) and the Jacobian derivative (nu_s).
+        c0s = ms0 / qb2
+        beta = ms1 + c0s * qb1
         for j in range(9):
+            o0, o1, o2 = om[j, 0], om[j, 1], om[j, 2]
+            g0 = Rr[0, 0] * o0 + Rr[0, 1] * o1 + Rr[0, 2] * o2  # frame spin in global axes
+            g1 = Rr[1, 0] * o0 + Rr[1, 1] * o1 + Rr[1, 2] * o2
+            g2 = Rr[2, 0] * o0 + Rr[2, 1] * o1 + Rr[2, 2] * o2
+            d20, d21, d22 = _cx(g0, g1, g2, r2[0], r2[1], r2[2])
+            d30, d31, d32 = _cx(g0, g1, g2, r3[0], r3[1], r3[2])
+            if j < 3:  # the chord direction moves with the relative translation only
+                d10 = ((1.0 if j == 0 else 0.0) - r1[0] * r1[j]) / ln
+                d11 = ((1.0 if j == 1 else 0.0) - r1[1] * r1[j]) / ln
+                d12 = ((1.0 if j == 2 else 0.0) - r1[2] * r1[j]) / ln
+            else:
+                d10 = d11 = d12 = 0.0
+            # spin of q1 (j = 3..5) or q2 (j = 6..8) about axis e_i: e_i x q_s
+            e0 = e1_ = e2_ = 0.0
+            if j >= 3:
+                qs = q1 if j < 6 else q2
+                i = (j - 3) % 3
+                e0, e1_, e2_ = _cx(1.0 if i == 0 else 0.0, 1.0 if i == 1 else 0.0, 1.0 if i == 2 else 0.0,
+                                   qs[0], qs[1], qs[2])
+            dqb1 = d10 * q[0] + d11 * q[1] + d12 * q[2] + 0.5 * (e0 * r1[0] + e1_ * r1[1] + e2_ * r1[2])
+            dqb2 = d20 * q[0] + d21 * q[1] + d22 * q[2] + 0.5 * (e0 * r2[0] + e1_ * r2[1] + e2_ * r2[2])
+            a10, a11, a12 = _cx(q1[0], q1[1], q1[2], d30, d31, d32)
+            a20, a21, a22 = _cx(q2[0], q2[1], q2[2], d30, d31, d32)
+            if j >= 3:
+                b0, b1, b2 = _cx(e0, e1_, e2_, r3[0], r3[1], r3[2])
+                if j < 6:
+                    a10, a11, a12 = a10 + b0, a11 + b1, a12 + b2
+                else:
+                    a20, a21, a22 = a20 + b0, a21 + b1, a22 + b2
+            # nu_s = (d Jinv_s[dth_s])^T m_s
+            n00 = G[0, 0, 0] * dth[0, j, 0] + G[0, 0, 1] * dth[0, j, 1] + G[0, 0, 2] * dth[0, j, 2]
+            n01 = G[0, 1, 0] * dth[0, j, 0] + G[0, 1, 1] * dth[0, j, 1] + G[0, 1, 2] * dth[0, j, 2]
+            n02 = G[0, 2, 0] * dth[0, j, 0] + G[0, 2, 1] * dth[0, j, 1] + G[0, 2, 2] * dth[0, j, 2]
+            n10 = G[1, 0, 0] * dth[1, j, 0] + G[1, 0, 1] * dth[1, j, 1] + G[1, 0, 2] * dth[1, j, 2]
+            n11 = G[1, 1, 0] * dth[1, j, 0] + G[1, 1, 1] * dth[1, j, 1] + G[1, 1, 2] * dth[1, j, 2]
+            n12 = G[1, 2, 0] * dth[1, j, 0] + G[1, 2, 1] * dth[1, j, 1] + G[1, 2, 2] * dth[1, j, 2]
             dl = dln[j] / ln
-            U[0, j] = c0s * dqb2[j] - (nu[0, j, 0] + nu[1, j, 0])
-            U[1, j] = beta * dl - c0s * dqb1[j] - (nu[0, j, 1] + nu[1, j, 1])
-            U[2, j] = musum[2] * dl - (nu[0, j, 2] + nu[1, j, 2])
-            _cross(mu[0], om[j], tmp)
-            _cross(mu[1], om[j], tmp2)
-            for i in range(3):
-                tmp[i] = nu[0, j, i] - tmp[i]
-                tmp2[i] = nu[1, j, i] - tmp2[i]
-            for i in range(3):
-                # spin rows of node 1 and node 2: W_s[k] is row (k - base) of Rr
-                K9[3 + i, j] += _dot(Rr[i], tmp) - 0.5 * c0s * da1[j, i]
-                K9[6 + i, j] += _dot(Rr[i], tmp2) - 0.5 * c0s * da2[j, i]
-                # relative translation rows (D[k] = e_i)
-                K9[i, j] += f0 * dr1[j, i] + (beta * dr3[j, i] - musum[2] * dr2[j, i]) / ln
+            U[0, j] = c0s * dqb2 - (n00 + n10)
+            U[1, j] = beta * dl - c0s * dqb1 - (n01 + n11)
+            U[2, j] = ms2 * dl - (n02 + n12)
+            c0, c1_, c2_ = _cx(mu[0, 0], mu[0, 1], mu[0, 2], o0, o1, o2)
+            t0, t1_, t2_ = n00 - c0, n01 - c1_, n02 - c2_
+            c0, c1_, c2_ = _cx(mu[1, 0], mu[1, 1], mu[1, 2], o0, o1, o2)
+            u0, u1, u2 = n10 - c0, n11 - c1_, n12 - c2_
+            # spin rows of node 1 and node 2 (W_s[k] is row (k - base) of Rr), then the relative
+            # translation rows (D[k] = e_i)
+            K9[3, j] += Rr[0, 0] * t0 + Rr[0, 1] * t1_ + Rr[0, 2] * t2_ - 0.5 * c0s * a10
+            K9[4, j] += Rr[1, 0] * t0 + Rr[1, 1] * t1_ + Rr[1, 2] * t2_ - 0.5 * c0s * a11
+            K9[5, j] += Rr[2, 0] * t0 + Rr[2, 1] * t1_ + Rr[2, 2] * t2_ - 0.5 * c0s * a12
+            K9[6, j] += Rr[0, 0] * u0 + Rr[0, 1] * u1 + Rr[0, 2] * u2 - 0.5 * c0s * a20
+            K9[7, j] += Rr[1, 0] * u0 + Rr[1, 1] * u1 + Rr[1, 2] * u2 - 0.5 * c0s * a21
+            K9[8, j] += Rr[2, 0] * u0 + Rr[2, 1] * u1 + Rr[2, 2] * u2 - 0.5 * c0s * a22
+            K9[0, j] += f0 * d10 + (beta * d30 - ms2 * d20) / ln
+            K9[1, j] += f0 * d11 + (beta * d31 - ms2 * d21) / ln
+            K9[2, j] += f0 * d12 + (beta * d32 - ms2 * d22) / ln
         for a in range(9):  # the spins' om has its first component only
             for b in range(9):
                 K9[a, b] += om[a, 0] * U[0, b]
