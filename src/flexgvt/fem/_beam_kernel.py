@@ -199,9 +199,7 @@ def _beam_chunk(x, R, nodes, E0s, L0s, stiff, arch, want_tangent, f_ref, g_out, 
     hc = np.empty(6)
     w = np.empty((6, 9))
     hw = np.empty((6, 9))
-    B = np.zeros((9, 7))
     om = np.zeros((9, 3))
-    wb = np.zeros((2, 9, 3))
     dth = np.zeros((2, 9, 3))
     a1 = np.empty(3)
     a2 = np.empty(3)
@@ -255,28 +253,6 @@ def _beam_chunk(x, R, nodes, E0s, L0s, stiff, arch, want_tangent, f_ref, g_out, 
             g_out[el, 9 + k] = Rr[k, 0] * mu[1, 0] + Rr[k, 1] * mu[1, 1] + Rr[k, 2] * mu[1, 2] - 0.5 * a2[k] / qb2 * ms0
         if not want_tangent:
             continue
-        for k in range(9):
-            # Spin of the frame for a unit DOF k: about r2, r3 from the chord (translations), about
-            # r1 from the twist of the mean e2 vector (q through qb1 and the spins of q1, q2).
-            if k < 3:
-                dln[k] = r1[k]
-                om[k, 1] = -r3[k] / ln
-                om[k, 2] = r2[k] / ln
-                om[k, 0] = qb1 * om[k, 1] / qb2
-            else:
-                om[k, 1] = 0.0
-                om[k, 2] = 0.0
-                om[k, 0] = 0.5 * (a1[k - 3] if k < 6 else a2[k - 6]) / qb2
-            for i in range(3):
-                # R_r^T W_s[k]: row (k - base) of R_r^T for the node's own spin DOFs.
-                wb[0, k, i] = (Rr[k - 3, i] if 3 <= k < 6 else 0.0) - om[k, i]
-                wb[1, k, i] = (Rr[k - 6, i] if k >= 6 else 0.0) - om[k, i]
-            jl_inv_apply(t1, c1, wb[0, k], dth[0, k], -1.0)
-            jl_inv_apply(t2, c2, wb[1, k], dth[1, k], -1.0)
-            B[k, 0] = dln[k]
-            for i in range(3):
-                B[k, 1 + i] = dth[0, k, i]
-                B[k, 4 + i] = dth[1, k, i]
         if f_ref.shape[0] > 0 and stiff[el, 0] != 0.0:
             # H's stress terms (shallow-arch strain) with the reference axial force: the energy is
             # evaluated at the elongation that gives that force, then the reference forces replace f.
@@ -287,18 +263,44 @@ def _beam_chunk(x, R, nodes, E0s, L0s, stiff, arch, want_tangent, f_ref, g_out, 
                 f[i] = f_ref[el, i]
             jl_inv_apply(t1, c1, f[1:4], mu[0], 1.0)
             jl_inv_apply(t2, c2, f[4:7], mu[1], 1.0)
-        # Material part B H B^T = sum_t hc[t] (B h_t)(B h_t)^T: one triangle, mirrored.
-        for a in range(9):
-            w[0, a] = (B[a, 0] * ge[0] + B[a, 2] * ge[2] + B[a, 3] * ge[3] + B[a, 5] * ge[5]
-                       + B[a, 6] * ge[6])  # ge[1] = ge[4] = 0
-            w[1, a] = B[a, 1] - B[a, 4]
-            w[2, a] = B[a, 2] + B[a, 5]
-            w[3, a] = B[a, 2] - B[a, 5]
-            w[4, a] = B[a, 3] + B[a, 6]
-            w[5, a] = B[a, 3] - B[a, 6]
+        for k in range(9):
+            # Spin of the frame for a unit DOF k: about r2, r3 from the chord (translations), about
+            # r1 from the twist of the mean e2 vector (q through qb1 and the spins of q1, q2).
+            if k < 3:
+                dln[k] = r1[k]
+                o1 = -r3[k] / ln
+                o2 = r2[k] / ln
+                o0 = qb1 * o1 / qb2
+            else:
+                o0 = 0.5 * (a1[k - 3] if k < 6 else a2[k - 6]) / qb2
+                o1 = o2 = 0.0
+            om[k, 0], om[k, 1], om[k, 2] = o0, o1, o2
+            # dth_s = Jinv_s wb_s with wb_s = R_r^T W_s[k] - om (W_s[k]: the node's own spins)
+            for s_ in range(2):
+                own = 3 + 3 * s_ <= k < 6 + 3 * s_
+                row = k - 3 - 3 * s_
+                v0 = (Rr[row, 0] if own else 0.0) - o0
+                v1 = (Rr[row, 1] if own else 0.0) - o1
+                v2 = (Rr[row, 2] if own else 0.0) - o2
+                th = t1 if s_ == 0 else t2
+                cs = c1 if s_ == 0 else c2
+                u0, u1, u2 = _cx(th[0], th[1], th[2], v0, v1, v2)
+                x0, x1_, x2_ = _cx(th[0], th[1], th[2], u0, u1, u2)
+                dth[s_, k, 0] = v0 - 0.5 * u0 + cs * x0
+                dth[s_, k, 1] = v1 - 0.5 * u1 + cs * x1_
+                dth[s_, k, 2] = v2 - 0.5 * u2 + cs * x2_
+            # Material part B H B^T = sum_t hc[t] w_t w_t^T, w_t = B h_t (B[k] = [dln, dth_1, dth_2]).
+            a0, a1_, a2_ = dth[0, k, 0], dth[0, k, 1], dth[0, k, 2]
+            b0, b1, b2 = dth[1, k, 0], dth[1, k, 1], dth[1, k, 2]
+            w[0, k] = dln[k] * ge[0] + a1_ * ge[2] + a2_ * ge[3] + b1 * ge[5] + b2 * ge[6]  # ge[1] = ge[4] = 0
+            w[1, k] = a0 - b0
+            w[2, k] = a1_ + b1
+            w[3, k] = a1_ - b1
+            w[4, k] = a2_ + b2
+            w[5, k] = a2_ - b2
             for t in range(6):
-                hw[t, a] = hc[t] * w[t, a]
-        for a in range(9):
+                hw[t, k] = hc[t] * w[t, k]
+        for a in range(9):  # one triangle, mirrored
             for b in range(a, 9):
                 acc = (hw[0, a] * w[0, b] + hw[1, a] * w[1, b] + hw[2, a] * w[2, b] + hw[3, a] * w[3, b]
                        + hw[4, a] * w[4, b] + hw[5, a] * w[5, b])
