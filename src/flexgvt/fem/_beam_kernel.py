@@ -143,22 +143,42 @@ def corotated(x1, x2, R1, R2, E0, Rr, q1, q2, q):
 
 
 @njit(**_FAST, inline="always")
-def _rel(Rr, Rn, E0, A, tmp):
-    """A = Rr^T Rn E0 without temporaries."""
-    for i in range(3):
-        for j in range(3):
-            tmp[i, j] = Rn[i, 0] * E0[0, j] + Rn[i, 1] * E0[1, j] + Rn[i, 2] * E0[2, j]
-    for i in range(3):
-        for j in range(3):
-            A[i, j] = Rr[0, i] * tmp[0, j] + Rr[1, i] * tmp[1, j] + Rr[2, i] * tmp[2, j]
-
-
-@njit(**_FAST, inline="always")
-def local_rotations(Rr, R1, R2, E0, t1, t2, A, tmp, q4):
-    _rel(Rr, R1, E0, A, tmp)
-    logm(A, t1, q4)
-    _rel(Rr, R2, E0, A, tmp)
-    logm(A, t2, q4)
+def local_rotation(Rr, Rn, E0, qn, out, A, q4):
+    """out = log(R_r^T R_n E0), the node's rotation relative to the element frame; qn = R_n E0[:, 1]
+    (already at hand). Near the identity (the usual case) in scalars by the atan series (as logm's)."""
+    t00 = Rn[0, 0] * E0[0, 0] + Rn[0, 1] * E0[1, 0] + Rn[0, 2] * E0[2, 0]
+    t10 = Rn[1, 0] * E0[0, 0] + Rn[1, 1] * E0[1, 0] + Rn[1, 2] * E0[2, 0]
+    t20 = Rn[2, 0] * E0[0, 0] + Rn[2, 1] * E0[1, 0] + Rn[2, 2] * E0[2, 0]
+    t02 = Rn[0, 0] * E0[0, 2] + Rn[0, 1] * E0[1, 2] + Rn[0, 2] * E0[2, 2]
+    t12 = Rn[1, 0] * E0[0, 2] + Rn[1, 1] * E0[1, 2] + Rn[1, 2] * E0[2, 2]
+    t22 = Rn[2, 0] * E0[0, 2] + Rn[2, 1] * E0[1, 2] + Rn[2, 2] * E0[2, 2]
+    a00 = Rr[0, 0] * t00 + Rr[1, 0] * t10 + Rr[2, 0] * t20
+    a10 = Rr[0, 1] * t00 + Rr[1, 1] * t10 + Rr[2, 1] * t20
+    a20 = Rr[0, 2] * t00 + Rr[1, 2] * t10 + Rr[2, 2] * t20
+    a01 = Rr[0, 0] * qn[0] + Rr[1, 0] * qn[1] + Rr[2, 0] * qn[2]
+    a11 = Rr[0, 1] * qn[0] + Rr[1, 1] * qn[1] + Rr[2, 1] * qn[2]
+    a21 = Rr[0, 2] * qn[0] + Rr[1, 2] * qn[1] + Rr[2, 2] * qn[2]
+    a02 = Rr[0, 0] * t02 + Rr[1, 0] * t12 + Rr[2, 0] * t22
+    a12 = Rr[0, 1] * t02 + Rr[1, 1] * t12 + Rr[2, 1] * t22
+    a22 = Rr[0, 2] * t02 + Rr[1, 2] * t12 + Rr[2, 2] * t22
+    tr = a00 + a11 + a22
+    if tr > 2.9:  # angle below 18 deg: the trace branch of Shepperd's quaternion (w > 0.98)
+        w = 0.5 * np.sqrt(1.0 + tr)
+        v0 = (a21 - a12) * 0.25 / w
+        v1 = (a02 - a20) * 0.25 / w
+        v2 = (a10 - a01) * 0.25 / w
+        z2 = (v0 * v0 + v1 * v1 + v2 * v2) / (w * w)  # tan^2 of half the angle, below 0.025
+        if z2 < 0.01:
+            f = 2.0 / w * (1.0 - z2 * (1.0 / 3 - z2 * (1.0 / 5 - z2 * (1.0 / 7 - z2 * (
+                1.0 / 9 - z2 * (1.0 / 11 - z2 * (1.0 / 13 - z2 * (1.0 / 15 - z2 / 17))))))))
+            out[0] = f * v0
+            out[1] = f * v1
+            out[2] = f * v2
+            return
+    A[0, 0], A[0, 1], A[0, 2] = a00, a01, a02
+    A[1, 0], A[1, 1], A[1, 2] = a10, a11, a12
+    A[2, 0], A[2, 1], A[2, 2] = a20, a21, a22
+    logm(A, out, q4)
 
 
 @njit(cache=True, nogil=True, parallel=True)
@@ -208,7 +228,6 @@ def _beam_chunk(x, R, nodes, E0s, L0s, stiff, arch, want_tangent, f_ref, g_out, 
     mu = np.empty((2, 3))
     dln = np.zeros(9)
     A33 = np.empty((3, 3))
-    T33 = np.empty((3, 3))
     q4 = np.empty(4)
     r1 = np.empty(3)
     r2 = np.empty(3)
@@ -225,7 +244,8 @@ def _beam_chunk(x, R, nodes, E0s, L0s, stiff, arch, want_tangent, f_ref, g_out, 
         ln = corotated(x1, x2, R1, R2, E0, Rr, q1, q2, q)
         for i in range(3):
             r1[i], r2[i], r3[i] = Rr[i, 0], Rr[i, 1], Rr[i, 2]
-        local_rotations(Rr, R1, R2, E0, t1, t2, A33, T33, q4)
+        local_rotation(Rr, R1, E0, q1, t1, A33, q4)
+        local_rotation(Rr, R2, E0, q2, t2, A33, q4)
         c1, e1 = jl_inv_coeffs(t1)
         c2, e2 = jl_inv_coeffs(t2)
         N = local_energy(ln - L0, t1, t2, L0, stiff[el], arch[el], f, ge, hc)
