@@ -232,7 +232,6 @@ def _beam_chunk(x, R, nodes, E0s, L0s, stiff, arch, want_tangent, f_ref, g_out, 
     r1 = np.empty(3)
     r2 = np.empty(3)
     r3 = np.empty(3)
-    U = np.empty((3, 9))
     G = np.empty((2, 3, 3))
     K9 = np.empty((9, 9))
     for el in range(start, stop):
@@ -383,9 +382,13 @@ def _beam_chunk(x, R, nodes, E0s, L0s, stiff, arch, want_tangent, f_ref, g_out, 
             n11 = G[1, 1, 0] * dth[1, j, 0] + G[1, 1, 1] * dth[1, j, 1] + G[1, 1, 2] * dth[1, j, 2]
             n12 = G[1, 2, 0] * dth[1, j, 0] + G[1, 2, 1] * dth[1, j, 1] + G[1, 2, 2] * dth[1, j, 2]
             dl = dln[j] / ln
-            U[0, j] = c0s * dqb2 - (n00 + n10)
-            U[1, j] = beta * dl - c0s * dqb1 - (n01 + n11)
-            U[2, j] = ms2 * dl - (n02 + n12)
+            U0 = c0s * dqb2 - (n00 + n10)
+            U1 = beta * dl - c0s * dqb1 - (n01 + n11)
+            U2 = ms2 * dl - (n02 + n12)
+            for a in range(9):  # the rank-3 part om[a] . U (the spins' om has its first component only)
+                K9[a, j] += om[a, 0] * U0
+            for a in range(3):
+                K9[a, j] += om[a, 1] * U1 + om[a, 2] * U2
             c0, c1_, c2_ = _cx(mu[0, 0], mu[0, 1], mu[0, 2], o0, o1, o2)
             t0, t1_, t2_ = n00 - c0, n01 - c1_, n02 - c2_
             c0, c1_, c2_ = _cx(mu[1, 0], mu[1, 1], mu[1, 2], o0, o1, o2)
@@ -401,12 +404,6 @@ def _beam_chunk(x, R, nodes, E0s, L0s, stiff, arch, want_tangent, f_ref, g_out, 
             K9[0, j] += f0 * d10 + (beta * d30 - ms2 * d20) / ln
             K9[1, j] += f0 * d11 + (beta * d31 - ms2 * d21) / ln
             K9[2, j] += f0 * d12 + (beta * d32 - ms2 * d22) / ln
-        for a in range(9):  # the spins' om has its first component only
-            for b in range(9):
-                K9[a, b] += om[a, 0] * U[0, b]
-        for a in range(3):
-            for b in range(9):
-                K9[a, b] += om[a, 1] * U[1, b] + om[a, 2] * U[2, b]
         K = K_out[el]
         for a in range(12):  # K[a, b] = d g_a / d p_b, expanded from the 9 DOFs
             ra, sa = m9[a], sg[a]
