@@ -97,6 +97,15 @@ def _scatter_symmetric_kept(out, target, values):  # pragma: no cover - compiled
 
 
 @numba.njit(cache=True, nogil=True)
+def _compose(target, where):  # pragma: no cover - compiled
+    """where[target] where target >= 0, else -1."""
+    out = np.empty_like(target)
+    for k in range(target.size):
+        out[k] = where[target[k]] if target[k] >= 0 else -1
+    return out
+
+
+@numba.njit(cache=True, nogil=True)
 def _pivots_ok(D, data, diag_idx, tolerance):  # pragma: no cover - compiled
     """Every |D[i]| above tolerance times |A_ii| (false for NaN)."""
     for i in range(D.size):
@@ -163,7 +172,7 @@ class CholmodCache:
             if self._blocks_key != (id(pattern), self._analyses):
                 where = np.full(pattern.nnz, -2, np.int64)
                 where[self._kept_idx] = np.arange(len(self._kept_idx))
-                self._block_targets = [np.where(t >= 0, where[np.maximum(t, 0)], -1) for t in pattern._targets]
+                self._block_targets = [_compose(t, where) for t in pattern._targets]
                 self._blocks_key = (id(pattern), self._analyses)
             if self._mass_key is None or self._mass_key[0] is not mass_data or self._mass_key[1] != self._analyses:
                 dropped = mass_data[self._dropped_idx]
