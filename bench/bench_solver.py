@@ -9,7 +9,7 @@ of a cantilever beam with 150, 1,000 and 10,000 elements, beside
 * a peer: OpenSeesPy, corotational elasticBeamColumn, the same nodal gravity loads in 20
   LoadControl increments, then eigen about the deformed state (when openseespy imports).
 
-Usage:  python bench/bench_solver.py [--sizes 150 1000 10000] [--no-peer] [--no-write] [--quick]
+Usage:  python bench/bench_solver.py [--sizes 150 1000 10000] [--no-peer] [--no-write] [--quick] [--spread N]
 
 Prints tables and rewrites the section "## Nonlinear static + pre-stressed modes (beams)" of
 docs/benchmarks.md (other sections of that file are kept). Timings are wall-clock minima over
@@ -20,6 +20,8 @@ from __future__ import annotations
 
 import argparse
 import gc
+import re
+import subprocess
 import sys
 import time
 from collections import defaultdict
@@ -350,6 +352,8 @@ def main(argv=None):
     ap.add_argument("--no-peer", action="store_true", help="skip OpenSeesPy")
     ap.add_argument("--no-write", action="store_true", help="do not rewrite docs/benchmarks.md")
     ap.add_argument("--quick", action="store_true", help="one repeat everywhere")
+    ap.add_argument("--spread", type=int, default=0, metavar="N",
+                    help="also time the 1,000-element size in N fresh processes (the VM's run-to-run spread)")
     args = ap.parse_args(argv)
 
     cpu, ncores, vers = machine_info()
@@ -491,7 +495,18 @@ def main(argv=None):
         for k, v, c in rows:
             print(f"  {v * 1e3:8.1f} ms  {100 * v / (ts + tm):5.1f} %  {c:5d} calls  {k}")
 
-    text = render(results, prof, cpu, ncores, vers, libs, warmup, t_first, T_IMPORT)
+    spread_runs = []
+    if args.spread and 1000 in args.sizes:
+        for k in range(args.spread):
+            got = subprocess.run([sys.executable, __file__, "--sizes", "1000", "--no-peer", "--no-write"],
+                                 capture_output=True, text=True, check=True).stdout
+            m = re.search(r"n=\s*1000 .* total\s+(\d+) ms .* ratio\s+([\d.]+) \(paired rounds: median ([\d.]+)", got)
+            if m is None:
+                raise RuntimeError(f"--spread: no 1,000-element result in run {k + 1}:\n{got[-2000:]}")
+            spread_runs.append(tuple(float(v) for v in m.groups()))
+            print(f"spread run {k + 1}: total {m.group(1)} ms, ratio {m.group(2)}, paired median {m.group(3)}", flush=True)
+
+    text = render(results, prof, cpu, ncores, vers, libs, warmup, t_first, T_IMPORT, spread_runs)
     print()
     print(text)
     if not args.no_write:
@@ -499,7 +514,17 @@ def main(argv=None):
         print(f"wrote {ROOT / 'docs' / 'benchmarks.md'}")
 
 
-def render(results, prof, cpu, ncores, vers, libs, warmup, t_first, t_import) -> str:
+def _spread_text(runs) -> str:
+    """One sentence on the 1,000-element size timed in fresh processes (total ms, ratio, paired median)."""
+    total, ratio, paired = (np.array(v) for v in zip(*runs))
+    within = int(np.sum(ratio <= 3.0))
+    return (f" The same size timed in {len(runs)} fresh processes after this run: minima ratio "
+            f"{', '.join(f'{r:.2f}' for r in sorted(ratio))}x (median **{np.median(ratio):.2f}x**), paired-round "
+            f"medians {', '.join(f'{r:.2f}' for r in sorted(paired))}x (median **{np.median(paired):.2f}x**), totals "
+            f"{total.min():.0f}-{total.max():.0f} ms; within 3x in {within} of {len(runs)} by the minima ratio.")
+
+
+def render(results, prof, cpu, ncores, vers, libs, warmup, t_first, t_import, spread_runs=()) -> str:
     L = [SECTION, ""]
     L.append("`python bench/bench_solver.py` (a few minutes). A uniform cantilever strip (aluminium, 1.5 m x 50 mm x "
              "3 mm, Euler-Bernoulli section, clamped, no bending rotary inertia, torsional inertia kept) under "
@@ -559,7 +584,8 @@ def render(results, prof, cpu, ncores, vers, libs, warmup, t_first, t_import) ->
                  "run's ratio is one sample: repeat the script before reading a ratio near 3 as met or not."
                  + (f" In {len(r1['paired'])} alternating rounds of this run (flexgvt, then its floor, each "
                     f"round timed once) the ratio's median is **{np.median(r1['paired']):.2f}x** "
-                    f"({min(r1['paired']):.2f}-{max(r1['paired']):.2f}x)." if r1.get("paired") else ""))
+                    f"({min(r1['paired']):.2f}-{max(r1['paired']):.2f}x)." if r1.get("paired") else "")
+                 + (_spread_text(spread_runs) if spread_runs else ""))
         L.append("")
     spread = ", ".join(f"{r['n']:,} elements {100 * r['shift_spread_1']:.2g} % (largest over the 20: "
                        f"{100 * r['shift_spread']:.2g} %)" for r in results if "shift_spread" in r)

@@ -24,6 +24,7 @@ from .linsolve import CholmodCache
 from .points import cord_damping, cord_forces, mass_gravity, mass_matrix, spring_damping, spring_forces
 from .rotations import expm_so3, skew, spin, step_nodes
 
+
 @numba.njit(cache=True)
 def _scatter_reduced(dofs, values, dof_map, out):  # pragma: no cover - compiled
     """out[dof_map[dofs[e, a]]] += values[e, a] where the DOF is free (dof_map >= 0)."""
