@@ -250,7 +250,7 @@ def _beam_chunk(x, R, nodes, E0s, L0s, stiff, arch, want_tangent, f_ref, g_out, 
         N = local_energy(ln - L0, t1, t2, L0, stiff[el], arch[el], f, ge, hc)
         for i in range(7):
             f_out[el, i] = f[i]
-        # g = B f with B[k] = (dln, Jinv1 wb1, Jinv2 wb2): the rotation parts are wb . (Jinv^T f) = wb . mu.
+        # mu_s = Jinv_s^T m_s (the nodal moments): the rotation parts of g = B f are wb . mu.
         jl_inv_apply(t1, c1, f[1:4], mu[0], 1.0)
         jl_inv_apply(t2, c2, f[4:7], mu[1], 1.0)
         qb1 = _dot(r1, q)
@@ -304,10 +304,10 @@ def _beam_chunk(x, R, nodes, E0s, L0s, stiff, arch, want_tangent, f_ref, g_out, 
                 th = t1 if s_ == 0 else t2
                 cs = c1 if s_ == 0 else c2
                 u0, u1, u2 = _cx(th[0], th[1], th[2], v0, v1, v2)
-                x0, x1_, x2_ = _cx(th[0], th[1], th[2], u0, u1, u2)
-                dth[s_, k, 0] = v0 - 0.5 * u0 + cs * x0
-                dth[s_, k, 1] = v1 - 0.5 * u1 + cs * x1_
-                dth[s_, k, 2] = v2 - 0.5 * u2 + cs * x2_
+                y0, y1, y2 = _cx(th[0], th[1], th[2], u0, u1, u2)
+                dth[s_, k, 0] = v0 - 0.5 * u0 + cs * y0
+                dth[s_, k, 1] = v1 - 0.5 * u1 + cs * y1
+                dth[s_, k, 2] = v2 - 0.5 * u2 + cs * y2
             # Material part B H B^T = sum_t hc[t] w_t w_t^T, w_t = B h_t (B[k] = [dln, dth_1, dth_2]).
             a0, a1_, a2_ = dth[0, k, 0], dth[0, k, 1], dth[0, k, 2]
             b0, b1, b2 = dth[1, k, 0], dth[1, k, 1], dth[1, k, 2]
@@ -357,19 +357,19 @@ def _beam_chunk(x, R, nodes, E0s, L0s, stiff, arch, want_tangent, f_ref, g_out, 
                 d12 = ((1.0 if j == 2 else 0.0) - r1[2] * r1[j]) / ln
             else:
                 d10 = d11 = d12 = 0.0
-            # spin of q1 (j = 3..5) or q2 (j = 6..8) about axis e_i: e_i x q_s
-            e0 = e1_ = e2_ = 0.0
+            # z = e_i x q_s: the spin of q1 (j = 3..5) or q2 (j = 6..8) about axis e_i
+            z0 = z1 = z2 = 0.0
             if j >= 3:
                 qs = q1 if j < 6 else q2
                 i = (j - 3) % 3
-                e0, e1_, e2_ = _cx(1.0 if i == 0 else 0.0, 1.0 if i == 1 else 0.0, 1.0 if i == 2 else 0.0,
+                z0, z1, z2 = _cx(1.0 if i == 0 else 0.0, 1.0 if i == 1 else 0.0, 1.0 if i == 2 else 0.0,
                                    qs[0], qs[1], qs[2])
-            dqb1 = d10 * q[0] + d11 * q[1] + d12 * q[2] + 0.5 * (e0 * r1[0] + e1_ * r1[1] + e2_ * r1[2])
-            dqb2 = d20 * q[0] + d21 * q[1] + d22 * q[2] + 0.5 * (e0 * r2[0] + e1_ * r2[1] + e2_ * r2[2])
+            dqb1 = d10 * q[0] + d11 * q[1] + d12 * q[2] + 0.5 * (z0 * r1[0] + z1 * r1[1] + z2 * r1[2])
+            dqb2 = d20 * q[0] + d21 * q[1] + d22 * q[2] + 0.5 * (z0 * r2[0] + z1 * r2[1] + z2 * r2[2])
             a10, a11, a12 = _cx(q1[0], q1[1], q1[2], d30, d31, d32)
             a20, a21, a22 = _cx(q2[0], q2[1], q2[2], d30, d31, d32)
             if j >= 3:
-                b0, b1, b2 = _cx(e0, e1_, e2_, r3[0], r3[1], r3[2])
+                b0, b1, b2 = _cx(z0, z1, z2, r3[0], r3[1], r3[2])
                 if j < 6:
                     a10, a11, a12 = a10 + b0, a11 + b1, a12 + b2
                 else:
@@ -389,15 +389,15 @@ def _beam_chunk(x, R, nodes, E0s, L0s, stiff, arch, want_tangent, f_ref, g_out, 
                 K9[a, j] += om[a, 0] * U0
             for a in range(3):
                 K9[a, j] += om[a, 1] * U1 + om[a, 2] * U2
-            c0, c1_, c2_ = _cx(mu[0, 0], mu[0, 1], mu[0, 2], o0, o1, o2)
-            t0, t1_, t2_ = n00 - c0, n01 - c1_, n02 - c2_
-            c0, c1_, c2_ = _cx(mu[1, 0], mu[1, 1], mu[1, 2], o0, o1, o2)
-            u0, u1, u2 = n10 - c0, n11 - c1_, n12 - c2_
+            y0, y1, y2 = _cx(mu[0, 0], mu[0, 1], mu[0, 2], o0, o1, o2)
+            p0, p1, p2 = n00 - y0, n01 - y1, n02 - y2  # node 1: nu_1 - mu_1 x om
+            y0, y1, y2 = _cx(mu[1, 0], mu[1, 1], mu[1, 2], o0, o1, o2)
+            u0, u1, u2 = n10 - y0, n11 - y1, n12 - y2  # node 2
             # spin rows of node 1 and node 2 (W_s[k] is row (k - base) of Rr), then the relative
             # translation rows (D[k] = e_i)
-            K9[3, j] += Rr[0, 0] * t0 + Rr[0, 1] * t1_ + Rr[0, 2] * t2_ - 0.5 * c0s * a10
-            K9[4, j] += Rr[1, 0] * t0 + Rr[1, 1] * t1_ + Rr[1, 2] * t2_ - 0.5 * c0s * a11
-            K9[5, j] += Rr[2, 0] * t0 + Rr[2, 1] * t1_ + Rr[2, 2] * t2_ - 0.5 * c0s * a12
+            K9[3, j] += Rr[0, 0] * p0 + Rr[0, 1] * p1 + Rr[0, 2] * p2 - 0.5 * c0s * a10
+            K9[4, j] += Rr[1, 0] * p0 + Rr[1, 1] * p1 + Rr[1, 2] * p2 - 0.5 * c0s * a11
+            K9[5, j] += Rr[2, 0] * p0 + Rr[2, 1] * p1 + Rr[2, 2] * p2 - 0.5 * c0s * a12
             K9[6, j] += Rr[0, 0] * u0 + Rr[0, 1] * u1 + Rr[0, 2] * u2 - 0.5 * c0s * a20
             K9[7, j] += Rr[1, 0] * u0 + Rr[1, 1] * u1 + Rr[1, 2] * u2 - 0.5 * c0s * a21
             K9[8, j] += Rr[2, 0] * u0 + Rr[2, 1] * u1 + Rr[2, 2] * u2 - 0.5 * c0s * a22
