@@ -181,6 +181,17 @@ def local_rotation(Rr, Rn, E0, qn, out, A, q4):
     logm(A, out, q4)
 
 
+@njit(**_FAST)
+def element_frames_at(x, R, nodes, E0s, out):
+    """out (n, 3, 3): the corotated frame of every element at nodal positions x, rotations R."""
+    q1 = np.empty(3)
+    q2 = np.empty(3)
+    q = np.empty(3)
+    for el in range(nodes.shape[0]):
+        i1, i2 = nodes[el, 0], nodes[el, 1]
+        corotated(x[i1], x[i2], R[i1], R[i2], E0s[el], out[el], q1, q2, q)
+
+
 @njit(cache=True, nogil=True, parallel=True)
 def beam_kernel(x, R, nodes, E0s, L0s, stiff, arch, want_tangent, f_ref, g_out, K_out, f_out, threads):
     """All elements, in chunks over ``threads`` threads (elements are independent)."""

@@ -18,8 +18,8 @@ from dataclasses import dataclass
 import numba
 import numpy as np
 
-from ._beam_kernel import beam_kernel
-from .rotations import cross, logm_so3
+from ._beam_kernel import beam_kernel, element_frames_at
+from .rotations import cross
 
 @dataclass(frozen=True)
 class BeamData:
@@ -58,26 +58,6 @@ def element_frames(xyz: np.ndarray, nodes: np.ndarray, orientation: np.ndarray) 
     ez /= np.linalg.norm(ez, axis=1, keepdims=True)
     ey = cross(ez, ex)
     return np.stack([ex, ey, ez], axis=2)
-
-
-def corotated_frames(x1, x2, R1, R2, E0):
-    """Current element frames (n, 3, 3), the chord length and the mean e2 vector."""
-    d = x2 - x1
-    ln = np.linalg.norm(d, axis=1)
-    r1 = d / ln[:, None]
-    q1 = (R1 @ E0[:, :, 1:2])[:, :, 0]
-    q2 = (R2 @ E0[:, :, 1:2])[:, :, 0]
-    q = 0.5 * (q1 + q2)
-    r3 = cross(r1, q)
-    r3 /= np.linalg.norm(r3, axis=1, keepdims=True)
-    r2 = cross(r3, r1)
-    return np.stack([r1, r2, r3], axis=2), ln, q1, q2, q
-
-
-def local_rotations(Rr, R1, R2, E0):
-    """Local rotation vectors of both element ends relative to the corotated frame, (n, 3) each."""
-    RrT = np.swapaxes(Rr, 1, 2)
-    return logm_so3(RrT @ R1 @ E0), logm_so3(RrT @ R2 @ E0)
 
 
 def beam_forces(x: np.ndarray, R: np.ndarray, data: BeamData, tangent: bool = True,
@@ -153,30 +133,47 @@ def local_mass_matrices(data: BeamData) -> np.ndarray:
 
 def beam_mass_matrices(x: np.ndarray, R: np.ndarray, data: BeamData, local: np.ndarray) -> np.ndarray:
     """(n, 12, 12) global mass matrices about the current state: local matrices in the corotated frame."""
-    n1, n2 = data.nodes[:, 0], data.nodes[:, 1]
-    Rr = corotated_frames(x[n1], x[n2], R[n1], R[n2], data.E0)[0]
-    out = np.empty((len(Rr), 12, 12))
-    _rotate_blocks(np.ascontiguousarray(Rr), np.ascontiguousarray(local, dtype=float), out)
+    out = np.empty((len(data.L0), 12, 12))
+    _rotate_blocks(current_frames(x, R, data), np.ascontiguousarray(local, dtype=float), out)
+    return out
+
+
+def current_frames(x: np.ndarray, R: np.ndarray, data: BeamData) -> np.ndarray:
+    """(n, 3, 3) corotated element frames (columns r1, r2, r3) at positions x, rotations R."""
+    out = np.empty((len(data.L0), 3, 3))
+    element_frames_at(np.ascontiguousarray(x, dtype=float), np.ascontiguousarray(R, dtype=float), data.nodes,
+                      data.E0, out)
     return out
 
 
 @numba.njit(cache=True)
 def _rotate_blocks(Rr, local, out):  # pragma: no cover - compiled
-    """out[e] = E local[e] E^T with E = diag(Rr[e], Rr[e], Rr[e], Rr[e]), block by 3x3 block."""
+    """out[e] = E local[e] E^T with E = diag(Rr[e], Rr[e], Rr[e], Rr[e]), block by 3x3 block. A
+    diagonal local block (all but the translation-rotation couplings of beam mass) is
+    sum_k d_k Q e_k (Q e_k)^T, the rest the full product."""
     tmp = np.empty((3, 3))
     for e in range(Rr.shape[0]):
         Q = Rr[e]
         for bi in range(4):
             for bj in range(4):
+                r0, c0 = 3 * bi, 3 * bj
+                L = local[e]
+                if (L[r0, c0 + 1] == 0.0 and L[r0, c0 + 2] == 0.0 and L[r0 + 1, c0] == 0.0
+                        and L[r0 + 1, c0 + 2] == 0.0 and L[r0 + 2, c0] == 0.0 and L[r0 + 2, c0 + 1] == 0.0):
+                    d0, d1, d2 = L[r0, c0], L[r0 + 1, c0 + 1], L[r0 + 2, c0 + 2]
+                    for i in range(3):
+                        for j in range(3):
+                            out[e, r0 + i, c0 + j] = d0 * Q[i, 0] * Q[j, 0] + d1 * Q[i, 1] * Q[j, 1] + d2 * Q[i, 2] * Q[j, 2]
+                    continue
                 for i in range(3):
                     for j in range(3):
                         acc = 0.0
                         for k in range(3):
-                            acc += local[e, 3 * bi + i, 3 * bj + k] * Q[j, k]
+                            acc += L[r0 + i, c0 + k] * Q[j, k]
                         tmp[i, j] = acc  # local block times Q^T
                 for i in range(3):
                     for j in range(3):
                         acc = 0.0
                         for k in range(3):
                             acc += Q[i, k] * tmp[k, j]
-                        out[e, 3 * bi + i, 3 * bj + j] = acc
+                        out[e, r0 + i, c0 + j] = acc

@@ -8,7 +8,7 @@ import numba
 import numpy as np
 from scipy.optimize import linear_sum_assignment
 
-from .beam import corotated_frames
+from .beam import current_frames
 
 CLASSES = ("OOP", "IP", "T", "EXT", "RB")
 CLASS_NAMES = {"OOP": "out-of-plane bending", "IP": "in-plane bending", "T": "torsion", "EXT": "extension",
@@ -63,9 +63,7 @@ def energy_fractions(modes, state) -> np.ndarray:
     shapes = modes.shapes
     out = np.zeros((len(shapes), 5))
     if len(b.L0):
-        n1, n2 = b.nodes[:, 0], b.nodes[:, 1]
-        Rr = corotated_frames(state.positions[n1], state.positions[n2], state.rotations[n1], state.rotations[n2],
-                              b.E0)[0]
+        Rr = current_frames(state.positions, state.rotations, b)
         vertical = np.abs(Rr[:, 2, 2]) >= np.abs(Rr[:, 2, 1])  # local z closer to global z: bending about y is OOP
         _beam_energies(np.ascontiguousarray(shapes, dtype=float), b.nodes, np.ascontiguousarray(Rr),
                        np.ascontiguousarray(b.section_stiffness, dtype=float), b.L0, vertical, out)
