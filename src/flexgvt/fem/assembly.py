@@ -39,6 +39,19 @@ def _symmetric_part(K, M, mirror, alpha, out):  # pragma: no cover - compiled
 
 
 @numba.njit(cache=True)
+def _block_entries(dofs, dof_map, rows, cols):  # pragma: no cover - compiled
+    """Matrix row and column (dof_map of the DOFs) of every entry of the element blocks, row-major."""
+    d = dofs.shape[1]
+    k = 0
+    for e in range(dofs.shape[0]):
+        for a in range(d):
+            for b in range(d):
+                rows[k] = dof_map[dofs[e, a]]
+                cols[k] = dof_map[dofs[e, b]]
+                k += 1
+
+
+@numba.njit(cache=True)
 def _build_pattern(rows, cols, n):  # pragma: no cover - compiled
     """CSC pattern of the entries (rows[k], cols[k]) (negative: dropped) and the stored-entry index
     of each: a counting sort by column, then per column its distinct rows (marked, not sorted
@@ -88,15 +101,16 @@ class Pattern:
     """
 
     def __init__(self, blocks: list[np.ndarray], dof_map: np.ndarray, n: int):
-        rows, cols, sizes = [], [], []
-        for dofs in blocks:
-            rows.append(np.repeat(dofs, dofs.shape[1], axis=1).ravel())
-            cols.append(np.tile(dofs, (1, dofs.shape[1])).ravel())
-            sizes.append(rows[-1].size)
-        rows = dof_map[np.concatenate(rows)] if rows else np.zeros(0, int)
-        cols = dof_map[np.concatenate(cols)] if cols else np.zeros(0, int)
-        target, self.indptr, self.indices = _build_pattern(rows.astype(np.int64, copy=False),
-                                                           cols.astype(np.int64, copy=False), n)
+        sizes = [dofs.shape[0] * dofs.shape[1] ** 2 for dofs in blocks]
+        rows = np.empty(sum(sizes), np.int64)
+        cols = np.empty(sum(sizes), np.int64)
+        dof_map = np.ascontiguousarray(dof_map, dtype=np.int64)
+        start = 0
+        for dofs, size in zip(blocks, sizes):
+            if size:
+                _block_entries(np.ascontiguousarray(dofs, dtype=np.int64), dof_map, rows[start:], cols[start:])
+            start += size
+        target, self.indptr, self.indices = _build_pattern(rows, cols, n)
         self._targets = np.split(target, np.cumsum(sizes)[:-1]) if sizes else []
         self.n = n
         self.nnz = len(self.indices)
