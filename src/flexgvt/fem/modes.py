@@ -261,7 +261,7 @@ def solve_modes(state: State, n_modes: int = 15, *, damped: bool | None = None, 
     ev = system.evaluate(x, R, state.load_factor, assemble=False)
     M = system.mass_matrix(x, R)
     K = system.newton_matrix(ev, M, 0.0)  # the symmetric part of the tangent
-    clamped = system.unrestrained_rigid_motions(system.cm.xyz, basis_only=True).shape[1] == 0
+    clamped = system.clamped
     T = system.transformation(x, R) if system.has_links else None
     n = system.n_nodes
     use_damping = system.has_damping if damped is None else damped

@@ -323,6 +323,11 @@ class System:
             return basis
         return self._rigid_motions(x, c).reshape(6 * self.n_nodes, 6), basis
 
+    @cached_property
+    def clamped(self) -> bool:
+        """The fixed DOFs restrain every rigid-body motion (of the undeformed geometry)."""
+        return self.unrestrained_rigid_motions(self.cm.xyz, basis_only=True).shape[1] == 0
+
     @property
     def has_prescribed(self) -> bool:
         return len(self.prescribed_dofs) > 0
