@@ -499,6 +499,7 @@ def main(argv=None):
     spread_runs = []
     if args.spread and 1000 in args.sizes:
         for k in range(args.spread):
+            time.sleep(2.0)  # let the machine settle after the previous (heavier) work
             got = subprocess.run([sys.executable, __file__, "--sizes", "1000", "--no-peer", "--no-write"],
                                  capture_output=True, text=True, check=True).stdout
             m = re.search(r"n=\s*1000 .* total\s+(\d+) ms .* ratio\s+([\d.]+) \(paired rounds: median ([\d.]+)", got)
