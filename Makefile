@@ -20,7 +20,7 @@ test: venv
 	MPLBACKEND=Agg $(BIN)/python -m pytest -q -n 2
 
 bench: venv
-	MPLBACKEND=Agg $(BIN)/python bench/bench_solver.py
+	MPLBACKEND=Agg $(BIN)/python bench/bench_solver.py --spread 8
 
 clean:
 	rm -rf $(VENV) demo-output .pytest_cache
