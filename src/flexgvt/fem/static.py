@@ -134,7 +134,10 @@ class _Factor:
                 self._solve = chol.solve_A
                 return
         K = self.K
-        base = system.stabilised_tangent(K, M, STABILISATION)
+        # Exact zeros of the shared pattern left out (a copy: the pattern's index arrays are
+        # shared): SuperLU would carry them and their fill (1,000-element strip: 5.3 -> 2.8 ms).
+        base = system.stabilised_tangent(K, M, STABILISATION).copy()
+        base.eliminate_zeros()
         diag = np.abs(K.diagonal())
         scale = np.where(diag > 0, diag, reference)
         for alpha in (0.0, 1e-10, 1e-8, 1e-6, 1e-4, 1e-2):
