@@ -134,3 +134,13 @@ def test_free_free_elastic_eigenvalues_agree_with_the_dense_solution(strip_props
         lam = fg.solve_modes(state, 16, label=False).eigenvalues
         np.testing.assert_allclose(lam[:6], 0.0, atol=1e-6 * dense[0])
         np.testing.assert_allclose(lam[6:], dense, rtol=1e-7)
+
+
+def test_modes_with_superlu_forced_agree_with_the_default_path(strip_props):
+    """solve_modes(cholmod=False) takes SuperLU's shift-invert (the path without scikit-sparse)."""
+    sec, _ = strip_props
+    model, ids = straight_beam(60, L, sec)
+    state = fg.solve_linear_static(model, fg.Configuration("clamped", fixed={int(ids[0]): "123456"}))
+    default = fg.solve_modes(state, 12, label=False)
+    forced = fg.solve_modes(state, 12, label=False, cholmod=False)
+    np.testing.assert_allclose(forced.eigenvalues, default.eigenvalues, rtol=1e-9)

@@ -118,12 +118,12 @@ def _cholesky_inverse(K: sp.spmatrix, M: sp.spmatrix, sigma: float,
 
 
 def real_modes(K: sp.spmatrix, M: sp.spmatrix, n_modes: int, shift: float | None = None, clamped: bool = False,
-               cholmod: CholmodCache | None = None):
+               cholmod: CholmodCache | None = None, use_cholmod: bool = True):
     """Lowest n_modes of K phi = lam M phi (K symmetric, possibly singular or indefinite).
 
     clamped: the constraints restrain every rigid-body motion (no cluster of near-zero modes), so
     the sparse eigensolver runs without a margin of extra pairs. cholmod: a symbolic analysis of
-    K's pattern to reuse.
+    K's pattern to reuse; use_cholmod=False: SuperLU's shift-invert even where CHOLMOD is installed.
     """
     n = K.shape[0]
     k = min(n_modes, n)
@@ -156,7 +156,8 @@ def real_modes(K: sp.spmatrix, M: sp.spmatrix, n_modes: int, shift: float | None
             Mop = M.tocsr()  # ARPACK multiplies by M a few times per pair: leave exact zeros out
             Mop.eliminate_zeros()
             lam, phi = spla.eigsh(K.tocsc(), k=k_run, M=Mop, sigma=sigma, which="LM", mode="normal",
-                                  OPinv=_cholesky_inverse(K, M, sigma, cholmod), tol=1e-12)
+                                  OPinv=_cholesky_inverse(K, M, sigma, cholmod) if use_cholmod else None,
+                                  tol=1e-12)
         except RuntimeError as exc:
             raise SolverError(f"eigensolver failed ({exc}); the model may have a mechanism with no mass") from exc
         order = np.argsort(lam)[:k]
@@ -249,12 +250,13 @@ def _align_rigid_modes(phi: np.ndarray, zero: np.ndarray, system, x: np.ndarray,
 
 @serial_blas
 def solve_modes(state: State, n_modes: int = 15, *, damped: bool | None = None, shift: float | None = None,
-                label: bool = True) -> Modes:
+                label: bool = True, cholmod: bool = True) -> Modes:
     """Modes about ``state`` with its tangent stiffness (symmetric part: stress and load stiffness included).
 
     damped: complex modes with the viscous dampers of springs and cords (default: when present).
     shift: eigenvalue shift [rad^2/s^2] (default: slightly negative, so rigid-body modes are found).
-    Rigid-body modes of free structures come out at 0 Hz.
+    cholmod: use CHOLMOD for the shift-invert where scikit-sparse is installed (else SuperLU), as
+    StaticSettings.cholmod. Rigid-body modes of free structures come out at 0 Hz.
     """
     system = state.system
     x, R = state.positions, state.rotations
@@ -278,7 +280,7 @@ def solve_modes(state: State, n_modes: int = 15, *, damped: bool | None = None, 
         real = real / np.sqrt(np.where(mm > 0, mm, 1.0))[:, None, None]
         modes = Modes(freq, zeta, wd, real, system.cm.node_ids, complex_shapes=cshapes, eigenvalues=s, state=state)
     else:
-        lam, phi = real_modes(K, M, n_modes, shift, clamped, system.cholmod_cache)
+        lam, phi = real_modes(K, M, n_modes, shift, clamped, system.cholmod_cache, use_cholmod=cholmod)
         # Rigid-body eigenvalues are zero to about eps * lambda_max (see _rigid_safe_shift).
         f = _frequency_hz(lam, 0.0 if clamped else 100 * np.finfo(float).eps
                           * _lambda_max_bound(K, np.abs(M.diagonal())))
