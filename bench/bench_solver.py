@@ -80,11 +80,19 @@ def structure(n: int):
     return strip_cantilever(n) if n < 5000 else hale_cantilever(n)
 
 
+def settle():
+    """Before every timed repeat, flexgvt's and the floors' alike: garbage collected and a short
+    idle pause. Back-to-back repeats under sustained two-core load were measured slower in some
+    processes (one of 8 fresh processes: every back-to-back repeat 45 % slower, its paused rounds not)."""
+    gc.collect()
+    time.sleep(0.2)
+
+
 def best(fn, repeats: int):
     """Minimum wall time of fn() over repeats (and the last result)."""
     times, out = [], None
     for _ in range(repeats):
-        gc.collect()
+        settle()
         t = time.perf_counter()
         out = fn()
         times.append(time.perf_counter() - t)
@@ -407,7 +415,7 @@ def main(argv=None):
             md = fg.solve_modes(st, n_modes=N_MODES)
             return ts, time.perf_counter() - t, st, md
 
-        runs = [ours() for _ in range(reps)]
+        runs = [settle() or ours() for _ in range(reps)]
 
         def ours_superlu():  # the path without scikit-sparse: SuperLU for Newton and the shift-invert
             t = time.perf_counter()
@@ -417,7 +425,7 @@ def main(argv=None):
             fg.solve_modes(st, n_modes=N_MODES, cholmod=False)
             return ts + time.perf_counter() - t
 
-        slu = [ours_superlu() for _ in range(reps if n < 5000 else 1)]
+        slu = [settle() or ours_superlu() for _ in range(reps if n < 5000 else 1)]
         t_static = min(r[0] for r in runs)
         t_modes = min(r[1] for r in runs)
         state, modes = runs[-1][2], runs[-1][3]
@@ -436,7 +444,7 @@ def main(argv=None):
         fl["banded"], bw = best(lambda: banded_lu(mats), reps)
         if "cholmod" in libs:
             fl["cholmod"], _ = best(lambda: cholmod_full(mats), reps)
-            fl["cholmod_refactor"] = min(cholmod_refactor(mats) for _ in range(reps))
+            fl["cholmod_refactor"] = min(settle() or cholmod_refactor(mats) for _ in range(reps))
             fl["eig_cholmod"], _ = best(lambda: eig_cholmod(K, M), reps)
         if "pardiso" in libs:
             fl["pardiso"] = best(lambda: pardiso_full(sample), 1)[0] * scale
@@ -549,7 +557,7 @@ def render(results, prof, cpu, ncores, vers, libs, warmup, t_first, t_import, sp
              f"20 % of the span), then {N_MODES} pre-stressed modes about the deformed state "
              "(`solve_modes`). From 5,000 elements on, the structure is the 16 m HALE wing under self-weight "
              "(tip about 3 m, 19 % of the span): the 1.5 m strip would have elements thinner than they are thick. "
-             "Wall-clock minima over repeats (9; 3 from 5,000 elements on).")
+             "Wall-clock minima over repeats (9; 3 from 5,000 elements on), each repeat after a 0.2 s pause.")
     L.append("")
     L.append(f"Machine: {cpu}, {ncores} cores (shared; other jobs may run beside). " +
              ", ".join(f"{k} {v}" for k, v in vers.items()) + ". Optional solvers measured (not dependencies): " +
