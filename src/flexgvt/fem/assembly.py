@@ -20,9 +20,13 @@ def _scatter_add(out, target, values):  # pragma: no cover - compiled
             out[t] += values[k]
 
 
-@numba.njit(cache=True)
-def _scatter_add_symmetric(out, target, values):  # pragma: no cover - compiled
+@numba.njit(cache=True, nogil=True)
+def scatter_add_symmetric(out, target, values):  # pragma: no cover - compiled
+    """out[target] += the symmetric parts of element matrices values (n, d, d), entry by entry.
+    target -1: a dropped (held) DOF; -2: an entry left out on purpose (a pruned pattern, see
+    linsolve.CholmodCache.factor_blocks). True if one of the -2 entries gets a non-zero."""
     n, d = values.shape[0], values.shape[1]
+    grow = False
     for e in range(n):
         base = e * d * d
         for a in range(d):
@@ -30,6 +34,9 @@ def _scatter_add_symmetric(out, target, values):  # pragma: no cover - compiled
                 t = target[base + a * d + b]
                 if t >= 0:
                     out[t] += 0.5 * (values[e, a, b] + values[e, b, a])
+                elif t == -2 and values[e, a, b] + values[e, b, a] != 0.0:
+                    grow = True
+    return grow
 
 
 @numba.njit(cache=True)
@@ -128,7 +135,7 @@ class Pattern:
         stored-entry data ``out`` in place, in one pass (no assembled unsymmetric matrix)."""
         for target, v in zip(self._targets, values):
             if v.size:
-                _scatter_add_symmetric(out, target, np.ascontiguousarray(v, dtype=float))
+                scatter_add_symmetric(out, target, np.ascontiguousarray(v, dtype=float))
         return out
 
     def matrix(self, data: np.ndarray) -> sp.csc_matrix:

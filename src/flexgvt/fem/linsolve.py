@@ -25,6 +25,8 @@ except ImportError:  # pragma: no cover - depends on the machine
 
 from threadpoolctl import ThreadpoolController
 
+from .assembly import scatter_add_symmetric
+
 HAVE_CHOLMOD = _cholmod is not None
 _PIVOT_TOLERANCE = 1e-12  # smallest accepted |pivot| of LDL^T relative to its diagonal entry
 
@@ -76,24 +78,6 @@ def _prune(data, indptr, indices, keep):  # pragma: no cover - compiled
                 j += 1
         p_indptr[c + 1] = i
     return p_indptr, p_indices, p_data, kept, dropped, diag, keep
-
-
-@numba.njit(cache=True, nogil=True)
-def _scatter_symmetric_kept(out, target, values):  # pragma: no cover - compiled
-    """out[target] += symmetric parts of the element matrices values (n, d, d); target -1: a held
-    DOF, -2: an entry left out of the analysed pattern. True if one of those gets a non-zero."""
-    n, d = values.shape[0], values.shape[1]
-    grow = False
-    for e in range(n):
-        base = e * d * d
-        for a in range(d):
-            for b in range(d):
-                t = target[base + a * d + b]
-                if t >= 0:
-                    out[t] += 0.5 * (values[e, a, b] + values[e, b, a])
-                elif t == -2 and values[e, a, b] + values[e, b, a] != 0.0:
-                    grow = True
-    return grow
 
 
 @numba.njit(cache=True, nogil=True)
@@ -184,7 +168,7 @@ class CholmodCache:
                 grow = False
                 for target, v in zip(self._block_targets, blocks):
                     if v.size:
-                        grow |= _scatter_symmetric_kept(data, target, np.ascontiguousarray(v, dtype=float))
+                        grow |= scatter_add_symmetric(data, target, np.ascontiguousarray(v, dtype=float))
                 if not grow:
                     return self._refactor()
         return self.factor(pattern.matrix(pattern.add_symmetric(alpha * mass_data, blocks)))

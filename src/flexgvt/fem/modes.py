@@ -12,6 +12,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from ..errors import SolverError
+from .labels import mac_matrix
 from .linsolve import HAVE_CHOLMOD, CholmodCache, serial_blas
 from .static import State
 
@@ -66,10 +67,6 @@ def _frequency_hz(lam: np.ndarray, round_off: float = 0.0) -> np.ndarray:
 # Default shift [rad^2/s^2]: just below zero, (2 pi 0.01 Hz)^2, so rigid-body modes (0) and the
 # lowest elastic modes of very flexible structures are nearest to it whatever the model's scale.
 DEFAULT_SHIFT = -(2 * np.pi * 0.01) ** 2
-
-
-def _mac(a: np.ndarray, b: np.ndarray) -> float:
-    return float(np.abs(np.vdot(a, b)) ** 2 / max(np.vdot(a, a).real * np.vdot(b, b).real, 1e-300))
 
 
 def _lambda_max_bound(K: sp.spmatrix, m_diag: np.ndarray) -> float:
@@ -214,10 +211,13 @@ def complex_modes(K, C, M, n_modes: int, clamped: bool = False):
     # Roots at the round-off level of zero are rigid motions; each undamped one is a double root
     # (two copies of its shape): keep the first copy of each shape.
     zero = np.abs(s) < 10 * np.sqrt(np.finfo(float).eps * max(lam_max, 1.0))
+    zero_idx = np.flatnonzero(zero)
+    mac = mac_matrix(v[:, zero_idx], v[:, zero_idx])
     taken = []
-    for j in np.flatnonzero(zero):
-        if all(_mac(v[:, i], v[:, j]) < 0.9 for i in taken):
+    for j in range(len(zero_idx)):
+        if all(mac[i, j] < 0.9 for i in taken):
             taken.append(j)
+    taken = zero_idx[taken]
     s = np.where(zero, 0.0, s)
     chosen = np.r_[taken, np.flatnonzero(~zero)].astype(int)[:n_modes]
     s, v = s[chosen], v[:, chosen]
