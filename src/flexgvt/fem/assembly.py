@@ -119,6 +119,7 @@ class Pattern:
             start += size
         target, self.indptr, self.indices = _build_pattern(rows, cols, n)
         self._targets = np.split(target, np.cumsum(sizes)[:-1]) if sizes else []
+        self._widths = [dofs.shape[1] for dofs in blocks]
         self.n = n
         self.nnz = len(self.indices)
 
@@ -128,6 +129,17 @@ class Pattern:
         for target, v in zip(self._targets, values):
             if v.size:
                 _scatter_add(out, target, np.ascontiguousarray(v, dtype=float).reshape(-1))
+        return out
+
+    def data_subset(self, block: int, rows: np.ndarray, values: np.ndarray, out: np.ndarray | None = None) -> np.ndarray:
+        """Stored-entry values (nnz,) of the element matrices ``values`` (k, d, d) of elements ``rows``
+        of block type ``block`` alone (the others zero), added to ``out`` when given."""
+        out = np.zeros(self.nnz) if out is None else out
+        target = self._targets[block]
+        if len(rows) and target.size:
+            per = self._widths[block] ** 2
+            _scatter_add(out, np.ascontiguousarray(target.reshape(-1, per)[rows].reshape(-1)),
+                         np.ascontiguousarray(values, dtype=float).reshape(-1))
         return out
 
     def add_symmetric(self, out: np.ndarray, values: list[np.ndarray]) -> np.ndarray:

@@ -34,6 +34,11 @@ def mass_properties(state_or_model, configuration: Configuration | None = None) 
     else:
         system = state_or_model.system
         x, R = state_or_model.positions, state_or_model.rotations
+    return system_mass_properties(system, x, R)
+
+
+def system_mass_properties(system: System, x: np.ndarray, R: np.ndarray) -> MassProperties:
+    """Mass properties of a compiled system at positions x (n, 3) and rotations R (n, 3, 3)."""
     M = system.full_mass_matrix(x, R)
     n = system.n_nodes
     phi = np.zeros((n, 6, 6))

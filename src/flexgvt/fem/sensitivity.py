@@ -17,6 +17,7 @@ import scipy.sparse as sp
 from ..errors import ModelError
 from ..model import RectangularSection
 from .beam import beam_forces, beam_mass_matrices, local_mass_matrices
+from .points import cord_forces, mass_gravity, mass_matrix, spring_forces
 from .static import State
 
 BEAM_PARAMETERS = ("E", "G", "rho", "width", "height")
@@ -120,33 +121,10 @@ def beam_parameter_derivative(state: State, group: str, parameter: str) -> Param
         raise ModelError(f"no beam group named '{group}' in model '{model.name}'; groups: "
                          f"{sorted(set(cm.beam_group_names.tolist()))}")
     grp = next(g for g in model.beams if g.name == group)
-    b = cm.beams
-    L = b.L0[mask]
-    section, dsec, dmass = _group_derivatives(model, grp, parameter, L)
-    coeff = np.zeros_like(b.stiffness)
-    coeff[mask] = _coefficient_derivative(section, dsec, L)
-    x, R = state.positions, state.rotations
-    data = replace(b, stiffness=coeff)
-    g, K, _ = beam_forces(x, R, data, True)
-    zero_pts = [np.zeros((len(system.masses.nodes), 6, 6)), np.zeros((len(system.cord_nodes), 6, 6)),
-                np.zeros((len(system.springs.b), 12, 12))]
-    g_full = system._scatter([g] + [z[:, :, 0] for z in zero_pts]).reshape(-1, 6)
-    # Weight of the group (lumped), scaled by the load factor, enters the applied loads.
-    dw = np.zeros(len(b.L0))
-    dw[mask] = dmass[:, 0] * L
-    gvec = system.config.gravity_vector * state.load_factor
-    np.add.at(g_full, (b.nodes[:, 0], slice(0, 3)), -0.5 * dw[:, None] * gvec[None, :])
-    np.add.at(g_full, (b.nodes[:, 1], slice(0, 3)), -0.5 * dw[:, None] * gvec[None, :])
-    T = system.transformation(x, R) if system.has_links else None
-    d_res = system.reduce_vector(g_full.reshape(-1), T)
-    dK = system.pattern.assemble([K] + zero_pts)
-    mass_terms = np.zeros((len(b.L0), 4))
-    mass_terms[mask] = dmass
-    dlocal = local_mass_matrices(replace(b, mass_per_length=mass_terms[:, 0], inertia_per_length=mass_terms[:, 1:]))
-    dM = system.pattern.assemble([beam_mass_matrices(x, R, b, dlocal)] + zero_pts)
-    if system.has_links:
-        dK = (T.T @ dK @ T).tocsc()
-        dM = (T.T @ dM @ T).tocsc()
+    rows = np.flatnonzero(mask)
+    _, dsec, dmass = _group_derivatives(model, grp, parameter, cm.beams.L0[rows])
+    d_res, dK, dM = value_derivative(system, state.positions, state.rotations, state.load_factor,
+                                     ValueChange(beams=(rows, dsec, dmass[:, 0], dmass[:, 1:])))
     return ParameterDerivative(parameter, group, d_res, dK, dM)
 
 
@@ -162,3 +140,106 @@ def frequency_derivatives(modes, derivative: ParameterDerivative) -> np.ndarray:
         - lam * np.einsum("ij,ij->j", phi, derivative.mass @ phi)
     f = modes.frequencies_hz
     return np.where(f > 0, dlam / (8 * np.pi**2 * np.where(f > 0, f, 1.0)), 0.0)
+
+
+@dataclass(frozen=True)
+class ValueChange:
+    """d(compiled values)/dp of one parameter, per item (items not listed do not change).
+
+    beams: (element indices (k,), d section stiffness (k, 6) as (EA, GJ, EIy, EIz, Phi_y, Phi_z),
+    d rho A (k,), d inertia per length (k, 3)); masses: (indices into the system's point masses,
+    (mass, offset) at p + h, (mass, offset) at p - h, 1 / (2 h)): masses enter linearly and
+    offsets quadratically, so this central difference is exact; springs: (indices, d stiffness
+    (k, 6)); cords: (indices, d stiffness (k,)). Derivatives are per unit of the parameter.
+    """
+
+    beams: tuple | None = None
+    masses: tuple | None = None
+    springs: tuple | None = None
+    cords: tuple | None = None
+
+
+def _beam_subset(b, rows, dsection):
+    """BeamData of elements ``rows`` carrying the derivative of the kernel coefficients."""
+    sec = b.section_stiffness[rows]
+    L = b.L0[rows]
+    coeff = _coefficient_derivative(sec, dsection, L)
+    return replace(b, nodes=b.nodes[rows], E0=b.E0[rows], L0=L, stiffness=np.ascontiguousarray(coeff),
+                   mass_per_length=b.mass_per_length[rows], inertia_per_length=b.inertia_per_length[rows],
+                   lumped=b.lumped[rows], section_stiffness=sec, arch=b.arch[rows])
+
+
+def value_derivative(system, x: np.ndarray, R: np.ndarray, lam: float, change: ValueChange,
+                     full_mass: bool = False):
+    """Exact d(residual) (reduced), dK (reduced, the consistent tangent's derivative) and dM (reduced,
+    or over all DOFs with full_mass) at the state (x, R) and load factor lam, for a change of the
+    compiled values. Only the items that change are evaluated."""
+    n = system.n_nodes
+    p = system.pattern
+    K_data = np.zeros(p.nnz)
+    mass_pattern = system.full_pattern if full_mass else p
+    M_data = np.zeros(mass_pattern.nnz)
+    g_full = np.zeros((n, 6))
+    f_full = np.zeros((n, 6))
+    gvec = system.config.gravity_vector
+    if change.beams is not None:
+        rows, dsec, drhoA, drhoI = change.beams
+        rows = np.asarray(rows, int)
+        sub = _beam_subset(system.cm.beams, rows, np.asarray(dsec, float))
+        g, K, _ = beam_forces(x, R, sub, True)
+        p.data_subset(0, rows, K, K_data)
+        np.add.at(g_full, sub.nodes[:, 0], g[:, :6])
+        np.add.at(g_full, sub.nodes[:, 1], g[:, 6:])
+        dw = 0.5 * (np.asarray(drhoA) * sub.L0)[:, None] * gvec[None, :]
+        np.add.at(f_full, (sub.nodes[:, 0], slice(0, 3)), lam * dw)
+        np.add.at(f_full, (sub.nodes[:, 1], slice(0, 3)), lam * dw)
+        local = local_mass_matrices(replace(sub, mass_per_length=np.asarray(drhoA, float),
+                                            inertia_per_length=np.asarray(drhoI, float)))
+        mass_pattern.data_subset(0, rows, beam_mass_matrices(x, R, sub, local), M_data)
+    if change.masses is not None:
+        rows, (m_p, off_p), (m_m, off_m), inv2h = change.masses
+        rows = np.asarray(rows, int)
+        nodes = system.masses.nodes[rows]
+        inertia = system.masses.inertia[rows]
+        g = K = M = 0.0
+        for m_, off, w in ((m_p, off_p, inv2h), (m_m, off_m, -inv2h)):
+            gi, Ki = mass_gravity(R[nodes], np.asarray(off, float), lam * np.asarray(m_, float)[:, None] * gvec[None, :])
+            g, K = g + w * gi, K + w * Ki
+            M = M + w * mass_matrix(R[nodes], np.asarray(off, float), np.asarray(m_, float), inertia)
+        np.add.at(g_full, nodes, g)
+        p.data_subset(1, rows, K, K_data)
+        mass_pattern.data_subset(1, rows, M, M_data)
+    if change.cords is not None:
+        rows, dk = change.cords
+        rows = np.asarray(rows, int)
+        cn = system.cord_nodes[rows]
+        g, K, _, _ = cord_forces(x[cn], R[cn], system.cord_offset[rows], system.cord_anchor[rows],
+                                 np.asarray(dk, float), system.cord_l0_at(lam)[rows])
+        np.add.at(g_full, cn, g)
+        p.data_subset(2, rows, K, K_data)
+    if change.springs is not None:
+        rows, dk = change.springs
+        rows = np.asarray(rows, int)
+        s = system.springs
+        a, b = s.a[rows], s.b[rows]
+        ground = a < 0
+        ia = np.where(ground, b, a)
+        xa = np.where(ground[:, None], system.cm.xyz[b], x[ia])
+        Ra = np.where(ground[:, None, None], np.eye(3), R[ia])
+        g, K = spring_forces(xa, system.cm.xyz[ia], Ra, x[b], system.cm.xyz[b], R[b], s.frame[rows],
+                             np.asarray(dk, float))
+        g[ground, :6] = 0.0
+        K[ground, :6, :] = 0.0
+        K[ground, :, :6] = 0.0
+        np.add.at(g_full, ia[~ground], g[~ground, :6])
+        np.add.at(g_full, b, g[:, 6:])
+        p.data_subset(3, rows, K, K_data)
+    r_full = (g_full - f_full).reshape(-1)
+    dM = mass_pattern.matrix(M_data)
+    if not system.has_links:
+        return r_full[system.dof_map >= 0], p.matrix(K_data), dM
+    T = system.transformation(x, R)
+    dK = system._reduce_with_links(p.matrix(K_data), T, x, R, r_full)
+    if not full_mass:
+        dM = (T.T @ dM @ T).tocsc()
+    return T.T @ r_full, dK, dM

@@ -220,8 +220,10 @@ def solve_static(model: Model, configuration: Configuration, *, settings: Static
     """
     t0 = time.perf_counter()
     settings = settings or StaticSettings()
-    system = start.system if (start is not None and start.system is not None and start.model is model
-                              and start.configuration == configuration) else System(model, configuration)
+    # A warm start on the same model object (values possibly changed since, as an optimiser's
+    # design points change them) keeps the start's DOF numbering, pattern and symbolic analysis.
+    system = start.system.for_values(model, configuration) if (start is not None and start.system is not None
+                                                                and start.model is model) else System(model, configuration)
     x, R = system.undeformed
     history: list[IterationRecord] = []
     mass = system.mass_matrix(x, R)

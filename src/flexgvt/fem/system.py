@@ -7,6 +7,7 @@ so one model is solved in many configurations without copying it.
 
 from __future__ import annotations
 
+import copy
 from dataclasses import dataclass
 from functools import cached_property
 
@@ -84,16 +85,11 @@ def compile_model(model: Model) -> CompiledModel:
         idx = model.index_of(group.nodes, f"beam group '{group.name}'")
         frames = element_frames(xyz, idx, group.orientation)
         length = np.linalg.norm(xyz[idx[:, 1]] - xyz[idx[:, 0]], axis=1)
-        p = group.section.properties()
-        E, G, rho = group.material.E, group.material.shear_modulus, group.material.rho
-        phi_y = 12 * E * p["Iy"] / (G * p["Az"] * length**2) if p["Az"] > 0 else np.zeros_like(length)
-        phi_z = 12 * E * p["Iz"] / (G * p["Ay"] * length**2) if p["Ay"] > 0 else np.zeros_like(length)
         n = len(idx)
-        stiff.append(np.column_stack([np.full(n, E * p["A"]), np.full(n, G * p["J"]), np.full(n, E * p["Iy"]),
-                                      np.full(n, E * p["Iz"]), phi_y, phi_z]))
-        rot = 1.0 if group.rotary_inertia else 0.0
-        rhoI.append(np.tile([rho * p["Ip"], rot * rho * p["Iy"], rot * rho * p["Iz"]], (n, 1)))
-        rhoA.append(np.full(n, rho * p["A"]))
+        section, mass_per_length, inertia = group_values(group.material, group.section, group.rotary_inertia, length)
+        stiff.append(section)
+        rhoI.append(inertia)
+        rhoA.append(mass_per_length)
         lumped.append(np.full(n, group.mass == "lumped"))
         arch.append(np.full(n, 0.0 if isinstance(group.section, RodSection) else 1.0))
         nodes.append(idx)
@@ -148,6 +144,22 @@ def compile_model(model: Model) -> CompiledModel:
     return compiled
 
 
+def group_values(material, section, rotary_inertia: bool, length: np.ndarray):
+    """Per-element values of a beam group of lengths ``length`` [m]: section stiffness (n, 6) (EA, GJ,
+    EIy, EIz, Phi_y, Phi_z), mass per length rho A (n,) [kg/m] and inertia per length (n, 3)
+    (rho Ip, rho Iy, rho Iz; the bending terms zero without rotary inertia) [kg m]."""
+    p = section.properties()
+    E, G, rho = material.E, material.shear_modulus, material.rho
+    n = len(length)
+    phi_y = 12 * E * p["Iy"] / (G * p["Az"] * length**2) if p["Az"] > 0 else np.zeros(n)
+    phi_z = 12 * E * p["Iz"] / (G * p["Ay"] * length**2) if p["Ay"] > 0 else np.zeros(n)
+    stiffness = np.column_stack([np.full(n, E * p["A"]), np.full(n, G * p["J"]), np.full(n, E * p["Iy"]),
+                                 np.full(n, E * p["Iz"]), phi_y, phi_z])
+    rot = 1.0 if rotary_inertia else 0.0
+    inertia = np.tile([rho * p["Ip"], rot * rho * p["Iy"], rot * rho * p["Iz"]], (n, 1))
+    return stiffness, np.full(n, rho * p["A"]), inertia
+
+
 def _masses(model: Model, items) -> PointMasses:
     items = list(items)
     if not items:
@@ -195,26 +207,9 @@ class System:
     """One model in one configuration. Reduced DOFs exclude fixed DOFs and rigid-link dependents."""
 
     def __init__(self, model: Model, config: Configuration):
-        self.model = model
-        self.config = config
-        self.cm = cm = compile_model(model)
-        n = len(cm.xyz)
-        self.n_nodes = n
-        self.masses = _merge_masses(cm.masses, _masses(model, config.masses))
-        self.springs = _merge_springs(cm.springs, _springs(model, config.springs))
+        self._set_values(model, config)
+        cm, n = self.cm, self.n_nodes
         where = f"configuration '{config.name}'"
-        cords = list(config.suspension)
-        self.cord_nodes = model.index_of([c.node for c in cords], f"{where}: cord") if cords else np.zeros(0, int)
-        self.cord_offset = np.array([c.offset for c in cords], float).reshape(-1, 3)
-        self.cord_anchor = np.array([c.anchor for c in cords], float).reshape(-1, 3)
-        self.cord_k = np.array([c.stiffness for c in cords], float)
-        self.cord_c = np.array([c.damping for c in cords], float)
-        self.cord_l0 = np.array([c.unstretched_length for c in cords], float)
-        attach = cm.xyz[self.cord_nodes] + self.cord_offset
-        self.cord_lgeom = np.linalg.norm(attach - self.cord_anchor, axis=1)
-        if np.any(self.cord_lgeom == 0):
-            raise ModelError(f"{where}: a cord's anchor coincides with its attachment point; move the anchor")
-
         fixed = np.zeros(6 * n, bool)
         for node, spec in config.fixed.items():
             i = model.index_of([node], f"{where}: fixed")[0]
@@ -246,6 +241,38 @@ class System:
         if self.n_free == 0:
             raise ModelError(f"{where}: every DOF is fixed; nothing to solve")
 
+        self.has_links = bool(dependent.any()) or len(cm.interp) > 0 or len(cm.mpc_dependent) > 0
+        blocks = [self._beam_dofs(), self._node_dofs(self.masses.nodes), self._node_dofs(self.cord_nodes),
+                  self._spring_dofs()]
+        self._blocks = blocks
+        if self.has_links:
+            self.pattern = Pattern(blocks, np.arange(6 * n), 6 * n)
+        else:
+            self.pattern = Pattern(blocks, self.dof_map, self.n_free)
+
+    def _set_values(self, model: Model, config: Configuration) -> None:
+        """The arrays that design variables change (material, section, masses, springs, cords, loads);
+        the DOF numbering and the sparsity pattern built on them are left alone."""
+        self.model = model
+        self.config = config
+        self.cm = cm = compile_model(model)
+        self._revision = model.revision
+        n = len(cm.xyz)
+        self.n_nodes = n
+        self.masses = _merge_masses(cm.masses, _masses(model, config.masses))
+        self.springs = _merge_springs(cm.springs, _springs(model, config.springs))
+        where = f"configuration '{config.name}'"
+        cords = list(config.suspension)
+        self.cord_nodes = model.index_of([c.node for c in cords], f"{where}: cord") if cords else np.zeros(0, int)
+        self.cord_offset = np.array([c.offset for c in cords], float).reshape(-1, 3)
+        self.cord_anchor = np.array([c.anchor for c in cords], float).reshape(-1, 3)
+        self.cord_k = np.array([c.stiffness for c in cords], float)
+        self.cord_c = np.array([c.damping for c in cords], float)
+        self.cord_l0 = np.array([c.unstretched_length for c in cords], float)
+        attach = cm.xyz[self.cord_nodes] + self.cord_offset
+        self.cord_lgeom = np.linalg.norm(attach - self.cord_anchor, axis=1)
+        if np.any(self.cord_lgeom == 0):
+            raise ModelError(f"{where}: a cord's anchor coincides with its attachment point; move the anchor")
         # Applied loads at load factor 1 (fixed direction): lumped beam weight, nodal and distributed loads.
         gvec = config.gravity_vector
         f = np.zeros((n, 6))
@@ -271,14 +298,34 @@ class System:
         self.applied = f.reshape(-1)
         self.mass_weight = self.masses.mass[:, None] * gvec[None, :]
 
-        self.has_links = bool(dependent.any()) or len(cm.interp) > 0 or len(cm.mpc_dependent) > 0
-        blocks = [self._beam_dofs(), self._node_dofs(self.masses.nodes), self._node_dofs(self.cord_nodes),
-                  self._spring_dofs()]
-        self._blocks = blocks
-        if self.has_links:
-            self.pattern = Pattern(blocks, np.arange(6 * n), 6 * n)
-        else:
-            self.pattern = Pattern(blocks, self.dof_map, self.n_free)
+    def _topology(self) -> tuple:
+        """What the DOF numbering and the sparsity pattern depend on."""
+        s = self.springs
+        return (self.cm.beams.nodes, self.masses.nodes, s.a, s.b, self.cord_nodes, self.cm.links, self.cm.link_dofs,
+                self.cm.interp.reference if len(self.cm.interp) else np.zeros(0, int), self.cm.mpc_dependent)
+
+    def for_values(self, model: Model, config: Configuration) -> "System":
+        """This system for the same model object (possibly changed since: new material, section,
+        mass, spring values) in a configuration of the same topology (other cord or spring values,
+        load factors): a sibling sharing the DOF numbering, the sparsity pattern and the symbolic
+        factorisation; a new System when the topology changed. Returns self when nothing changed."""
+        if model is self.model and model.revision == self._revision and config == self.config:
+            return self
+        if model is not self.model or dict(config.fixed) != dict(self.config.fixed) or \
+                dict(config.prescribed).keys() != dict(self.config.prescribed).keys():
+            return System(model, config)
+        sibling = copy.copy(self)
+        for cached in ("_applied_reduced", "has_damping"):
+            sibling.__dict__.pop(cached, None)
+        sibling._set_values(model, config)
+        before, after = self._topology(), sibling._topology()
+        if len(self.cm.xyz) != len(sibling.cm.xyz) or any(a.shape != b.shape or np.any(a != b)
+                                                          for a, b in zip(before, after)):
+            return System(model, config)
+        if self.has_prescribed:
+            sibling.prescribed_values = np.array([v for items in config.prescribed.values() for v in items.values()],
+                                                 float)
+        return sibling
 
     # ------------------------------------------------------------------ DOF helpers
     def _beam_dofs(self) -> np.ndarray:
@@ -586,11 +633,14 @@ class System:
         """Reduced mass matrix about the state (beam mass in corotated frames, offset masses rotated)."""
         return self._reduce_plain(self.pattern.assemble(self._mass_values(x, R)), x, R)
 
+    @cached_property
+    def full_pattern(self) -> Pattern:
+        """The pattern over all DOFs (constraints not applied)."""
+        return self.pattern if self.has_links else Pattern(self._blocks, np.arange(6 * self.n_nodes), 6 * self.n_nodes)
+
     def full_mass_matrix(self, x: np.ndarray, R: np.ndarray) -> sp.csc_matrix:
         """(6n, 6n) mass matrix about the state over all DOFs (constraints not applied)."""
-        if not hasattr(self, "_full_pattern"):
-            self._full_pattern = Pattern(self._blocks, np.arange(6 * self.n_nodes), 6 * self.n_nodes)
-        return self._full_pattern.assemble(self._mass_values(x, R))
+        return self.full_pattern.assemble(self._mass_values(x, R))
 
     def _mass_values(self, x, R) -> list[np.ndarray]:
         m = self.masses

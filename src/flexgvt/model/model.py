@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Iterable, Sequence
 
 import numpy as np
@@ -293,7 +293,49 @@ class Model:
         self.revision += 1
         return item
 
-    # Read-only views: every change goes through add_* so solvers' caches see it.
+    # ------------------------------------------------------------------ values (design variables)
+    def set_beam_group(self, index: int, material: Material | None = None, section: Section | None = None) -> None:
+        """Give beam group ``index`` (position in ``beams``) another material and/or section of the
+        same kind (the elements and their connectivity stay)."""
+        group = self._beams[index]
+        if section is not None and type(section) is not type(group.section):
+            raise ModelError(f"beam group '{group.name}': a {type(group.section).__name__} cannot become a "
+                             f"{type(section).__name__}")
+        self._beams[index] = replace(group, material=group.material if material is None else material,
+                                     section=group.section if section is None else section)
+        self.revision += 1
+
+    def set_mass(self, index: int, mass: float | None = None, offset=None) -> None:
+        """Change concentrated mass ``index`` (position in ``masses``): its mass [kg] and/or offset [m]."""
+        item = self._masses[index]
+        m = item.mass if mass is None else float(mass)
+        if not np.isfinite(m) or m < 0:
+            raise ModelError(f"concentrated mass at node {item.node}: mass={mass!r} must be finite and >= 0")
+        off = item.offset if offset is None else as_vector(offset, 3, f"concentrated mass at node {item.node}: offset")
+        self._masses[index] = replace(item, mass=m, offset=off)
+        self.revision += 1
+
+    def set_spring(self, index: int, stiffness=None, damping=None) -> None:
+        """Change spring ``index`` (position in ``springs``): its 6 stiffnesses and/or dampings."""
+        item = self._springs[index]
+        self._springs[index] = Spring.make(item.node_a, item.node_b,
+                                           item.stiffness if stiffness is None else stiffness,
+                                           item.damping if damping is None else damping, item.frame)
+        self.revision += 1
+
+    def copy(self, name: str | None = None) -> "Model":
+        """An independent copy (components are immutable and shared; no solver cache)."""
+        new = Model(self.name if name is None else name)
+        for attr, value in vars(self).items():
+            if isinstance(value, list):
+                setattr(new, attr, list(value))
+            elif isinstance(value, dict) and attr != "solver_cache":
+                setattr(new, attr, dict(value))
+            elif attr not in ("name", "solver_cache"):
+                setattr(new, attr, value)
+        return new
+
+    # Read-only views: every change goes through add_* or set_* so solvers' caches see it.
     @property
     def beams(self) -> tuple[BeamGroup, ...]:
         return tuple(self._beams)

@@ -1,0 +1,22 @@
+"""FE model updating against several deformed configurations at once (METHOD.md section 4).
+
+    v = [fg.updating.beam(f"E{r}", f"region{r}", "E") for r in (1, 2, 3)]
+    data = [fg.updating.Measured("self_weight", frequencies_hz=[...]), ...]
+    result = fg.updating.update(model, configurations, data, v)
+"""
+
+from .derivatives import StateDerivatives, eigenvalue_derivatives, eigenvector_derivatives, state_derivatives
+from .problem import ConfigurationPoint, DesignPointFailure, Point, UpdatingProblem
+from .targets import MassTarget, Measured, Objective
+from .variables import Parametrisation, Variable, beam, cord, mass, spring
+
+__all__ = ["ConfigurationPoint", "DesignPointFailure", "MassTarget", "Measured", "Objective", "Parametrisation", "Point",
+           "StateDerivatives", "UpdatingProblem", "Variable", "beam", "cord", "eigenvalue_derivatives",
+           "eigenvector_derivatives", "mass", "spring", "state_derivatives"]
+from .result import UpdateResult  # noqa: E402
+from .runner import update  # noqa: E402
+
+from .store import ResultsStore  # noqa: E402
+from .verify import Verification, verify  # noqa: E402
+
+__all__ += ["ResultsStore", "UpdateResult", "Verification", "update", "verify"]

@@ -1,0 +1,460 @@
+"""The updating problem: a design point -> every configuration's equilibrium and modes, paired
+with the measured ones -> residual vector, objective, constraints and their exact Jacobians.
+
+One working copy of the model is set to each design point; each configuration keeps its compiled
+system (DOF numbering, sparsity pattern, symbolic factorisation) and its last equilibrium as the
+next solve's warm start.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+import scipy.sparse as sp
+from scipy.optimize import linear_sum_assignment
+
+from ..errors import ConvergenceError, ModelError, SingularModelError, SolverError
+from ..fem import Modes, solve_static
+from ..fem.massprops import system_mass_properties
+from ..fem.modes import _frequency_hz, _lambda_max_bound, real_modes
+from ..fem.system import System
+from ..model import Configuration, Model
+from ..fem.sensitivity import value_derivative
+from .derivatives import (eigenvalue_derivatives, eigenvector_derivatives, sensor_matrix_direction,
+                          state_derivatives, value_change)
+from .targets import MassTarget, Measured, Objective
+from .variables import Parametrisation, Variable
+
+EXTRA_MODES = 6  # analysed beyond the measured ones, so a mode that moves up or down is still found
+
+
+class DesignPointFailure(SolverError):
+    """A configuration could not be solved at a design point (the optimiser backs off)."""
+
+
+@dataclass
+class ConfigurationPoint:
+    """One configuration at one design point."""
+
+    name: str
+    state: object
+    eigenvalues: np.ndarray  # (n_analysed,) [rad^2/s^2]
+    frequencies_hz: np.ndarray  # (n_analysed,)
+    phi: np.ndarray  # (n_free, n_analysed) reduced, mass-normalised
+    paired: np.ndarray  # (n_measured,) analytical mode index, -1 unpaired
+    mac: np.ndarray  # (n_measured,) MAC of each pair (nan without shapes)
+    mac_matrix: np.ndarray | None  # (n_measured, n_analysed)
+    sensor_shapes: np.ndarray | None  # (n_analysed, n_sensors)
+    static: np.ndarray  # (n_static,) computed static deflections
+    K: sp.csc_matrix | None = None  # symmetric tangent the modes solve
+    M: sp.csc_matrix | None = None
+    tangent: sp.csc_matrix | None = None  # full tangent at the equilibrium
+
+    def modes(self) -> Modes:
+        """The analysed modes as fem Modes (full shapes about the state)."""
+        system = self.state.system
+        T = system.transformation(self.state.positions, self.state.rotations) if system.has_links else None
+        shapes = system.expand(self.phi, T).T.reshape(len(self.eigenvalues), system.n_nodes, 6)
+        from ..fem.labels import label_modes
+        return label_modes(Modes(self.frequencies_hz, np.zeros(len(self.eigenvalues)), self.frequencies_hz.copy(),
+                                 shapes, system.cm.node_ids, eigenvalues=self.eigenvalues, state=self.state))
+
+
+@dataclass
+class Point:
+    """Everything computed at one design point."""
+
+    x: np.ndarray
+    residuals: np.ndarray
+    residual_names: list[str]
+    configurations: dict[str, ConfigurationPoint]
+    mass_properties: object
+    jacobian: np.ndarray | None = None
+    constraints: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    constraint_names: list[str] = field(default_factory=list)
+    constraint_jacobian: np.ndarray | None = None
+    unpaired: dict[str, list[int]] = field(default_factory=dict)
+    seconds: float = 0.0
+
+    @property
+    def objective(self) -> float:
+        return float(self.residuals @ self.residuals)
+
+
+class UpdatingProblem:
+    """Design variables, configurations and their measured data, and the objective.
+
+    model: the initial model (never changed); configurations: every configuration with test data;
+    measured: one Measured per configuration; variables: design variables; mass_target: measured
+    mass properties; objective: weights and limits; n_modes: modes analysed per configuration
+    (default: measured + 6); static_settings: for the nonlinear static solves.
+    """
+
+    def __init__(self, model: Model, configurations, measured, variables, mass_target: MassTarget | None = None,
+                 objective: Objective | None = None, n_modes: int | None = None, static_settings=None,
+                 follow_sensors: bool = True):
+        configurations = list(configurations)
+        measured = list(measured)
+        names = [c.name for c in configurations]
+        if len(set(names)) != len(names):
+            raise ModelError(f"updating: configuration names must be unique, got {names}")
+        for m in measured:
+            if not isinstance(m, Measured):
+                raise ModelError("updating: give measured data as flexgvt.updating.Measured (or Measured.from_modal_set)")
+            if m.configuration not in names:
+                raise ModelError(f"updating: measured data for configuration '{m.configuration}', which is not among "
+                                 f"the configurations {names}; name the configuration it was measured in")
+        by_name = {m.configuration: m for m in measured}
+        if len(by_name) != len(measured):
+            raise ModelError("updating: two measured data sets for one configuration; merge them")
+        missing = [n for n in names if n not in by_name]
+        if missing:
+            raise ModelError(f"updating: configuration(s) {missing} have no measured data; give their data or leave "
+                             "them out (they can still be predicted from the updated model)")
+        self.model = model
+        self.configurations = configurations
+        self.measured = by_name
+        self.par = Parametrisation(model, configurations, variables)
+        self.objective = objective or Objective()
+        self.mass_target = mass_target
+        self.n_modes = n_modes
+        self.static_settings = static_settings
+        self.follow_sensors = follow_sensors
+        self.work = model.copy(f"{model.name} (updating)")
+        self.states: dict[str, object] = {}
+        self._tracking: dict[str, np.ndarray] = {}  # last analytical paired full shapes (no measured shapes)
+        self._mass_system = System(self.work, Configuration("mass properties"))
+        self._cache: dict[bytes, Point] = {}
+        self.n_solves = 0
+        self.n_gradients = 0
+        for m in measured:
+            for (node, comp) in m.static:
+                self.work.index_of([node], f"static deflection of configuration '{m.configuration}'")
+                if not 1 <= int(comp) <= 6:
+                    raise ModelError(f"static deflection ({node}, {comp}) of configuration '{m.configuration}': the "
+                                     "component must be 1-6")
+
+    @property
+    def x0(self) -> np.ndarray:
+        return np.ones(len(self.par))
+
+    # ------------------------------------------------------------------ evaluation
+    def evaluate(self, x: np.ndarray, gradient: bool = False) -> Point:
+        """The point at x (cached: the residuals and the Jacobian of one x are computed once)."""
+        x = self.par.check(x)
+        key = x.tobytes()
+        hit = self._cache.get(key)
+        if hit is not None and (hit.jacobian is not None or not gradient):
+            return hit
+        t0 = time.perf_counter()
+        configs = self.par.apply(self.work, x)
+        points = {}
+        for cfg in self.configurations:
+            points[cfg.name] = self._solve(configs[cfg.name])
+        point = self._assemble(x, points, gradient)
+        point.seconds = time.perf_counter() - t0
+        if len(self._cache) > 8:
+            self._cache.clear()
+        self._cache[key] = point
+        return point
+
+    def _solve(self, config: Configuration) -> ConfigurationPoint:
+        name = config.name
+        start = self.states.get(name)
+        try:
+            state = solve_static(self.work, config, settings=self.static_settings, start=start)
+        except (ConvergenceError, SingularModelError) as exc:
+            raise DesignPointFailure(f"configuration '{name}' did not converge at this design point: {exc}") from exc
+        self.n_solves += 1
+        system = state.system
+        x, R = state.positions, state.rotations
+        ev = system.evaluate(x, R, state.load_factor)
+        tangent = ev.tangent.tocsc()
+        K = (0.5 * (tangent + tangent.T)).tocsc()
+        M = system.mass_matrix(x, R)
+        meas = self.measured[name]
+        n = self.n_modes or len(meas.frequencies_hz) + EXTRA_MODES
+        n = min(n, system.n_free - 1)
+        try:
+            lam, phi = real_modes(K, M, n, None, system.clamped, system.cholmod_cache)
+        except Exception as exc:  # ARPACK or factorisation failure at this design point
+            raise DesignPointFailure(f"configuration '{name}': the eigen-solution failed at this design point ({exc})") \
+                from exc
+        # Rigid-body eigenvalues are zero to about eps * lambda_max, as in solve_modes.
+        f = _frequency_hz(lam, 0.0 if system.clamped else 100 * np.finfo(float).eps * _lambda_max_bound(K, M.diagonal()))
+        self.states[name] = state
+        sensors = meas.sensors
+        shapes_s = None
+        if meas.shapes is not None:
+            T = system.transformation(x, R) if system.has_links else None
+            S = sensors.matrix(state.node_ids, state, follow=self.follow_sensors)
+            shapes_s = np.asarray(S @ system.expand(phi, T)).T
+        paired, mac, macm = self._pair(name, meas, f, phi, shapes_s, M)
+        static = np.array([state.displacements[state.node(node), int(c) - 1] for (node, c) in meas.static])
+        return ConfigurationPoint(name, state, lam, f, phi, paired, mac, macm, shapes_s, static, K, M, tangent)
+
+    def _pair(self, name, meas: Measured, f, phi, shapes_s, M):
+        """Measured -> analytical pairing: by MAC with the measured shapes (frequency as tie-break,
+        a floor below which a measured mode stays unpaired); without shapes, by MAC with the paired
+        analytical shapes of the previous design point (so modes that cross stay paired), and at the
+        first point by frequency."""
+        elastic = f > 0
+        fm = meas.frequencies_hz
+        closeness = np.abs(np.log(np.where(f[None, :] > 0, f[None, :], 1e-300) / fm[:, None]))
+        if shapes_s is not None:
+            from ..correlation import mac as mac_fn
+            macm = mac_fn(meas.shapes, shapes_s)
+            score = macm - 0.01 * np.minimum(closeness, 1.0)
+            score[:, ~elastic] = -1.0
+            rows, cols = linear_sum_assignment(-score)
+            paired = np.full(len(fm), -1)
+            ok = macm[rows, cols] >= self.objective.mac_floor
+            paired[rows[ok]] = cols[ok]
+            mac = np.where(paired >= 0, macm[np.arange(len(fm)), np.maximum(paired, 0)], np.nan)
+            return paired, mac, macm
+        previous = self._tracking.get(name)
+        if previous is not None and previous.shape[0] == phi.shape[0]:
+            weighted = M @ phi
+            num = (previous.T @ weighted) ** 2
+            den = np.einsum("ij,ij->j", previous, M @ previous)[:, None] * np.einsum("ij,ij->j", phi, weighted)[None, :]
+            score = num / np.where(den > 0, den, 1.0)
+            score[:, ~elastic] = -1.0
+            rows, cols = linear_sum_assignment(-score)
+            paired = np.full(len(fm), -1)
+            paired[rows] = cols
+        else:
+            cost = np.where(elastic[None, :], closeness, 1e6)
+            rows, cols = linear_sum_assignment(cost)
+            paired = np.full(len(fm), -1)
+            paired[rows] = cols
+        self._tracking[name] = phi[:, np.maximum(paired, 0)]
+        return paired, np.full(len(fm), np.nan), None
+
+    def _mass_props(self):
+        system = self._mass_system = self._mass_system.for_values(self.work, self._mass_system.config)
+        x, R = system.undeformed
+        return system_mass_properties(system, x, R)
+
+    def _mass_vector(self, mp) -> tuple[np.ndarray, list[str], np.ndarray]:
+        """Mass residuals (relative errors), their names and reference scales."""
+        t = self.mass_target
+        w = self.objective
+        vals, names, refs = [], [], []
+        if t is None:
+            return np.zeros(0), [], np.zeros(0)
+        if t.mass is not None:
+            vals.append(w.mass * (mp.mass - t.mass) / t.mass)
+            names.append("mass")
+            refs.append(t.mass)
+        if t.cg is not None:
+            for a, c0 in zip("xyz", t.cg):
+                scale = abs(c0) if abs(c0) > 0 else t.cg_scale
+                vals.append(w.cg * (mp.cg["xyz".index(a)] - c0) / scale)
+                names.append(f"cg_{a}")
+                refs.append(scale)
+        if t.inertia is not None:
+            for a, i0 in zip(("xx", "yy", "zz"), t.inertia):
+                vals.append(w.inertia * (mp.inertia["xyz".index(a[0]), "xyz".index(a[0])] - i0) / i0)
+                names.append(f"I{a}")
+                refs.append(i0)
+        return np.array(vals), names, np.array(refs)
+
+    def _assemble(self, x, points: dict[str, ConfigurationPoint], gradient: bool) -> Point:
+        w = self.objective
+        res, names = [], []
+        unpaired = {}
+        for cfg in self.configurations:
+            p, meas = points[cfg.name], self.measured[cfg.name]
+            fm = meas.frequencies_hz
+            ok = p.paired >= 0
+            unpaired[cfg.name] = np.flatnonzero(~ok).tolist()
+            fa = p.frequencies_hz[np.maximum(p.paired, 0)]
+            wf = self._frequency_weights(meas)
+            res.append(np.where(ok, w.frequency * wf * (fa - fm) / fm, 0.0))
+            names += [f"{cfg.name}: f{i + 1}" for i in range(len(fm))]
+            if meas.shapes is not None and w.mac > 0:
+                res.append(np.where(ok, w.mac * (1.0 - np.nan_to_num(p.mac)), 0.0))
+                names += [f"{cfg.name}: 1-MAC{i + 1}" for i in range(len(fm))]
+            if meas.static and w.static > 0:
+                ref = np.array(list(meas.static.values()))
+                scale = np.maximum(np.abs(ref), 1e-3)
+                res.append(w.static * (p.static - ref) / scale)
+                names += [f"{cfg.name}: static {k}" for k in meas.static]
+        mp = self._mass_props()
+        mres, mnames, _ = self._mass_vector(mp)
+        res.append(mres)
+        names += mnames
+        point = Point(x.copy(), np.concatenate(res), names, points, mp, unpaired=unpaired)
+        self._constraints(point)
+        if gradient:
+            self._jacobian(point)
+        return point
+
+    def _frequency_weights(self, meas: Measured) -> np.ndarray:
+        """1, or (median relative scatter / relative scatter) of each mode when standard deviations are given."""
+        if not self.objective.use_std or meas.frequency_std_hz is None or not np.any(meas.frequency_std_hz > 0):
+            return np.ones(len(meas.frequencies_hz))
+        rel = meas.frequency_std_hz / meas.frequencies_hz
+        floor = np.median(rel[rel > 0])
+        return floor / np.maximum(rel, floor * 0.1)
+
+    def _constraints(self, point: Point) -> None:
+        """Inequality constraints c(x) >= 0: MAC_i >= mac_min, mass properties within the band."""
+        w = self.objective
+        vals, names = [], []
+        if w.mac_min is not None:
+            for name, p in point.configurations.items():
+                ok = p.paired >= 0
+                if self.measured[name].shapes is not None:
+                    vals += list(np.where(ok, np.nan_to_num(p.mac) - w.mac_min, 0.0))
+                    names += [f"{name}: MAC{i + 1} >= {w.mac_min}" for i in range(len(ok))]
+        if w.mass_limits is not None and self.mass_target is not None:
+            rel, mnames, _ = self._mass_vector(point.mass_properties)
+            weights = self._mass_weights()
+            rel = rel / weights
+            for r, n in zip(rel, mnames):
+                vals += [w.mass_limits - r, w.mass_limits + r]
+                names += [f"{n} <= +{w.mass_limits:g}", f"{n} >= -{w.mass_limits:g}"]
+        point.constraints = np.array(vals)
+        point.constraint_names = names
+
+    def _mass_weights(self) -> np.ndarray:
+        t, w = self.mass_target, self.objective
+        out = []
+        if t.mass is not None:
+            out.append(w.mass)
+        if t.cg is not None:
+            out += [w.cg] * 3
+        if t.inertia is not None:
+            out += [w.inertia] * 3
+        return np.where(np.array(out) > 0, np.array(out), 1.0)
+
+    # ------------------------------------------------------------------ Jacobian
+    def _jacobian(self, point: Point) -> None:
+        w = self.objective
+        nv = len(self.par)
+        rows, crows = [], []
+        for cfg in self.configurations:
+            p, meas = point.configurations[cfg.name], self.measured[cfg.name]
+            d = state_derivatives(self.par, self.work, point.x, p.state, p.tangent)
+            ok = p.paired >= 0
+            idx = np.maximum(p.paired, 0)
+            dlam = eigenvalue_derivatives(p.eigenvalues[idx], p.phi[:, idx], d)
+            fa = p.frequencies_hz[idx]
+            df = dlam / (8 * np.pi**2 * np.where(fa > 0, fa, 1.0))[:, None]
+            wf = self._frequency_weights(meas)
+            rows.append(np.where(ok[:, None], (w.frequency * wf / meas.frequencies_hz)[:, None] * df, 0.0))
+            need_mac = meas.shapes is not None and (w.mac > 0 or w.mac_min is not None)
+            dmac = self._mac_derivatives(p, meas, d, dlam) if need_mac else None
+            if meas.shapes is not None and w.mac > 0:
+                rows.append(np.where(ok[:, None], -w.mac * dmac, 0.0))
+            if meas.static and w.static > 0:
+                ref = np.array(list(meas.static.values()))
+                scale = np.maximum(np.abs(ref), 1e-3)
+                rows.append(w.static * self._static_derivatives(p, meas, d) / scale[:, None])
+            if w.mac_min is not None and meas.shapes is not None:
+                crows.append(np.where(ok[:, None], dmac, 0.0))
+        dmp = self._mass_derivatives(point.x)
+        rows.append(dmp)
+        point.jacobian = np.vstack(rows) if rows else np.zeros((0, nv))
+        if w.mass_limits is not None and self.mass_target is not None:
+            rel_d = dmp / self._mass_weights()[:, None]
+            for r in rel_d:
+                crows += [-r[None, :], r[None, :]]
+        point.constraint_jacobian = np.vstack(crows) if crows else np.zeros((0, nv))
+        self.n_gradients += 1
+
+    def _mac_derivatives(self, p: ConfigurationPoint, meas: Measured, d, dlam) -> np.ndarray:
+        """(n_measured, n_var) dMAC/dp of each pair, the analytical shape moving with p (Nelson) and
+        the sensors turning with the structure."""
+        system = p.state.system
+        T = system.transformation(p.state.positions, p.state.rotations) if system.has_links else None
+        S = meas.sensors.matrix(p.state.node_ids, p.state, follow=self.follow_sensors)
+        out = np.zeros((len(meas.frequencies_hz), len(self.par)))
+        dS = [sensor_matrix_direction(meas.sensors, p.state, d.du[:, k], self.follow_sensors)
+              for k in range(len(self.par))]
+        for i, j in enumerate(p.paired):
+            if j < 0:
+                continue
+            phi = p.phi[:, j]
+            dphi = eigenvector_derivatives(p.K, p.M, p.eigenvalues[j], phi, dlam[i], d)
+            full = system.expand(phi, T)
+            a = S @ full
+            da = np.asarray(S @ system.expand(dphi, T))
+            for k in range(len(self.par)):
+                if dS[k] is not None:
+                    da[:, k] += dS[k] @ full
+            m = meas.shapes[i]
+            c = np.vdot(m, a)
+            mm = np.real(np.vdot(m, m))
+            aa = float(a @ a)
+            mac = abs(c) ** 2 / (mm * aa)
+            dc = m.conj() @ da
+            out[i] = 2 * np.real(np.conj(c) * dc) / (mm * aa) - mac * 2 * (a @ da) / aa
+        return out
+
+    def _static_derivatives(self, p: ConfigurationPoint, meas: Measured, d) -> np.ndarray:
+        system = p.state.system
+        T = system.transformation(p.state.positions, p.state.rotations) if system.has_links else None
+        du = system.expand(d.du, T).reshape(system.n_nodes, 6, -1)
+        rows = [du[p.state.node(node), int(c) - 1] for (node, c) in meas.static]
+        return np.array(rows)
+
+    def _mass_derivatives(self, x: np.ndarray) -> np.ndarray:
+        """d(mass residuals)/dp from the exact derivative of the undeformed mass matrix, projected on
+        the rigid-body motions (the moments m, m cg, I are linear in it)."""
+        if self.mass_target is None:
+            return np.zeros((0, len(self.par)))
+        system = self._mass_system
+        X, I3 = system.undeformed
+        phi = self._rigid_basis(X)
+        cols = []
+        for k in range(len(self.par)):
+            change = value_change(self.par, self.work, x, k, system.config.name)
+            dM = value_derivative(system, X, I3, 0.0, change, full_mass=True)[2]
+            cols.append(_moments(phi.T @ (dM @ phi)))
+        return self._mass_chain(np.column_stack(cols))
+
+    @staticmethod
+    def _rigid_basis(X: np.ndarray) -> np.ndarray:
+        n = len(X)
+        phi = np.zeros((n, 6, 6))
+        for a in range(3):
+            e = np.zeros(3)
+            e[a] = 1.0
+            phi[:, a, a] = 1.0
+            phi[:, :3, 3 + a] = np.cross(e, X)
+            phi[:, 3 + a, 3 + a] = 1.0
+        return phi.reshape(6 * n, 6)
+
+    def _mass_chain(self, dmom: np.ndarray) -> np.ndarray:
+        """From d(moments) to d(residuals) at the current mass properties."""
+        t, w = self.mass_target, self.objective
+        mp = self._mass_props()
+        m, c = mp.mass, mp.cg
+        dm, dS, dI0 = dmom[0], dmom[1:4], dmom[4:7]
+        dc = (dS - c[:, None] * dm[None, :]) / m
+        # I_cg,aa = I0_aa - m (|c|^2 - c_a^2)
+        dIcg = dI0 - (dm[None, :] * (np.sum(c * c) - c * c)[:, None]
+                      + m * (2 * (c @ dc)[None, :] - 2 * c[:, None] * dc))
+        rows = []
+        if t.mass is not None:
+            rows.append(w.mass * dm / t.mass)
+        if t.cg is not None:
+            for a, c0 in enumerate(t.cg):
+                rows.append(w.cg * dc[a] / (abs(c0) if abs(c0) > 0 else t.cg_scale))
+        if t.inertia is not None:
+            for a, i0 in enumerate(t.inertia):
+                rows.append(w.inertia * dIcg[a] / i0)
+        return np.array(rows)
+
+
+def _moments(Mrb: np.ndarray) -> np.ndarray:
+    """(m, m cg (3), diagonal of the inertia about the origin (3)) from a rigid-body mass matrix."""
+    mS = Mrb[3:, :3]
+    return np.r_[np.trace(Mrb[:3, :3]) / 3, mS[2, 1], mS[0, 2], mS[1, 0], np.diag(Mrb[3:, 3:])]
+
+
+__all__ = ["ConfigurationPoint", "DesignPointFailure", "Point", "UpdatingProblem", "Variable"]

@@ -1,0 +1,79 @@
+"""`update()`: the model updated against measured data in several configurations at once."""
+
+from __future__ import annotations
+
+import time
+from typing import Callable, Sequence
+
+import numpy as np
+
+from ..model import Configuration, Model
+from .optimise import minimise, starting_points
+from .problem import UpdatingProblem
+from .store import fingerprint
+from .result import UpdateResult, configuration_tables, identifiability, variable_table
+from .targets import MassTarget, Measured, Objective
+from .variables import Variable
+
+
+def update(model: Model, configurations: Sequence[Configuration], measured: Sequence[Measured],
+           variables: Sequence[Variable], *, mass_target: MassTarget | None = None,
+           objective: Objective | None = None, method: str = "least_squares", starts: int = 1, seed: int = 0,
+           max_iterations: int = 100, tolerance: float = 1e-10, n_modes: int | None = None, static_settings=None,
+           store=None, callback: Callable | None = None) -> UpdateResult:
+    """Update ``model`` so that its pre-stressed modes in every configuration match the measured ones.
+
+    configurations: the test configurations (each with measured data); measured: one Measured per
+    configuration; variables: design variables (flexgvt.updating.beam/mass/spring/cord);
+    mass_target: measured mass properties; objective: weights and constraints; method:
+    'least_squares' (SciPy's least_squares, dogbox trust region inside the bounds, on the residual
+    vector with its exact Jacobian; default), 'trf' (trust-region reflective), 'lm' (MINPACK's
+    Levenberg-Marquardt, kept when it ends inside the bounds, else continued by dogbox from
+    there), 'slsqp', 'trust-constr' (analytic
+    gradients, constraints enforced), 'nelder-mead' (penalties, no gradients); starts: multi-start
+    count (x0 = 1 plus seeded uniform points in the bounds; the best run wins); store: a
+    flexgvt.updating.ResultsStore (SQLite) for the history and resuming.
+    The input model is not changed: the result holds an updated copy.
+    """
+    t0 = time.perf_counter()
+    problem = UpdatingProblem(model, configurations, measured, variables, mass_target, objective, n_modes,
+                              static_settings)
+    initial = problem.evaluate(problem.x0, gradient=True)
+    if store is not None:
+        store.bind(fingerprint(problem, method))
+    runs = []
+    for run, x0 in enumerate(starting_points(problem, max(1, starts), seed)):
+        done = store.finished(run) if store is not None else None
+        if done is not None:  # finished before: its answer, no optimisation
+            runs.append({"x": done["x"], "history": store.history(run), "message": done["message"], "success": True,
+                         "evaluations": 0, "failures": [], "method": done["method"], "resumed": True,
+                         "objective": problem.evaluate(done["x"]).objective, "x0": np.asarray(x0).tolist()})
+            continue
+        resume = store.best(run) if store is not None else None
+        out = minimise(problem, x0 if resume is None else resume, method, store=store, run=run,
+                       max_iterations=max_iterations, tolerance=tolerance, callback=callback)
+        out["objective"] = problem.evaluate(out["x"]).objective
+        out["resumed"] = resume is not None
+        out["x0"] = np.asarray(x0).tolist()
+        if store is not None:
+            store.finish(run, out["x"], out["objective"], out["method"], str(out["message"]))
+            out["history"] = store.history(run)
+        runs.append(out)
+    best = min(runs, key=lambda r: r["objective"])
+    final = problem.evaluate(best["x"], gradient=True)
+    ident = identifiability(problem, final)
+    updated = model.copy(f"{model.name} (updated)")
+    configs = problem.par.apply(updated, final.x)
+    mac = {}
+    for name, p in final.configurations.items():
+        a = initial.configurations[name]
+        mac[name] = None if p.mac_matrix is None else (a.mac_matrix, p.mac_matrix)
+    return UpdateResult(
+        model=updated, configurations=configs, x=final.x.copy(), variables=variable_table(problem, final.x, ident),
+        tables=configuration_tables(problem, initial, final), mac=mac, history=best["history"],
+        identifiability=ident, initial=initial, final=final, method=best["method"], message=best["message"],
+        success=best["success"], seconds=time.perf_counter() - t0, solves=problem.n_solves,
+        gradients=problem.n_gradients,
+        starts=[{"run": k, "x0": r["x0"], "objective": r["objective"], "message": r["message"],
+                 "evaluations": r["evaluations"], "failures": len(r["failures"]), "resumed": r["resumed"]}
+                for k, r in enumerate(runs)])

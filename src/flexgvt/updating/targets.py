@@ -1,0 +1,109 @@
+"""What the model is updated against: measured modes per configuration, mass properties, static
+deflections, and the weights and limits of the objective (METHOD.md section 4)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..errors import ModelError
+
+
+@dataclass(frozen=True)
+class Measured:
+    """Test data of one configuration.
+
+    frequencies_hz (n,); shapes (n, n_sensors) real or complex, rows in the order of ``sensors``
+    (a flexgvt.correlation.Sensors), or None (frequencies only: modes are then paired by
+    frequency and followed by MAC between design points); frequency_std_hz: standard deviations
+    of repeated tests (weights and the variables' uncertainty); static: {(node, component 1-6):
+    measured static displacement [m or rad]} of the configuration's equilibrium; labels: names of
+    the measured modes for the tables.
+    """
+
+    configuration: str
+    frequencies_hz: np.ndarray
+    shapes: np.ndarray | None = None
+    sensors: object | None = None
+    frequency_std_hz: np.ndarray | None = None
+    static: dict = field(default_factory=dict)
+    labels: tuple[str, ...] = ()
+
+    def __post_init__(self) -> None:
+        where = f"measured data of configuration '{self.configuration}'"
+        f = np.atleast_1d(np.asarray(self.frequencies_hz, float))
+        if f.ndim != 1 or len(f) == 0:
+            raise ModelError(f"{where}: give at least one measured frequency")
+        if not np.all(np.isfinite(f)):
+            raise ModelError(f"{where}: measured frequencies {np.flatnonzero(~np.isfinite(f)).tolist()} (0-based) are "
+                             "NaN or infinite; remove those modes or fix the identification")
+        if np.any(f <= 0):
+            raise ModelError(f"{where}: measured frequencies must be > 0 (rigid-body modes at 0 Hz carry no "
+                             "information for updating; leave them out)")
+        object.__setattr__(self, "frequencies_hz", f)
+        if self.shapes is not None:
+            s = np.asarray(self.shapes)
+            if s.ndim != 2 or s.shape[0] != len(f):
+                raise ModelError(f"{where}: shapes must be (n_modes={len(f)}, n_sensors), got {s.shape}")
+            if not np.all(np.isfinite(s)):
+                raise ModelError(f"{where}: the measured shapes contain NaN or infinity (mode(s) "
+                                 f"{np.flatnonzero(~np.all(np.isfinite(s), axis=1)).tolist()}); fix or drop them")
+            if self.sensors is None:
+                raise ModelError(f"{where}: measured shapes need their sensors (flexgvt.correlation.Sensors)")
+            if len(self.sensors) != s.shape[1]:
+                raise ModelError(f"{where}: {s.shape[1]} shape components but {len(self.sensors)} sensors")
+            object.__setattr__(self, "shapes", s)
+        if self.frequency_std_hz is not None:
+            sd = np.asarray(self.frequency_std_hz, float)
+            if sd.shape != f.shape or not np.all(np.isfinite(sd)) or np.any(sd < 0):
+                raise ModelError(f"{where}: frequency_std_hz must be {len(f)} finite values >= 0")
+            object.__setattr__(self, "frequency_std_hz", sd)
+        for key, value in self.static.items():
+            if not np.isfinite(value):
+                raise ModelError(f"{where}: static deflection at {key} is not finite")
+
+    @classmethod
+    def from_modal_set(cls, configuration: str, modal_set, sensors=None, **kwargs) -> "Measured":
+        """From the ModalSet flexgvt.ema identifies (its outputs give the sensors unless given)."""
+        if sensors is None:
+            from ..correlation import Sensors
+            sensors = Sensors.from_outputs(modal_set.outputs)
+        std = getattr(modal_set, "frequency_std_hz", None)
+        return cls(configuration, modal_set.frequencies_hz, modal_set.shapes, sensors,
+                   frequency_std_hz=std, **kwargs)
+
+
+@dataclass(frozen=True)
+class MassTarget:
+    """Measured mass properties of the undeformed structure (None: not measured).
+
+    mass [kg]; cg (3,) [m]; inertia (3,) Ixx, Iyy, Izz about the cg [kg m^2]; cg_scale: the
+    absolute scale [m] of a cg term whose reference is zero (a symmetry plane)."""
+
+    mass: float | None = None
+    cg: tuple | None = None
+    inertia: tuple | None = None
+    cg_scale: float = 0.01
+
+
+@dataclass(frozen=True)
+class Objective:
+    """Weights and limits of the updating objective (each term on when its data exist).
+
+    frequency, mac, mass, cg, inertia, static: weights of the residual groups (each residual is a
+    relative error; a MAC residual is 1 - MAC). mac_min: pairs below it violate a constraint
+    (SLSQP, trust-constr) or are penalised (least squares, Nelder-Mead); mass_limits: relative
+    band the mass properties must stay in (e.g. 0.1 = +-10 %); use_std: weight frequency errors
+    by the measured standard deviations when given (relative scatter over the median's)."""
+
+    frequency: float = 1.0
+    mac: float = 0.0
+    mass: float = 1.0
+    cg: float = 1.0
+    inertia: float = 1.0
+    static: float = 0.0
+    mac_min: float | None = None
+    mass_limits: float | None = None
+    use_std: bool = True
+    mac_floor: float = 0.5

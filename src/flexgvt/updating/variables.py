@@ -1,0 +1,295 @@
+"""Design variables: named, bound to model entities, normalised by their initial values, bounded.
+
+    E1 = fg.updating.beam("E_region1", groups="region1", attribute="E", bounds=(0.9, 1.1))
+    k = fg.updating.cord("suspension_k", attribute="stiffness", bounds=(0.8, 1.2))
+
+A variable's normalised value x scales each target's initial value (p = x p0); offsets, whose
+initial value may be zero, shift instead: p = p0 + (x - 1) scale. Several targets (beam groups
+matched by name or pattern, several masses, springs or cords) move together: that is how a
+region or a component is grouped.
+"""
+
+from __future__ import annotations
+
+import fnmatch
+from dataclasses import dataclass, fields, replace
+from typing import Iterable, Sequence
+
+import numpy as np
+
+from ..errors import ModelError
+from ..model import Configuration, Model
+
+KINDS = ("beam", "mass", "spring", "cord")
+MATERIAL_ATTRIBUTES = ("E", "G", "rho")
+MASS_ATTRIBUTES = ("mass", "offset_x", "offset_y", "offset_z")
+SPRING_ATTRIBUTES = tuple(f"k{i}" for i in range(1, 7)) + tuple(f"c{i}" for i in range(1, 7)) + ("stiffness", "damping")
+CORD_ATTRIBUTES = ("stiffness", "damping")
+SECTION_ALIASES = {"thickness": "height"}  # a RectangularSection's height is a strip's or skin's thickness
+
+
+@dataclass(frozen=True)
+class Variable:
+    """One design variable.
+
+    kind: 'beam' (a material or section attribute of beam groups), 'mass', 'spring' or 'cord';
+    attribute: E, G, rho, or a section field (width, height, thickness, A, Iy, ...) for beams;
+    mass, offset_x/y/z for masses; k1..k6, c1..c6, stiffness, damping for springs; stiffness,
+    damping for cords. targets: beam group names or fnmatch patterns ('region*'), mass or spring
+    indices (order of model.masses / model.springs), or cord indices within each configuration
+    named in ``configurations`` (None: every configuration). bounds: normalised (lower, upper);
+    scale: the absolute size of x - 1 = 1 for shifted attributes (offsets) [m].
+    """
+
+    name: str
+    kind: str
+    attribute: str
+    targets: tuple = ()
+    bounds: tuple[float, float] = (0.9, 1.1)
+    scale: float = 0.01
+    configurations: tuple[str, ...] | None = None
+
+    def __post_init__(self) -> None:
+        if self.kind not in KINDS:
+            raise ModelError(f"design variable '{self.name}': kind '{self.kind}' must be one of {KINDS}")
+        lo, hi = (float(b) for b in self.bounds)
+        if not (np.isfinite(lo) and np.isfinite(hi) and lo < hi):
+            raise ModelError(f"design variable '{self.name}': bounds {self.bounds} must be finite with lower < upper")
+        if self.kind != "mass" or not self.shifts:
+            if lo <= 0:
+                raise ModelError(f"design variable '{self.name}': bounds {self.bounds} scale a physical property and "
+                                 "must stay > 0")
+        object.__setattr__(self, "bounds", (lo, hi))
+        object.__setattr__(self, "targets", tuple(self.targets))
+
+    @property
+    def shifts(self) -> bool:
+        """Offsets shift (p0 + (x - 1) scale); every other attribute scales (x p0)."""
+        return self.attribute.startswith("offset_")
+
+
+def beam(name: str, groups: str | Iterable[str], attribute: str, bounds=(0.9, 1.1)) -> Variable:
+    """A material (E, G, rho) or section attribute (width, height, thickness, A, Iy, Iz, J, ...) of the
+    beam groups named by ``groups`` (names or fnmatch patterns, see Model.add_beams(name=...))."""
+    groups = (groups,) if isinstance(groups, str) else tuple(groups)
+    return Variable(name, "beam", SECTION_ALIASES.get(attribute, attribute), groups, bounds)
+
+
+def mass(name: str, masses: int | Iterable[int], attribute: str = "mass", bounds=(0.9, 1.1),
+         scale: float = 0.01) -> Variable:
+    """Mass [kg] or one offset component [m] of concentrated masses (indices in model.masses);
+    offsets shift by (x - 1) * scale [m]."""
+    masses = (masses,) if np.isscalar(masses) else tuple(masses)
+    return Variable(name, "mass", attribute, tuple(int(m) for m in masses), bounds, scale)
+
+
+def spring(name: str, springs: int | Iterable[int], attribute: str = "stiffness", bounds=(0.5, 2.0)) -> Variable:
+    """Stiffness or damping (all six components, or one: k1..k6, c1..c6) of springs (indices in model.springs)."""
+    springs = (springs,) if np.isscalar(springs) else tuple(springs)
+    return Variable(name, "spring", attribute, tuple(int(s) for s in springs), bounds)
+
+
+def cord(name: str, cords: int | Iterable[int] | None = None, attribute: str = "stiffness", bounds=(0.8, 1.2),
+         configurations: Iterable[str] | None = None) -> Variable:
+    """Stiffness or damping of suspension cords (indices in each configuration's suspension; None:
+    all) in the named configurations (None: all)."""
+    cords = () if cords is None else ((cords,) if np.isscalar(cords) else tuple(cords))
+    return Variable(name, "cord", attribute, tuple(int(c) for c in cords), bounds,
+                    configurations=None if configurations is None else tuple(configurations))
+
+
+@dataclass(frozen=True)
+class Binding:
+    """A variable resolved on a model: its targets as indices and their initial values."""
+
+    variable: Variable
+    indices: tuple  # beam group indices, mass/spring indices, or (configuration name, cord index)
+    initial: np.ndarray  # initial value of the attribute at each target
+
+
+class Parametrisation:
+    """Design variables bound to a model and its configurations; applies a design point to a
+    working copy of the model without rebuilding anything else."""
+
+    def __init__(self, model: Model, configurations: Sequence[Configuration], variables: Sequence[Variable]):
+        if not variables:
+            raise ModelError("updating: give at least one design variable")
+        names = [v.name for v in variables]
+        dup = sorted({n for n in names if names.count(n) > 1})
+        if dup:
+            raise ModelError(f"updating: design variable names must be unique; repeated: {dup}")
+        self.model = model
+        self.configurations = {c.name: c for c in configurations}
+        self.variables = tuple(variables)
+        self.bindings = tuple(self._bind(v) for v in variables)
+        seen: dict = {}
+        for b in self.bindings:
+            for idx in b.indices:
+                key = (b.variable.kind, idx, b.variable.attribute)
+                if key in seen:
+                    raise ModelError(f"design variables '{seen[key]}' and '{b.variable.name}' both set "
+                                     f"{b.variable.attribute} of the same {b.variable.kind} ({idx}); merge them")
+                seen[key] = b.variable.name
+        self.lower = np.array([v.bounds[0] for v in variables])
+        self.upper = np.array([v.bounds[1] for v in variables])
+
+    @property
+    def names(self) -> list[str]:
+        return [v.name for v in self.variables]
+
+    def __len__(self) -> int:
+        return len(self.variables)
+
+    # ------------------------------------------------------------------ binding
+    def _bind(self, v: Variable) -> Binding:
+        where = f"design variable '{v.name}'"
+        m = self.model
+        if v.kind == "beam":
+            names = [g.name for g in m.beams]
+            idx = sorted({k for pat in v.targets for k, n in enumerate(names) if fnmatch.fnmatchcase(n, pat)})
+            missing = [pat for pat in v.targets if not any(fnmatch.fnmatchcase(n, pat) for n in names)]
+            if missing or not v.targets:
+                raise ModelError(f"{where}: no beam group named {missing or '(none given)'} in model '{m.name}'; "
+                                 f"groups: {sorted(set(names))}")
+            initial = [self._beam_value(m.beams[k], v, where) for k in idx]
+            return Binding(v, tuple(idx), np.array(initial))
+        if v.kind in ("mass", "spring"):
+            items = m.masses if v.kind == "mass" else m.springs
+            allowed = MASS_ATTRIBUTES if v.kind == "mass" else SPRING_ATTRIBUTES
+            if v.attribute not in allowed:
+                raise ModelError(f"{where}: attribute '{v.attribute}' of a {v.kind} must be one of {allowed}")
+            bad = [i for i in v.targets if not 0 <= i < len(items)]
+            if bad or not v.targets:
+                raise ModelError(f"{where}: {v.kind} index {bad or '(none given)'} does not exist; model "
+                                 f"'{m.name}' has {len(items)} {v.kind}{'es' if v.kind == 'mass' else 's'}")
+            initial = [self._point_value(items[i], v) for i in v.targets]
+            if v.kind == "spring" and np.any(np.asarray(initial) <= 0):
+                raise ModelError(f"{where}: a spring's {v.attribute} is zero; a zero value cannot be scaled")
+            return Binding(v, tuple(v.targets), np.array(initial))
+        # cords
+        if v.attribute not in CORD_ATTRIBUTES:
+            raise ModelError(f"{where}: attribute '{v.attribute}' of a cord must be one of {CORD_ATTRIBUTES}")
+        cfgs = list(self.configurations) if v.configurations is None else list(v.configurations)
+        unknown = [c for c in cfgs if c not in self.configurations]
+        if unknown:
+            raise ModelError(f"{where}: unknown configuration(s) {unknown}; known: {list(self.configurations)}")
+        idx, initial = [], []
+        for c in cfgs:
+            cords = self.configurations[c].suspension
+            chosen = range(len(cords)) if not v.targets else v.targets
+            for i in chosen:
+                if not 0 <= i < len(cords):
+                    raise ModelError(f"{where}: configuration '{c}' has no cord {i} ({len(cords)} cords)")
+                idx.append((c, i))
+                initial.append(getattr(cords[i], v.attribute))
+        if not idx:
+            raise ModelError(f"{where}: no cord in configuration(s) {cfgs}")
+        if np.any(np.asarray(initial) <= 0):
+            raise ModelError(f"{where}: a cord's {v.attribute} is zero; a zero value cannot be scaled")
+        return Binding(v, tuple(idx), np.array(initial, float))
+
+    @staticmethod
+    def _beam_value(group, v: Variable, where: str) -> float:
+        if v.attribute in MATERIAL_ATTRIBUTES:
+            value = group.material.shear_modulus if v.attribute == "G" else getattr(group.material, v.attribute)
+        else:
+            known = [f.name for f in fields(group.section)]
+            if v.attribute not in known:
+                raise ModelError(f"{where}: beam group '{group.name}' has a {type(group.section).__name__}, whose "
+                                 f"attributes are {known} (and the material's {MATERIAL_ATTRIBUTES})")
+            value = getattr(group.section, v.attribute)
+        if not isinstance(value, (int, float)) or not value > 0:
+            raise ModelError(f"{where}: {v.attribute} of beam group '{group.name}' is {value!r}; only a positive "
+                             "number can be scaled")
+        return float(value)
+
+    @staticmethod
+    def _point_value(item, v: Variable) -> float:
+        a = v.attribute
+        if a == "mass":
+            return float(item.mass)
+        if a.startswith("offset_"):
+            return float(item.offset["xyz".index(a[-1])])
+        arr = item.stiffness if a[0] == "k" or a == "stiffness" else item.damping
+        return float(arr[int(a[1]) - 1]) if a[1:].isdigit() else float(np.max(arr))
+
+    # ------------------------------------------------------------------ values
+    def physical(self, b: Binding, x: float) -> np.ndarray:
+        """Target values [SI] at normalised value x."""
+        v = b.variable
+        return b.initial + (x - 1.0) * v.scale if v.shifts else b.initial * x
+
+    def check(self, x: np.ndarray) -> np.ndarray:
+        x = np.asarray(x, float)
+        if x.shape != (len(self),) or not np.all(np.isfinite(x)):
+            raise ModelError(f"design point must be {len(self)} finite values, got {x}")
+        return x
+
+    def beam_entities(self, group, b: Binding, idx: int, xk: float):
+        """(material, section) of beam group ``group`` (as it is at the current design point) with
+        b's attribute at normalised value xk (target ``idx`` of b)."""
+        value = float(self.physical(b, xk)[b.indices.index(idx)])
+        a = b.variable.attribute
+        if a in MATERIAL_ATTRIBUTES:
+            return replace(group.material, **{a: value}), group.section
+        return group.material, replace(group.section, **{a: value})
+
+    def mass_entities(self, model: Model, b: Binding, xk: float) -> tuple[np.ndarray, np.ndarray]:
+        """(masses (k,), offsets (k, 3)) of b's concentrated masses with its attribute at xk."""
+        items = [model.masses[i] for i in b.indices]
+        masses = np.array([m.mass for m in items], float)
+        offsets = np.array([m.offset for m in items], float)
+        values = self.physical(b, xk)
+        if b.variable.attribute == "mass":
+            masses = values.astype(float)
+        else:
+            offsets[:, "xyz".index(b.variable.attribute[-1])] = values
+        return masses, offsets
+
+    def apply(self, model: Model, x: np.ndarray) -> dict[str, Configuration]:
+        """Set ``model`` (a working copy of the bound model, same entities) to design point x and
+        return the configurations at x (new objects where cords change)."""
+        x = self.check(x)
+        beams: dict[int, tuple[dict, dict]] = {}
+        configs = dict(self.configurations)
+        cords: dict[str, list] = {}
+        base = self.model
+        for b, xi in zip(self.bindings, x):
+            v = b.variable
+            values = self.physical(b, xi)
+            for idx, value in zip(b.indices, values):
+                if v.kind == "beam":
+                    mat, sec = beams.setdefault(idx, ({}, {}))
+                    (mat if v.attribute in MATERIAL_ATTRIBUTES else sec)[v.attribute] = float(value)
+                elif v.kind == "mass":
+                    if v.attribute == "mass":
+                        model.set_mass(idx, mass=value)
+                    else:
+                        off = np.array(model.masses[idx].offset, float)
+                        off["xyz".index(v.attribute[-1])] = value
+                        model.set_mass(idx, offset=off)
+                elif v.kind == "spring":
+                    which = "stiffness" if v.attribute[0] == "k" or v.attribute == "stiffness" else "damping"
+                    arr = np.array(getattr(base.springs[idx], which), float)
+                    if v.attribute[1:].isdigit():
+                        arr[int(v.attribute[1]) - 1] = value
+                    else:
+                        arr = arr * (value / max(np.max(arr), 1e-300))
+                    model.set_spring(idx, **{which: arr})
+                else:
+                    c, i = idx
+                    lst = cords.setdefault(c, list(configs[c].suspension))
+                    lst[i] = replace(lst[i], **{v.attribute: float(value)})
+        for k, (mat, sec) in beams.items():
+            group = base.beams[k]
+            material = group.material
+            if mat:
+                g = mat.pop("G", None)
+                material = replace(material, **mat)
+                if g is not None:
+                    material = replace(material, G=g)
+            section = replace(group.section, **sec) if sec else group.section
+            model.set_beam_group(k, material=material, section=section)
+        for c, lst in cords.items():
+            configs[c] = configs[c].with_(suspension=tuple(lst))
+        return configs
