@@ -181,7 +181,7 @@ def starting_points(problem: UpdatingProblem, n: int, seed: int = 0) -> np.ndarr
     """x0 = 1 and n - 1 points drawn uniformly inside the bounds (seeded)."""
     rng = np.random.default_rng(seed)
     par = problem.par
-    pts = [np.clip(np.ones(len(par)), par.lower, par.upper)]
+    pts = [np.ones(len(par))]
     for _ in range(n - 1):
         pts.append(rng.uniform(par.lower, par.upper))
     return np.array(pts)

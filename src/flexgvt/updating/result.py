@@ -101,20 +101,23 @@ def identifiability(problem: UpdatingProblem, point: Point) -> dict:
     u, s, vt = np.linalg.svd(J, full_matrices=False)
     rank = int(np.sum(s > RANK_TOLERANCE * max(s.max(initial=0.0), 1e-300)))
     cond = float(s[0] / s[-1]) if len(s) and s[-1] > 0 else float("inf")
-    unseen = []
+    unseen, combinations = [], []
     if rank < n:
+        # Directions of the design space the data do not see: a variable taking part in one
+        # (more than 10 % of its weight) cannot be told apart from the others in it.
         null = vt[rank:]
         share = np.sum(null**2, axis=0)
-        unseen = [names[k] for k in np.flatnonzero(share > 0.5)]
-        if not unseen:
-            unseen = [names[int(np.argmax(share))]]
+        unseen = [names[k] for k in np.flatnonzero(share > 0.1)]
+        combinations = [{names[k]: float(c) for k in np.flatnonzero(np.abs(row) > 0.1) for c in [row[k]]}
+                        for row in null]
     sigma2, source = _residual_variance(problem, point, m, n)
     s_inv = np.where(s > RANK_TOLERANCE * max(s.max(initial=0.0), 1e-300), 1 / np.where(s > 0, s, 1), 0.0)
     cov = (vt.T * s_inv**2) @ vt * sigma2
     std = np.sqrt(np.clip(np.diag(cov), 0, None))
     std = np.where(np.isin(names, unseen), np.inf, std)
     return {"rank": rank, "n_variables": n, "n_residuals": m, "condition_number": cond,
-            "singular_values": s, "unidentifiable": unseen, "std_normalised": std, "covariance": cov,
+            "singular_values": s, "unidentifiable": unseen, "unseen_combinations": combinations,
+            "std_normalised": std, "covariance": cov,
             "sigma_source": source}
 
 

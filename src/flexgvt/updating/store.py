@@ -18,6 +18,7 @@ import numpy as np
 from ..errors import FileFormatError
 
 _SCHEMA = """
+CREATE TABLE IF NOT EXISTS problems (problem TEXT PRIMARY KEY, structure TEXT NOT NULL, data TEXT NOT NULL);
 CREATE TABLE IF NOT EXISTS runs (
     problem TEXT NOT NULL, run INTEGER NOT NULL, method TEXT, started REAL, finished REAL,
     x_final TEXT, objective REAL, message TEXT, PRIMARY KEY (problem, run));
@@ -28,22 +29,28 @@ CREATE TABLE IF NOT EXISTS iterations (
 """
 
 
-def fingerprint(problem, method: str) -> str:
-    """A hash of what defines a run: variables, bounds, configurations, measured data, objective, method."""
+def fingerprint(problem, method: str) -> tuple[str, np.ndarray]:
+    """What defines a run: a hash of its structure (method, variables and their targets and bounds,
+    configurations, which data and objective terms exist) and the vector of its numbers (initial
+    values, measured data, mass targets), compared with a tolerance, since data recomputed in
+    another process may differ in the last bits."""
     h = hashlib.sha256()
     h.update(method.encode())
-    for v in problem.par.variables:
+    numbers = []
+    for v, b in zip(problem.par.variables, problem.par.bindings):
         h.update(repr((v.name, v.kind, v.attribute, v.targets, v.bounds, v.scale, v.configurations)).encode())
-    for b in problem.par.bindings:
-        h.update(np.ascontiguousarray(b.initial, float).tobytes())
+        numbers.append(np.ravel(b.initial))
     for name, m in sorted(problem.measured.items()):
-        h.update(name.encode())
-        h.update(np.ascontiguousarray(m.frequencies_hz).tobytes())
-        if m.shapes is not None:
-            h.update(np.ascontiguousarray(m.shapes).tobytes())
+        h.update(repr((name, len(m.frequencies_hz), None if m.shapes is None else m.shapes.shape,
+                       sorted(m.static))).encode())
+        numbers += [m.frequencies_hz, np.ravel(np.abs(m.shapes)) if m.shapes is not None else np.zeros(0),
+                    np.array(list(m.static.values()), float)]
     h.update(repr(problem.objective).encode())
-    h.update(repr(problem.mass_target).encode())
-    return h.hexdigest()[:32]
+    t = problem.mass_target
+    if t is not None:
+        h.update(repr((t.mass is None, t.cg is None, t.inertia is None, t.cg_scale)).encode())
+        numbers.append(np.array([v for v in (t.mass, *(t.cg or ()), *(t.inertia or ())) if v is not None], float))
+    return h.hexdigest()[:24], np.concatenate([np.ravel(np.asarray(n, float)) for n in numbers])
 
 
 class ResultsStore:
@@ -59,8 +66,21 @@ class ResultsStore:
             raise FileFormatError(f"{self.path}: not a flexgvt results store ({exc}); give a new file name") from None
         self.problem = ""
 
-    def bind(self, problem_key: str) -> None:
-        self.problem = problem_key
+    def bind(self, key: tuple[str, np.ndarray]) -> str:
+        """Select the stored problem with this structure and these numbers (to rtol 1e-9), or
+        register a new one; returns its key."""
+        structure, numbers = key
+        rows = self._db.execute("SELECT problem, data FROM problems WHERE structure = ?", (structure,)).fetchall()
+        for problem, data in rows:
+            stored = np.array(json.loads(data), float)
+            if stored.shape == numbers.shape and np.allclose(stored, numbers, rtol=1e-9, atol=0.0):
+                self.problem = problem
+                return problem
+        self.problem = f"{structure}-{len(rows)}"
+        with self._db:
+            self._db.execute("INSERT INTO problems VALUES (?, ?, ?)",
+                             (self.problem, structure, json.dumps(numbers.tolist())))
+        return self.problem
 
     def record(self, run: int, row: dict) -> None:
         """One iterate, in its own transaction (an interruption never leaves half a row)."""
