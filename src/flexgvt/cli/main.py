@@ -29,6 +29,10 @@ except ImportError:  # not installed in this build
 if ema_app is not None:
     app.add_typer(ema_app, name="ema")
 
+from .verify import register as _register_verify  # noqa: E402
+
+_register_verify(app, console)
+
 
 def _fail(exc: Exception) -> None:
     console.print(f"[bold red]error:[/] {exc}")

@@ -1,0 +1,15 @@
+"""Correlation of measured and analytical modes: sensors (FE shapes reduced to test points and
+sensor directions), MAC, auto-MAC, COMAC, cross-orthogonality and one-to-one pairing.
+
+    measured = stab.select()                       # flexgvt.ema ModalSet
+    modes = fg.solve_modes(state, 20)              # flexgvt.fem Modes
+    fg.correlation.mac(measured, modes)            # sensors from the ModalSet's outputs
+    pairs = fg.correlation.pair(measured, modes)   # pairs.table(), pairs.unpaired
+"""
+
+from .mac import auto_mac, comac, cross_orthogonality, mac, mac_of, shapes_of, subspace_mac
+from .pairing import Pairing, pair
+from .sensors import Sensor, Sensors
+
+__all__ = ["Pairing", "Sensor", "Sensors", "auto_mac", "comac", "cross_orthogonality", "mac", "mac_of", "pair",
+           "shapes_of", "subspace_mac"]

@@ -149,7 +149,10 @@ class UpdatingProblem:
         if hit is not None and (hit.jacobian is not None or not gradient):
             return hit
         t0 = time.perf_counter()
-        configs = self.par.apply(self.work, x)
+        try:
+            configs = self.par.apply(self.work, x)
+        except ModelError as exc:  # e.g. a negative modulus from an unbounded step
+            raise DesignPointFailure(f"design point outside the physical range: {exc}") from exc
         points = {}
         for cfg in self.configurations:
             points[cfg.name] = self._solve(configs[cfg.name])

@@ -26,10 +26,10 @@ def update(model: Model, configurations: Sequence[Configuration], measured: Sequ
     configurations: the test configurations (each with measured data); measured: one Measured per
     configuration; variables: design variables (flexgvt.updating.beam/mass/spring/cord);
     mass_target: measured mass properties; objective: weights and constraints; method:
-    'least_squares' (SciPy's least_squares, dogbox trust region inside the bounds, on the residual
-    vector with its exact Jacobian; default), 'trf' (trust-region reflective), 'lm' (MINPACK's
-    Levenberg-Marquardt, kept when it ends inside the bounds, else continued by dogbox from
-    there), 'slsqp', 'trust-constr' (analytic
+    'least_squares' (default; alias 'lm': SciPy's least_squares with MINPACK's Levenberg-Marquardt on
+    the residual vector and its exact Jacobian, continued by the bounded dogbox trust region from
+    its answer if that lies outside the bounds), 'dogbox' or 'trf' (SciPy's bounded trust regions
+    from the start), 'slsqp', 'trust-constr' (analytic
     gradients, constraints enforced), 'nelder-mead' (penalties, no gradients); starts: multi-start
     count (x0 = 1 plus seeded uniform points in the bounds; the best run wins); store: a
     flexgvt.updating.ResultsStore (SQLite) for the history and resuming.

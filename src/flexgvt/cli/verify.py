@@ -1,0 +1,79 @@
+"""`flexgvt verify CASE`: the updating verification protocol of METHOD.md section 4."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Optional
+
+import numpy as np
+import typer
+from rich.console import Console
+from rich.table import Table
+
+from ..errors import FlexGVTError
+
+
+def register(app: typer.Typer, console: Console) -> None:
+    @app.command()
+    def verify(case: str = typer.Argument("cantilever", help="built-in case: cantilever (METHOD.md case 3)"),
+               seed: int = typer.Option(1, help="seed of the +-5 % mistuning"),
+               method: str = typer.Option("least_squares", help="least_squares, trf, lm, slsqp, trust-constr or "
+                                          "nelder-mead"),
+               modes: int = typer.Option(8, help="measured modes per configuration"),
+               out: Optional[Path] = typer.Option(None, help="folder for verification.json and the MAC figure"),
+               json_path: Optional[Path] = typer.Option(None, "--json", help="write the figures as JSON")):
+        """Mistune a reference model (seeded), update it against its own surrogate data in three load
+        cases, and report variable and frequency errors and an unseen load case's prediction."""
+        from ..updating import verify as run
+
+        try:
+            result = run(case, seed=seed, n_modes=modes, method=method)
+        except FlexGVTError as exc:
+            console.print(f"[bold red]error:[/] {exc}")
+            raise typer.Exit(code=2)
+        console.print(result.summary())
+        table = Table(title="design variables: error against the reference [%]")
+        for col in ("variable", "initial", "multi-configuration", "single-configuration", "std (multi)"):
+            table.add_column(col, justify="right")
+        e = result.variable_errors_percent
+        for k, row in enumerate(result.multi.variables):
+            table.add_row(row["name"], f"{e['initial'][k]:+.3f}", f"{e['multi'][k]:+.4f}", f"{e['single'][k]:+.3f}",
+                          f"{100 * row['std_normalised']:.2g}" if np.isfinite(row["std_normalised"]) else "unseen")
+        console.print(table)
+        for name, rows in result.multi.tables.items():
+            t = Table(title=f"'{name}': frequencies [Hz] and errors [%]")
+            for col in ("mode", "label", "reference", "initial", "error", "updated", "error", "MAC"):
+                t.add_column(col, justify="right")
+            for r in rows:
+                t.add_row(str(r["mode"]), r["label"], f"{r['measured_hz']:.4f}", f"{r['initial_hz']:.4f}",
+                          f"{r['initial_error_percent']:+.3f}", f"{r['updated_hz']:.4f}",
+                          f"{r['updated_error_percent']:+.4f}", f"{r['updated_mac']:.4f}" if r["updated_mac"] else "")
+            console.print(t)
+        data = result.as_dict()
+        if out is not None:
+            out.mkdir(parents=True, exist_ok=True)
+            (out / "verification.json").write_text(json.dumps(data, indent=1))
+            _mac_figure(result, out / "mac.png")
+            console.print(f"files in {out}/")
+        if json_path is not None:
+            json_path.parent.mkdir(parents=True, exist_ok=True)
+            json_path.write_text(json.dumps(data, indent=1))
+
+
+def _mac_figure(result, path: Path) -> None:
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    names = [n for n, m in result.multi.mac.items() if m is not None]
+    fig, axes = plt.subplots(1, max(len(names), 1), figsize=(4 * max(len(names), 1), 3.6), squeeze=False)
+    for ax, name in zip(axes[0], names):
+        mac = result.multi.mac[name][1]
+        im = ax.imshow(mac, vmin=0, vmax=1, cmap="viridis")
+        ax.set_title(f"{name}: MAC after updating")
+        ax.set_xlabel("analytical mode")
+        ax.set_ylabel("measured mode")
+    fig.colorbar(im, ax=axes[0].tolist(), shrink=0.8)
+    fig.savefig(path, dpi=120)
+    plt.close(fig)

@@ -1,0 +1,131 @@
+"""Sensors: the measured channels as linear maps from an FE shape (6 DOF per node) to a reading.
+
+A sensor is rigidly attached to an FE node at an arm (its offset) and reads the displacement of
+its own point along its direction: d . (u + theta x r). On a deformed structure the sensor turns
+with the node it is glued to (follow=True): r = R_node r0 and d = R_node d0.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Iterable, Mapping, Sequence
+
+import numpy as np
+import scipy.sparse as sp
+
+from ..errors import ModelError
+
+AXES = "XYZ"
+
+
+@dataclass(frozen=True)
+class Sensor:
+    """One channel: node (FE node id), direction (3,) unit vector and offset (3,) [m] in the
+    undeformed global axes, name (e.g. '12+Z': UFF point 12, direction +Z)."""
+
+    node: int
+    direction: np.ndarray
+    offset: np.ndarray = field(default_factory=lambda: np.zeros(3))
+    name: str = ""
+
+    def __post_init__(self) -> None:
+        d = np.asarray(self.direction, float).reshape(-1)
+        r = np.asarray(self.offset, float).reshape(-1)
+        if d.shape != (3,) or r.shape != (3,) or not np.all(np.isfinite(np.r_[d, r])):
+            raise ModelError(f"sensor at node {self.node}: direction and offset must be 3 finite values each")
+        norm = np.linalg.norm(d)
+        if norm == 0:
+            raise ModelError(f"sensor at node {self.node}: the direction is zero")
+        object.__setattr__(self, "direction", d / norm)
+        object.__setattr__(self, "offset", r)
+        object.__setattr__(self, "node", int(self.node))
+
+
+class Sensors:
+    """An ordered set of sensors: the rows of every shape reduced to them."""
+
+    def __init__(self, sensors: Sequence[Sensor]):
+        self._items = tuple(sensors)
+        if not self._items:
+            raise ModelError("Sensors: give at least one sensor")
+        self.nodes = np.array([s.node for s in self._items], int)
+        self.directions = np.array([s.direction for s in self._items])
+        self.offsets = np.array([s.offset for s in self._items])
+
+    def __len__(self) -> int:
+        return len(self._items)
+
+    def __iter__(self):
+        return iter(self._items)
+
+    def __getitem__(self, k):
+        return self._items[k]
+
+    @property
+    def names(self) -> list[str]:
+        return [s.name or f"{s.node}:{np.round(s.direction, 3).tolist()}" for s in self._items]
+
+    @classmethod
+    def uniaxial(cls, nodes: Iterable[int], directions, offsets=None) -> "Sensors":
+        """One sensor per node along ``directions`` ((n, 3) or one (3,)), at ``offsets`` ((n, 3) or None)."""
+        nodes = np.atleast_1d(np.asarray(list(nodes), int))
+        d = np.broadcast_to(np.asarray(directions, float), (len(nodes), 3))
+        r = np.zeros((len(nodes), 3)) if offsets is None else np.broadcast_to(np.asarray(offsets, float),
+                                                                              (len(nodes), 3))
+        return cls([Sensor(int(n), d[k], r[k]) for k, n in enumerate(nodes)])
+
+    @classmethod
+    def triaxial(cls, nodes: Iterable[int], offsets=None) -> "Sensors":
+        """Three sensors (X, Y, Z) per node, at the node's offset ((n, 3) or None)."""
+        nodes = np.atleast_1d(np.asarray(list(nodes), int))
+        r = np.zeros((len(nodes), 3)) if offsets is None else np.broadcast_to(np.asarray(offsets, float),
+                                                                              (len(nodes), 3))
+        return cls([Sensor(int(n), np.eye(3)[a], r[k], f"{n}+{AXES[a]}") for k, n in enumerate(nodes)
+                    for a in range(3)])
+
+    @classmethod
+    def from_outputs(cls, outputs, node_map: Mapping[int, int] | None = None,
+                     offsets: Mapping[int, Sequence[float]] | None = None) -> "Sensors":
+        """From the (n, 2) (point id, direction code) channels of UFF data (flexgvt.io.read_uff, a
+        ModalSet's outputs): codes +-1, +-2, +-3 are +-X, +-Y, +-Z. node_map: {test point: FE node}
+        (default: the same ids); offsets: {test point: (3,) arm from the node [m]}."""
+        outputs = np.asarray(outputs)
+        if outputs.ndim != 2 or outputs.shape[1] != 2 or len(outputs) == 0:
+            raise ModelError(f"Sensors.from_outputs: expected (n, 2) (point, direction) channels, got {outputs.shape}")
+        items = []
+        for k, (pt, code) in enumerate(outputs.astype(int)):
+            if abs(code) not in (1, 2, 3):
+                raise ModelError(f"channel {k} (point {pt}, direction {code}) is not a translation (+-1..3); "
+                                 "rotational channels cannot be correlated with the FE translations: drop them")
+            node = int(node_map[pt]) if node_map is not None and pt in node_map else int(pt)
+            if node_map is not None and pt not in node_map:
+                raise ModelError(f"channel {k}: test point {pt} is not in node_map; map every measured point to an "
+                                 "FE node")
+            arm = np.zeros(3) if offsets is None or pt not in offsets else np.asarray(offsets[pt], float)
+            items.append(Sensor(node, np.sign(code) * np.eye(3)[abs(code) - 1], arm,
+                                f"{pt}{'+' if code > 0 else '-'}{AXES[abs(code) - 1]}"))
+        return cls(items)
+
+    def matrix(self, node_ids: np.ndarray, state=None, follow: bool = True) -> sp.csr_matrix:
+        """(n_sensors, 6 len(node_ids)) map from a node-major 6-DOF shape (node order node_ids) to the
+        readings: d^T (u + theta x r) = d^T u + (r x d)^T theta. With a State and follow=True the
+        arm and direction turn with the node's rotation."""
+        node_ids = np.asarray(node_ids, int)
+        order = np.argsort(node_ids)
+        pos = np.searchsorted(node_ids, self.nodes, sorter=order)
+        pos = np.clip(pos, 0, len(node_ids) - 1)
+        rows = order[pos]
+        missing = node_ids[rows] != self.nodes
+        if np.any(missing):
+            bad = sorted(set(self.nodes[missing].tolist()))
+            raise ModelError(f"sensors on node(s) {bad[:10]} that the model does not have; map the test points "
+                             "to FE nodes (Sensors.from_outputs(..., node_map=...))")
+        d, r = self.directions, self.offsets
+        if state is not None and follow:
+            Rn = state.rotations[rows]
+            d = np.einsum("nij,nj->ni", Rn, d)
+            r = np.einsum("nij,nj->ni", Rn, r)
+        vals = np.concatenate([d, np.cross(r, d)], axis=1)  # (n, 6)
+        cols = 6 * rows[:, None] + np.arange(6)[None, :]
+        n = len(self)
+        return sp.csr_matrix((vals.ravel(), (np.repeat(np.arange(n), 6), cols.ravel())), shape=(n, 6 * len(node_ids)))
