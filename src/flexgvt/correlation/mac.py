@@ -78,8 +78,10 @@ def auto_mac(a, sensors=None) -> np.ndarray:
 
 
 def comac(a, b, pairs=None, sensors=None) -> np.ndarray:
-    """(n_rows,) coordinate MAC over the paired modes: (sum |a b|)^2 / (sum |a|^2 sum |b|^2) per
-    row, each pair's shapes scaled to each other first (modal scale factor)."""
+    """(n_rows,) coordinate MAC over the paired modes, |sum_r a_r conj(b_r)|^2 / (sum |a_r|^2 sum
+    |b_r|^2) per row, each pair's analytical shape first scaled onto the measured one (modal scale
+    factor). The signed sum, not Allemang's sum of |a b|: a sensor reading with the wrong sign or
+    in the wrong direction lowers its COMAC instead of hiding behind the absolute values."""
     A, B, _ = _pair_shapes(a, b, sensors)
     if pairs is None:
         pairs = (np.arange(min(len(A), len(B))),) * 2
@@ -87,7 +89,7 @@ def comac(a, b, pairs=None, sensors=None) -> np.ndarray:
     A, B = A[ia], B[ib]
     msf = (np.sum(A.conj() * B, axis=1) / np.maximum(np.sum(np.abs(B) ** 2, axis=1), 1e-300))[:, None]
     B = B * msf
-    num = np.sum(np.abs(A.conj() * B), axis=0) ** 2
+    num = np.abs(np.sum(A.conj() * B, axis=0)) ** 2
     den = np.sum(np.abs(A) ** 2, axis=0) * np.sum(np.abs(B) ** 2, axis=0)
     return num / np.where(den > 0, den, 1.0)
 

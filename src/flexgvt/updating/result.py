@@ -52,7 +52,7 @@ class UpdateResult:
 
     def as_dict(self) -> dict:
         """A JSON-ready dictionary (the documented --json layout)."""
-        return {"method": self.method, "message": self.message, "success": self.success, "seconds": self.seconds,
+        return jsonable({"method": self.method, "message": self.message, "success": self.success, "seconds": self.seconds,
                 "solves": self.solves, "gradients": self.gradients, "x": self.x.tolist(),
                 "objective": {"initial": self.initial.objective, "final": self.final.objective},
                 "variables": self.variables, "configurations": self.tables,
@@ -61,7 +61,22 @@ class UpdateResult:
                 "identifiability": {k: (v.tolist() if isinstance(v, np.ndarray) else v)
                                     for k, v in self.identifiability.items()},
                 "history": [{k: v for k, v in row.items() if k != "residuals"} for row in self.history],
-                "starts": self.starts}
+                "starts": self.starts})
+
+
+def jsonable(value):
+    """numpy scalars and arrays inside dicts and lists -> plain Python (json.dumps takes the result)."""
+    if isinstance(value, dict):
+        return {str(k): jsonable(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [jsonable(v) for v in value]
+    if isinstance(value, np.ndarray):
+        return jsonable(value.tolist())
+    if isinstance(value, np.generic):
+        return value.item()
+    if isinstance(value, float) and not np.isfinite(value):
+        return None
+    return value
 
 
 def configuration_tables(problem: UpdatingProblem, initial: Point, final: Point) -> dict[str, list[dict]]:
@@ -85,7 +100,7 @@ def configuration_tables(problem: UpdatingProblem, initial: Point, final: Point)
                 "updated_error_percent": None if f1 is None else 100 * (f1 - fm) / fm,
                 "initial_mac": None if np.isnan(a.mac[i]) else float(a.mac[i]),
                 "updated_mac": None if np.isnan(b.mac[i]) else float(b.mac[i]),
-                "paired": ib >= 0})
+                "paired": bool(ib >= 0)})
         out[cfg.name] = rows
     return out
 

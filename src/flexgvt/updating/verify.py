@@ -38,12 +38,13 @@ class Verification:
     seconds: float
 
     def as_dict(self) -> dict:
-        return {"case": self.case, "seed": self.seed, "seconds": self.seconds,
+        from .result import jsonable
+        return jsonable({"case": self.case, "seed": self.seed, "seconds": self.seconds,
                 "mistuning": self.mistuning.tolist(),
                 "variable_errors_percent": {k: v.tolist() for k, v in self.variable_errors_percent.items()},
                 "prediction": self.prediction, "multi": self.multi.as_dict(),
                 "single": {"configurations": self.single.tables, "variables": self.single.variables,
-                           "seconds": self.single.seconds}}
+                           "seconds": self.single.seconds}})
 
     def summary(self) -> str:
         e = self.variable_errors_percent
