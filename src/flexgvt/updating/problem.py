@@ -35,6 +35,18 @@ class DesignPointFailure(SolverError):
 
 
 @dataclass
+class Block:
+    """One configuration's rows: residuals and constraints (c >= 0) with their Jacobians."""
+
+    residuals: np.ndarray
+    names: list[str]
+    constraints: np.ndarray
+    constraint_names: list[str]
+    jacobian: np.ndarray | None = None
+    constraint_jacobian: np.ndarray | None = None
+
+
+@dataclass
 class ConfigurationPoint:
     """One configuration at one design point."""
 
@@ -51,6 +63,26 @@ class ConfigurationPoint:
     K: sp.csc_matrix | None = None  # symmetric tangent the modes solve
     M: sp.csc_matrix | None = None
     tangent: sp.csc_matrix | None = None  # full tangent at the equilibrium
+    block: "Block | None" = None  # this configuration's residuals, constraints and their Jacobians
+    _labels: tuple[str, ...] | None = None
+
+    @property
+    def labels(self) -> tuple[str, ...]:
+        """Labels (OOP/IP/T, rigid-body names) of the analysed modes."""
+        if self._labels is None:
+            self._labels = tuple(self.modes().labels)
+        return self._labels
+
+    def summary(self) -> dict:
+        """What a remote evaluation sends back (no state, no matrices)."""
+        return {"name": self.name, "eigenvalues": self.eigenvalues, "frequencies_hz": self.frequencies_hz,
+                "paired": self.paired, "mac": self.mac, "mac_matrix": self.mac_matrix, "static": self.static,
+                "labels": self.labels, "block": self.block}
+
+    @classmethod
+    def from_summary(cls, d: dict) -> "ConfigurationPoint":
+        return cls(d["name"], None, d["eigenvalues"], d["frequencies_hz"], None, d["paired"], d["mac"],
+                   d["mac_matrix"], None, d["static"], block=d["block"], _labels=d["labels"])
 
     def modes(self) -> Modes:
         """The analysed modes as fem Modes (full shapes about the state)."""
@@ -265,35 +297,76 @@ class UpdatingProblem:
         return np.array(vals), names, np.array(refs)
 
     def _assemble(self, x, points: dict[str, ConfigurationPoint], gradient: bool) -> Point:
-        w = self.objective
-        res, names = [], []
-        unpaired = {}
+        """Every configuration's block (computed here unless a remote evaluation brought it) and the
+        mass-property rows, in one residual vector and one constraint vector."""
         for cfg in self.configurations:
-            p, meas = points[cfg.name], self.measured[cfg.name]
-            fm = meas.frequencies_hz
-            ok = p.paired >= 0
-            unpaired[cfg.name] = np.flatnonzero(~ok).tolist()
-            fa = p.frequencies_hz[np.maximum(p.paired, 0)]
-            wf = self._frequency_weights(meas)
-            res.append(np.where(ok, w.frequency * wf * (fa - fm) / fm, 0.0))
-            names += [f"{cfg.name}: f{i + 1}" for i in range(len(fm))]
-            if meas.shapes is not None and w.mac > 0:
-                res.append(np.where(ok, w.mac * (1.0 - np.nan_to_num(p.mac)), 0.0))
-                names += [f"{cfg.name}: 1-MAC{i + 1}" for i in range(len(fm))]
-            if meas.static and w.static > 0:
-                ref = np.array(list(meas.static.values()))
-                scale = np.maximum(np.abs(ref), 1e-3)
-                res.append(w.static * (p.static - ref) / scale)
-                names += [f"{cfg.name}: static {k}" for k in meas.static]
+            p = points[cfg.name]
+            if p.block is None or (gradient and p.block.jacobian is None):
+                p.block = self._block(x, p, gradient)
         mp = self._mass_props()
         mres, mnames, _ = self._mass_vector(mp)
-        res.append(mres)
-        names += mnames
-        point = Point(x.copy(), np.concatenate(res), names, points, mp, unpaired=unpaired)
-        self._constraints(point)
+        blocks = [points[c.name].block for c in self.configurations]
+        mcon, mcon_names = self._mass_constraints(mp)
+        point = Point(x.copy(), np.concatenate([b.residuals for b in blocks] + [mres]),
+                      [n for b in blocks for n in b.names] + mnames, points, mp,
+                      constraints=np.concatenate([b.constraints for b in blocks] + [mcon]),
+                      constraint_names=[n for b in blocks for n in b.constraint_names] + mcon_names,
+                      unpaired={c.name: np.flatnonzero(points[c.name].paired < 0).tolist()
+                                for c in self.configurations})
         if gradient:
-            self._jacobian(point)
+            nv = len(self.par)
+            dmp = self._mass_derivatives(x)
+            point.jacobian = np.vstack([b.jacobian for b in blocks] + [dmp])
+            crows = [b.constraint_jacobian for b in blocks]
+            if len(mcon):
+                rel_d = dmp / self._mass_weights()[:, None]
+                crows += [np.vstack([row for r in rel_d for row in (-r[None, :], r[None, :])])]
+            point.constraint_jacobian = np.vstack(crows) if crows else np.zeros((0, nv))
+            self.n_gradients += 1
         return point
+
+    def _block(self, x: np.ndarray, p: ConfigurationPoint, gradient: bool) -> Block:
+        """Residuals (frequencies, 1 - MAC, static deflections), constraints (MAC >= mac_min) and,
+        with gradient, their exact Jacobian rows for one configuration."""
+        w = self.objective
+        name, meas = p.name, self.measured[p.name]
+        fm = meas.frequencies_hz
+        ok = p.paired >= 0
+        idx = np.maximum(p.paired, 0)
+        fa = p.frequencies_hz[idx]
+        wf = self._frequency_weights(meas)
+        use_mac = meas.shapes is not None and w.mac > 0
+        use_static = bool(meas.static) and w.static > 0
+        use_mac_min = meas.shapes is not None and w.mac_min is not None
+        res = [np.where(ok, w.frequency * wf * (fa - fm) / fm, 0.0)]
+        names = [f"{name}: f{i + 1}" for i in range(len(fm))]
+        if use_mac:
+            res.append(np.where(ok, w.mac * (1.0 - np.nan_to_num(p.mac)), 0.0))
+            names += [f"{name}: 1-MAC{i + 1}" for i in range(len(fm))]
+        if use_static:
+            ref = np.array(list(meas.static.values()))
+            scale = np.maximum(np.abs(ref), 1e-3)
+            res.append(w.static * (p.static - ref) / scale)
+            names += [f"{name}: static {k}" for k in meas.static]
+        con, con_names = np.zeros(0), []
+        if use_mac_min:
+            con = np.where(ok, np.nan_to_num(p.mac) - w.mac_min, 0.0)
+            con_names = [f"{name}: MAC{i + 1} >= {w.mac_min}" for i in range(len(fm))]
+        block = Block(np.concatenate(res), names, con, con_names)
+        if not gradient:
+            return block
+        d = state_derivatives(self.par, self.work, x, p.state, p.tangent)
+        dlam = eigenvalue_derivatives(p.eigenvalues[idx], p.phi[:, idx], d)
+        df = dlam / (8 * np.pi**2 * np.where(fa > 0, fa, 1.0))[:, None]
+        rows = [np.where(ok[:, None], (w.frequency * wf / fm)[:, None] * df, 0.0)]
+        dmac = self._mac_derivatives(p, meas, d, dlam) if (use_mac or use_mac_min) else None
+        if use_mac:
+            rows.append(np.where(ok[:, None], -w.mac * dmac, 0.0))
+        if use_static:
+            rows.append(w.static * self._static_derivatives(p, meas, d) / scale[:, None])
+        block.jacobian = np.vstack(rows)
+        block.constraint_jacobian = np.where(ok[:, None], dmac, 0.0) if use_mac_min else np.zeros((0, len(self.par)))
+        return block
 
     def _frequency_weights(self, meas: Measured) -> np.ndarray:
         """1, or (median relative scatter / relative scatter) of each mode when standard deviations are given."""
@@ -303,25 +376,16 @@ class UpdatingProblem:
         floor = np.median(rel[rel > 0])
         return floor / np.maximum(rel, floor * 0.1)
 
-    def _constraints(self, point: Point) -> None:
-        """Inequality constraints c(x) >= 0: MAC_i >= mac_min, mass properties within the band."""
+    def _mass_constraints(self, mp) -> tuple[np.ndarray, list[str]]:
+        """Mass properties within +-mass_limits (relative), as c >= 0."""
         w = self.objective
-        vals, names = [], []
-        if w.mac_min is not None:
-            for name, p in point.configurations.items():
-                ok = p.paired >= 0
-                if self.measured[name].shapes is not None:
-                    vals += list(np.where(ok, np.nan_to_num(p.mac) - w.mac_min, 0.0))
-                    names += [f"{name}: MAC{i + 1} >= {w.mac_min}" for i in range(len(ok))]
-        if w.mass_limits is not None and self.mass_target is not None:
-            rel, mnames, _ = self._mass_vector(point.mass_properties)
-            weights = self._mass_weights()
-            rel = rel / weights
-            for r, n in zip(rel, mnames):
-                vals += [w.mass_limits - r, w.mass_limits + r]
-                names += [f"{n} <= +{w.mass_limits:g}", f"{n} >= -{w.mass_limits:g}"]
-        point.constraints = np.array(vals)
-        point.constraint_names = names
+        if w.mass_limits is None or self.mass_target is None:
+            return np.zeros(0), []
+        rel, mnames, _ = self._mass_vector(mp)
+        rel = rel / self._mass_weights()
+        vals = [v for r in rel for v in (w.mass_limits - r, w.mass_limits + r)]
+        names = [n for m in mnames for n in (f"{m} <= +{w.mass_limits:g}", f"{m} >= -{w.mass_limits:g}")]
+        return np.array(vals), names
 
     def _mass_weights(self) -> np.ndarray:
         t, w = self.mass_target, self.objective
@@ -334,41 +398,7 @@ class UpdatingProblem:
             out += [w.inertia] * 3
         return np.where(np.array(out) > 0, np.array(out), 1.0)
 
-    # ------------------------------------------------------------------ Jacobian
-    def _jacobian(self, point: Point) -> None:
-        w = self.objective
-        nv = len(self.par)
-        rows, crows = [], []
-        for cfg in self.configurations:
-            p, meas = point.configurations[cfg.name], self.measured[cfg.name]
-            d = state_derivatives(self.par, self.work, point.x, p.state, p.tangent)
-            ok = p.paired >= 0
-            idx = np.maximum(p.paired, 0)
-            dlam = eigenvalue_derivatives(p.eigenvalues[idx], p.phi[:, idx], d)
-            fa = p.frequencies_hz[idx]
-            df = dlam / (8 * np.pi**2 * np.where(fa > 0, fa, 1.0))[:, None]
-            wf = self._frequency_weights(meas)
-            rows.append(np.where(ok[:, None], (w.frequency * wf / meas.frequencies_hz)[:, None] * df, 0.0))
-            need_mac = meas.shapes is not None and (w.mac > 0 or w.mac_min is not None)
-            dmac = self._mac_derivatives(p, meas, d, dlam) if need_mac else None
-            if meas.shapes is not None and w.mac > 0:
-                rows.append(np.where(ok[:, None], -w.mac * dmac, 0.0))
-            if meas.static and w.static > 0:
-                ref = np.array(list(meas.static.values()))
-                scale = np.maximum(np.abs(ref), 1e-3)
-                rows.append(w.static * self._static_derivatives(p, meas, d) / scale[:, None])
-            if w.mac_min is not None and meas.shapes is not None:
-                crows.append(np.where(ok[:, None], dmac, 0.0))
-        dmp = self._mass_derivatives(point.x)
-        rows.append(dmp)
-        point.jacobian = np.vstack(rows) if rows else np.zeros((0, nv))
-        if w.mass_limits is not None and self.mass_target is not None:
-            rel_d = dmp / self._mass_weights()[:, None]
-            for r in rel_d:
-                crows += [-r[None, :], r[None, :]]
-        point.constraint_jacobian = np.vstack(crows) if crows else np.zeros((0, nv))
-        self.n_gradients += 1
-
+    # ------------------------------------------------------------------ Jacobian pieces
     def _mac_derivatives(self, p: ConfigurationPoint, meas: Measured, d, dlam) -> np.ndarray:
         """(n_measured, n_var) dMAC/dp of each pair, the analytical shape moving with p (Nelson) and
         the sensors turning with the structure."""
@@ -460,4 +490,4 @@ def _moments(Mrb: np.ndarray) -> np.ndarray:
     return np.r_[np.trace(Mrb[:3, :3]) / 3, mS[2, 1], mS[0, 2], mS[1, 0], np.diag(Mrb[3:, 3:])]
 
 
-__all__ = ["ConfigurationPoint", "DesignPointFailure", "Point", "UpdatingProblem", "Variable"]
+__all__ = ["Block", "ConfigurationPoint", "DesignPointFailure", "Point", "UpdatingProblem", "Variable"]

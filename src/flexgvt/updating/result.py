@@ -84,7 +84,7 @@ def configuration_tables(problem: UpdatingProblem, initial: Point, final: Point)
     for cfg in problem.configurations:
         meas = problem.measured[cfg.name]
         a, b = initial.configurations[cfg.name], final.configurations[cfg.name]
-        labels_b = b.modes().labels
+        labels_b = b.labels
         rows = []
         for i, fm in enumerate(meas.frequencies_hz):
             ia, ib = a.paired[i], b.paired[i]
