@@ -37,7 +37,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from ..errors import SolverError
-from ..fem.sensitivity import ValueChange, value_derivative
+from ..fem.sensitivity import ValueChange, modal_state_terms, value_derivative
 from ..fem.system import group_values
 from .variables import MATERIAL_ATTRIBUTES, Parametrisation
 
@@ -55,6 +55,7 @@ class StateDerivatives:
     du: np.ndarray
     dK: list
     dM: list
+    includes_state: bool = True  # dK, dM hold the change along du too (else: modal_terms)
 
 
 def value_change(par: Parametrisation, model, x: np.ndarray, k: int, configuration: str) -> ValueChange:
@@ -138,10 +139,14 @@ def state_direction(system, state, v: np.ndarray):
     return pattern.matrix(dK), pattern.matrix(dM)
 
 
-def state_derivatives(par: Parametrisation, model, x: np.ndarray, state, tangent: sp.csc_matrix) -> StateDerivatives:
-    """Total derivatives of the state, tangent and mass matrix with respect to every variable.
+def state_derivatives(par: Parametrisation, model, x: np.ndarray, state, tangent: sp.csc_matrix,
+                      per_direction: bool | None = None) -> StateDerivatives:
+    """du/dp and the partial dK/dp, dM/dp of every variable at ``state``.
 
-    tangent: the (full, possibly unsymmetric) reduced tangent at ``state``; factorised once."""
+    tangent: the (full, possibly unsymmetric) reduced tangent at ``state``, factorised once.
+    The tangent's and mass matrix's change along du/dp is added per variable (four-point
+    difference along each du, `state_direction`) only for systems with links (per_direction=None)
+    or when asked; otherwise `modal_terms` gives it for the modes, whatever the number of variables."""
     system = state.system
     n = len(par)
     partial = [partial_derivatives(par, model, x, state, k) for k in range(n)]
@@ -157,15 +162,24 @@ def state_derivatives(par: Parametrisation, model, x: np.ndarray, state, tangent
                               "mechanism (a suspension or a boundary condition)") from None
     else:
         du = np.zeros((system.n_free, n))
+    per_direction = system.has_links if per_direction is None else per_direction
     dK, dM = [], []
     for k in range(n):
         Kk, Mk = partial[k][1], partial[k][2]
-        if np.any(du[:, k]):
+        if per_direction and np.any(du[:, k]):
             Ku, Mu = state_direction(system, state, du[:, k])
             Kk, Mk = _add(Kk, Ku), _add(Mk, Mu)
         dK.append(Kk)
         dM.append(Mk)
-    return StateDerivatives(du, dK, dM)
+    return StateDerivatives(du, dK, dM, includes_state=per_direction or not np.any(du))
+
+
+def modal_terms(d: StateDerivatives, state, phi: np.ndarray, lam: np.ndarray, vectors: bool):
+    """The state part of the modes' derivatives (fem.sensitivity.modal_state_terms), or None when
+    ``d`` already holds it."""
+    if d.includes_state:
+        return None
+    return modal_state_terms(state.system, state.positions, state.rotations, state.load_factor, phi, lam, vectors)
 
 
 def _add(A: sp.csc_matrix, B: sp.csc_matrix) -> sp.csc_matrix:
@@ -176,25 +190,32 @@ def _add(A: sp.csc_matrix, B: sp.csc_matrix) -> sp.csc_matrix:
     return (A + B).tocsc()
 
 
-def eigenvalue_derivatives(lam: np.ndarray, phi: np.ndarray, d: StateDerivatives) -> np.ndarray:
+def eigenvalue_derivatives(lam: np.ndarray, phi: np.ndarray, d: StateDerivatives, terms=None) -> np.ndarray:
     """(n_modes, n_var) d lambda / dp for mass-normalised reduced eigenvectors phi (n_free, n_modes)."""
     out = np.empty((len(lam), len(d.dK)))
     for k, (Kk, Mk) in enumerate(zip(d.dK, d.dM)):
         out[:, k] = np.einsum("ij,ij->j", phi, Kk @ phi) - lam * np.einsum("ij,ij->j", phi, Mk @ phi)
+    if terms is not None:
+        out += (terms.gK - lam[:, None] * terms.gM) @ d.du
     return out
 
 
 def eigenvector_derivatives(K: sp.csc_matrix, M: sp.csc_matrix, lam: float, phi: np.ndarray, dlam: np.ndarray,
-                            d: StateDerivatives) -> np.ndarray:
+                            d: StateDerivatives, terms=None, mode: int = 0) -> np.ndarray:
     """(n_free, n_var) d phi / dp of one mass-normalised mode by Nelson's method (distinct eigenvalue).
 
-    K: the symmetric tangent, M: the mass matrix the mode solves, lam its eigenvalue."""
+    K: the symmetric tangent, M: the mass matrix the mode solves, lam its eigenvalue; terms and
+    mode: the state part (ModalStateTerms) and this mode's row in it."""
     n = len(phi)
     k = int(np.argmax(np.abs(phi) * np.sqrt(np.abs(M.diagonal()) + 1e-300)))
     keep = np.r_[0:k, k + 1:n]
     A = (K - lam * M).tocsc()[keep][:, keep]
     rhs = np.column_stack([-(0.5 * (Kk @ phi + Kk.T @ phi) - lam * (Mk @ phi) - dl * (M @ phi))
                            for Kk, Mk, dl in zip(d.dK, d.dM, dlam)])
+    dmass = np.array([phi @ (Mk @ phi) for Mk in d.dM])
+    if terms is not None:
+        rhs -= terms.H[mode] @ d.du
+        dmass += terms.gM[mode] @ d.du
     try:
         sol = spla.splu(A.tocsc()).solve(rhs[keep])
     except RuntimeError as exc:
@@ -203,7 +224,7 @@ def eigenvector_derivatives(K: sp.csc_matrix, M: sp.csc_matrix, lam: float, phi:
     v = np.zeros((n, len(dlam)))
     v[keep] = sol.reshape(len(keep), -1)
     Mphi = M @ phi
-    c = -(Mphi @ v) - 0.5 * np.array([phi @ (Mk @ phi) for Mk in d.dM])  # keeps phi^T M phi = 1
+    c = -(Mphi @ v) - 0.5 * dmass  # keeps phi^T M phi = 1
     return v + phi[:, None] * c[None, :]
 
 

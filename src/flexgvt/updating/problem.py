@@ -22,7 +22,7 @@ from ..fem.modes import _frequency_hz, _lambda_max_bound, real_modes
 from ..fem.system import System
 from ..model import Configuration, Model
 from ..fem.sensitivity import value_derivative
-from .derivatives import (eigenvalue_derivatives, eigenvector_derivatives, sensor_matrix_direction,
+from .derivatives import (eigenvalue_derivatives, eigenvector_derivatives, modal_terms, sensor_matrix_direction,
                           state_derivatives, value_change)
 from .targets import MassTarget, Measured, Objective
 from .variables import Parametrisation, Variable
@@ -159,6 +159,7 @@ class UpdatingProblem:
         self._tracking: dict[str, np.ndarray] = {}  # last analytical paired full shapes (no measured shapes)
         self._mass_system = System(self.work, Configuration("mass properties"))
         self._cache: dict[bytes, Point] = {}
+        self.workers: list | None = None  # Dask actors evaluating the configurations (updating.parallel)
         self.n_solves = 0
         self.n_gradients = 0
         for m in measured:
@@ -167,6 +168,14 @@ class UpdatingProblem:
                 if not 1 <= int(comp) <= 6:
                     raise ModelError(f"static deflection ({node}, {comp}) of configuration '{m.configuration}': the "
                                      "component must be 1-6")
+
+    def __getstate__(self) -> dict:
+        """Pickled as its definition (for a worker process): states, caches and systems stay behind."""
+        return {"args": (self.model, self.configurations, list(self.measured.values()), list(self.par.variables),
+                         self.mass_target, self.objective, self.n_modes, self.static_settings, self.follow_sensors)}
+
+    def __setstate__(self, state: dict) -> None:
+        self.__init__(*state["args"])
 
     @property
     def x0(self) -> np.ndarray:
@@ -181,19 +190,38 @@ class UpdatingProblem:
         if hit is not None and (hit.jacobian is not None or not gradient):
             return hit
         t0 = time.perf_counter()
+        if hit is not None and not self.workers:  # the states are at hand: only the Jacobian is missing
+            self.par.apply(self.work, x)
+            point = self._assemble(x, hit.configurations, True)
+            point.seconds = hit.seconds + time.perf_counter() - t0
+            self._cache[key] = point
+            return point
         try:
             configs = self.par.apply(self.work, x)
         except ModelError as exc:  # e.g. a negative modulus from an unbounded step
             raise DesignPointFailure(f"design point outside the physical range: {exc}") from exc
-        points = {}
-        for cfg in self.configurations:
-            points[cfg.name] = self._solve(configs[cfg.name])
+        if self.workers:
+            points = self._remote(x, gradient)
+        else:
+            points = {cfg.name: self._solve(configs[cfg.name]) for cfg in self.configurations}
         point = self._assemble(x, points, gradient)
         point.seconds = time.perf_counter() - t0
         if len(self._cache) > 8:
             self._cache.clear()
         self._cache[key] = point
         return point
+
+    def _remote(self, x: np.ndarray, gradient: bool) -> dict[str, ConfigurationPoint]:
+        """Every configuration evaluated by its worker at once (they run in parallel)."""
+        futures = [w.evaluate(x, gradient) for w in self.workers]
+        out = {}
+        for cfg, fut in zip(self.configurations, futures):
+            d = fut.result()
+            if "failure" in d:
+                raise DesignPointFailure(d["failure"])
+            self.n_solves += 1
+            out[cfg.name] = ConfigurationPoint.from_summary(d)
+        return out
 
     def _solve(self, config: Configuration) -> ConfigurationPoint:
         name = config.name
@@ -356,10 +384,12 @@ class UpdatingProblem:
         if not gradient:
             return block
         d = state_derivatives(self.par, self.work, x, p.state, p.tangent)
-        dlam = eigenvalue_derivatives(p.eigenvalues[idx], p.phi[:, idx], d)
+        need_vectors = use_mac or use_mac_min
+        terms = modal_terms(d, p.state, p.phi[:, idx], p.eigenvalues[idx], need_vectors)
+        dlam = eigenvalue_derivatives(p.eigenvalues[idx], p.phi[:, idx], d, terms)
         df = dlam / (8 * np.pi**2 * np.where(fa > 0, fa, 1.0))[:, None]
         rows = [np.where(ok[:, None], (w.frequency * wf / fm)[:, None] * df, 0.0)]
-        dmac = self._mac_derivatives(p, meas, d, dlam) if (use_mac or use_mac_min) else None
+        dmac = self._mac_derivatives(p, meas, d, dlam, terms) if need_vectors else None
         if use_mac:
             rows.append(np.where(ok[:, None], -w.mac * dmac, 0.0))
         if use_static:
@@ -399,7 +429,7 @@ class UpdatingProblem:
         return np.where(np.array(out) > 0, np.array(out), 1.0)
 
     # ------------------------------------------------------------------ Jacobian pieces
-    def _mac_derivatives(self, p: ConfigurationPoint, meas: Measured, d, dlam) -> np.ndarray:
+    def _mac_derivatives(self, p: ConfigurationPoint, meas: Measured, d, dlam, terms=None) -> np.ndarray:
         """(n_measured, n_var) dMAC/dp of each pair, the analytical shape moving with p (Nelson) and
         the sensors turning with the structure."""
         system = p.state.system
@@ -412,7 +442,7 @@ class UpdatingProblem:
             if j < 0:
                 continue
             phi = p.phi[:, j]
-            dphi = eigenvector_derivatives(p.K, p.M, p.eigenvalues[j], phi, dlam[i], d)
+            dphi = eigenvector_derivatives(p.K, p.M, p.eigenvalues[j], phi, dlam[i], d, terms, mode=i)
             full = system.expand(phi, T)
             a = S @ full
             da = np.asarray(S @ system.expand(dphi, T))

@@ -7,6 +7,7 @@ from typing import Callable, Sequence
 
 import numpy as np
 
+from ..errors import ModelError
 from ..model import Configuration, Model
 from .optimise import minimise, starting_points
 from .problem import UpdatingProblem
@@ -20,7 +21,8 @@ def update(model: Model, configurations: Sequence[Configuration], measured: Sequ
            variables: Sequence[Variable], *, mass_target: MassTarget | None = None,
            objective: Objective | None = None, method: str = "least_squares", starts: int = 1, seed: int = 0,
            max_iterations: int = 100, tolerance: float = 1e-10, n_modes: int | None = None, static_settings=None,
-           store=None, callback: Callable | None = None) -> UpdateResult:
+           store=None, callback: Callable | None = None, processes: int | None = None,
+           scheduler: str | None = None) -> UpdateResult:
     """Update ``model`` so that its pre-stressed modes in every configuration match the measured ones.
 
     configurations: the test configurations (each with measured data); measured: one Measured per
@@ -32,12 +34,29 @@ def update(model: Model, configurations: Sequence[Configuration], measured: Sequ
     from the start), 'slsqp', 'trust-constr' (analytic
     gradients, constraints enforced), 'nelder-mead' (penalties, no gradients); starts: multi-start
     count (x0 = 1 plus seeded uniform points in the bounds; the best run wins); store: a
-    flexgvt.updating.ResultsStore (SQLite) for the history and resuming.
+    flexgvt.updating.ResultsStore (SQLite) for the history and resuming; processes / scheduler:
+    evaluate the configurations in that many local worker processes, or on a dask.distributed
+    scheduler at that address (multi-start runs then run as parallel tasks instead); serial by
+    default, which is faster for models of up to a few thousand elements (docs/benchmarks.md).
     The input model is not changed: the result holds an updated copy.
     """
+    from .parallel import attach_workers, client_for
     t0 = time.perf_counter()
     problem = UpdatingProblem(model, configurations, measured, variables, mass_target, objective, n_modes,
                               static_settings)
+    outside = [v.name for v in problem.par.variables if not v.bounds[0] <= 1.0 <= v.bounds[1]]
+    if outside:
+        raise ModelError(f"updating: the initial point (x = 1) lies outside the bounds of {outside}; widen the "
+                         "bounds to include the initial model or change the initial model")
+    with client_for(processes, scheduler) as client:
+        if client is not None and starts <= 1:
+            attach_workers(problem, client)
+        result = _run(problem, model, method, starts, seed, max_iterations, tolerance, store, callback, client)
+    result.seconds = time.perf_counter() - t0
+    return result
+
+
+def _run(problem, model, method, starts, seed, max_iterations, tolerance, store, callback, client) -> UpdateResult:
     initial = problem.evaluate(problem.x0, gradient=True)
     if store is not None:
         store.bind(fingerprint(problem, method))
@@ -50,8 +69,12 @@ def update(model: Model, configurations: Sequence[Configuration], measured: Sequ
                          "objective": problem.evaluate(done["x"]).objective, "x0": np.asarray(x0).tolist()})
             continue
         resume = store.best(run) if store is not None else None
-        out = minimise(problem, x0 if resume is None else resume, method, store=store, run=run,
-                       max_iterations=max_iterations, tolerance=tolerance, callback=callback)
+        start = x0 if resume is None else resume
+        if client is not None and starts > 1:  # independent runs as parallel tasks, collected below
+            runs.append(client.submit(_remote_start, problem, start, method, max_iterations, tolerance, pure=False))
+            continue
+        out = minimise(problem, start, method, store=store, run=run, max_iterations=max_iterations,
+                       tolerance=tolerance, callback=callback)
         out["objective"] = problem.evaluate(out["x"]).objective
         out["resumed"] = resume is not None
         out["x0"] = np.asarray(x0).tolist()
@@ -59,6 +82,14 @@ def update(model: Model, configurations: Sequence[Configuration], measured: Sequ
             store.finish(run, out["x"], out["objective"], out["method"], str(out["message"]))
             out["history"] = store.history(run)
         runs.append(out)
+    for run, item in enumerate(runs):
+        if not isinstance(item, dict):  # a parallel start
+            out = item.result()
+            out["objective"] = problem.evaluate(out["x"]).objective
+            out["resumed"] = False
+            if store is not None:
+                store.finish(run, out["x"], out["objective"], out["method"], str(out["message"]))
+            runs[run] = out
     best = min(runs, key=lambda r: r["objective"])
     final = problem.evaluate(best["x"], gradient=True)
     ident = identifiability(problem, final)
@@ -72,8 +103,16 @@ def update(model: Model, configurations: Sequence[Configuration], measured: Sequ
         model=updated, configurations=configs, x=final.x.copy(), variables=variable_table(problem, final.x, ident),
         tables=configuration_tables(problem, initial, final), mac=mac, history=best["history"],
         identifiability=ident, initial=initial, final=final, method=best["method"], message=best["message"],
-        success=best["success"], seconds=time.perf_counter() - t0, solves=problem.n_solves,
+        success=best["success"], seconds=0.0, solves=problem.n_solves,
         gradients=problem.n_gradients,
         starts=[{"run": k, "x0": r["x0"], "objective": r["objective"], "message": r["message"],
                  "evaluations": r["evaluations"], "failures": len(r["failures"]), "resumed": r["resumed"]}
                 for k, r in enumerate(runs)])
+
+
+def _remote_start(problem, x0, method, max_iterations, tolerance) -> dict:
+    """One multi-start run in a worker (a copy of the problem travels with the task)."""
+    out = minimise(problem, np.asarray(x0, float), method, max_iterations=max_iterations, tolerance=tolerance)
+    out["x0"] = np.asarray(x0).tolist()
+    out["history"] = [{k: v for k, v in row.items()} for row in out["history"]]
+    return out
