@@ -138,3 +138,53 @@ def test_hung_strip_bows_and_removing_the_suspension_recovers_free_free():
     assert first["suspended_mac"] > 0.9 and 5 < first["suspended_shift_percent"] < 15
     bending = [r for r in out.rows if "OOP" in r["label"]]
     assert all(r["suspended_mac"] > 0.97 and abs(r["suspended_shift_percent"]) < 1.5 for r in bending[1:])
+
+
+def _strip_layout(name, k, allowed=np.inf, y=1.52):
+    case = fg.cases.strip_366(n_elements=61)
+    ids, xyz = case.model.node_ids, case.model.xyz
+    line = su.Line((su.LineElement(name, k, 2.0, allowed_load=allowed),))
+    at = [int(ids[np.argmin(abs(xyz[:, 1] - s * y))]) for s in (-1, 1)]
+    return case, su.Layout(name, tuple(su.Attachment(n, line, (0.0, s * y, 3.0)) for n, s in zip(at, (-1, 1))))
+
+
+def test_plan_ranks_layouts_and_flags_stiff_lines_and_overloaded_springs():
+    case, soft = _strip_layout("soft 5 N/m", 5.0)
+    _, stiff = _strip_layout("stiff 40 N/m", 40.0)
+    _, weak = _strip_layout("weak spring", 5.0, allowed=5.0)
+    _, limp = _strip_layout("too soft", 1.0)
+    results = su.plan_suspension(case.model, [stiff, weak, soft, limp], n_modes=8)
+    by = {r.layout.name: r for r in results}
+    # 40 N/m on 0.8 kg: the plunge mode at ~1.1 Hz is within 2x of the first elastic mode.
+    assert any("within 2x" in p for p in by["stiff 40 N/m"].problems)
+    assert by["soft 5 N/m"].separation > by["stiff 40 N/m"].separation
+    assert any("raise the anchor" in p for p in by["too soft"].problems) and by["too soft"].state is None
+    # Each point carries half of 1.665 kg (strip and accelerometers): 8.2 N on a 5 N spring.
+    assert by["weak spring"].tensions == pytest.approx([8.17, 8.17], rel=0.01)
+    assert any("'weak spring' carries 8.17 N, above its allowed 5 N" in p for p in by["weak spring"].problems)
+    rows = by["soft 5 N/m"].elastic
+    assert rows[0]["label"] == "1 OOP" and rows[0]["suspension_energy"] is not None
+
+
+def test_sensor_and_exciter_placement_on_the_deformed_strip():
+    from flexgvt.correlation import Sensors
+    case, soft = _strip_layout("soft", 5.0)
+    state = fg.solve_static(case.model, su.layout_configuration(case.model, soft))
+    modes = fg.solve_modes(state, 16, damped=False)
+    targets = np.flatnonzero(modes.energy_fractions[:, 4] < 0.5)[:6]
+    ids = case.model.node_ids
+    # Candidates: flatwise at both chord edges and edgewise on the axis, every second node.
+    cand = Sensors(list(Sensors.uniaxial(np.repeat(ids[::2], 2), (0, 0, 1),
+                                         np.tile([[-0.02, 0, 0], [0.02, 0, 0]], (len(ids[::2]), 1))))
+                   + list(Sensors.uniaxial(ids[::2], (1, 0, 0))))
+    chosen, amac = su.place_sensors(modes, 12, candidates=cand, mode_indices=targets)
+    assert len(chosen) == 12
+    assert np.abs(amac - np.diag(np.diag(amac))).max() < 0.5  # the chosen set tells the targets apart
+    Phi = np.asarray(chosen.matrix(modes.node_ids, modes.state) @ modes.matrix()[:, targets])
+    assert np.linalg.matrix_rank(Phi) == len(targets)
+    best, residues = su.driving_point(modes, candidates=cand, mode_indices=targets)
+    assert residues.min() > 0.01
+    axis = Sensors.triaxial(ids)  # on the elastic axis nothing drives the torsion-dominated mode
+    with pytest.raises(ModelError, match="no candidate drives"):
+        su.driving_point(modes, candidates=axis, mode_indices=np.r_[targets, np.flatnonzero(
+            np.array([("T" in lab) for lab in modes.labels]))[:1]])

@@ -1,0 +1,170 @@
+"""Test planning on the deformed structure: suspension layouts ranked by how far their suspension
+modes sit below the first elastic mode (and how much each elastic mode they contaminate), lines
+refused when loaded past their allowance; sensor stations by effective independence on the
+deformed mode shapes, and a driving point that excites every target mode."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..errors import ConvergenceError, ModelError, SingularModelError
+from ..fem import solve_modes, solve_static
+from ..model import Configuration, Model
+from .networks import Line
+from .removal import remove_suspension
+
+
+@dataclass(frozen=True)
+class Attachment:
+    """One suspension point of a layout: the structure's node (and offset [m]), the line, the
+    anchor (3,) [m] and the share of the structure's weight it carries (None: equal shares)."""
+
+    node: int
+    line: Line
+    anchor: tuple
+    offset: tuple = (0.0, 0.0, 0.0)
+    share: float | None = None
+
+
+@dataclass(frozen=True)
+class Layout:
+    """A candidate suspension: a name and its attachments."""
+
+    name: str
+    attachments: tuple[Attachment, ...]
+
+
+@dataclass
+class LayoutResult:
+    """A layout's predicted hung test: its configuration and static state, the suspension and
+    elastic modes, the separation (first elastic over highest suspension frequency), each elastic
+    mode's shift from free-free and its share of energy in the suspension, and the problems
+    (lines loaded past their allowance)."""
+
+    layout: Layout
+    configuration: Configuration | None
+    state: object | None
+    suspension_hz: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    elastic: list[dict] = field(default_factory=list)
+    separation: float = 0.0
+    problems: list[str] = field(default_factory=list)
+    tensions: np.ndarray = field(default_factory=lambda: np.zeros(0))
+
+    @property
+    def acceptable(self) -> bool:
+        return not self.problems
+
+
+def layout_configuration(model: Model, layout: Layout, gravity: float = 1.0) -> Configuration:
+    """The Configuration that hangs ``model`` on ``layout`` (cords sized to carry their share of the
+    weight at the undeformed attachment points)."""
+    from ..fem import mass_properties
+    weight = mass_properties(model).mass * 9.80665 * gravity
+    xyz = model.xyz
+    shares = np.array([a.share if a.share is not None else 1.0 / len(layout.attachments) for a in layout.attachments])
+    cords = []
+    for a, share in zip(layout.attachments, shares):
+        attach = xyz[model.index_of([a.node], f"layout '{layout.name}'")[0]] + np.asarray(a.offset, float)
+        try:
+            cords.append(a.line.cord(a.node, a.anchor, attach, share * weight, offset=a.offset))
+        except ModelError as exc:
+            raise ModelError(f"layout '{layout.name}', attachment at node {a.node}: {exc}") from None
+    return Configuration(layout.name, suspension=tuple(cords), gravity=gravity)
+
+
+def plan_suspension(model: Model, layouts, n_modes: int = 10, energy_limit: float = 0.1,
+                    shift_limit_percent: float = 1.0) -> list[LayoutResult]:
+    """Predict each layout's hung test and rank them: acceptable layouts first, then by separation.
+
+    Every elastic mode gets its frequency shift from free-free and the share of its energy in the
+    suspension (METHOD.md: a separation below 10x always contaminates very flexible aircraft; the
+    row says by how much): 'contaminated' when that share passes ``energy_limit`` or the shift
+    ``shift_limit_percent``. A line loaded or stretched past its allowance is a problem of the layout
+    (a spring that would yield), not an error."""
+    results = []
+    for layout in layouts:
+        try:
+            cfg = layout_configuration(model, layout)
+        except ModelError as exc:  # a line too soft for its anchor: a finding of the plan
+            results.append(LayoutResult(layout, None, None, problems=[str(exc)]))
+            continue
+        res = LayoutResult(layout, cfg, None)
+        try:
+            state = solve_static(model, cfg)
+        except (ConvergenceError, SingularModelError) as exc:
+            res.problems.append(f"the hung static solution failed: {exc}")
+            results.append(res)
+            continue
+        res.state = state
+        res.tensions = np.asarray(state.cord_tension, float)
+        for a, T in zip(layout.attachments, res.tensions):
+            res.problems += [f"node {a.node}: {p}" for p in a.line.check(float(T))]
+        modes = solve_modes(state, n_modes + len(cfg.suspension) + 6, damped=False)
+        susp = modes.energy_fractions[:, 4] > 0.5
+        res.suspension_hz = modes.frequencies_hz[susp]
+        removal = remove_suspension(model, cfg, n_modes=n_modes)
+        elastic_hz = modes.frequencies_hz[~susp]
+        res.separation = float(elastic_hz.min() / res.suspension_hz.max()) if len(res.suspension_hz) and len(
+            elastic_hz) else float("inf")
+        for row in removal.rows:
+            j = row.get("suspended_mode")
+            share = float(modes.energy_fractions[j - 1, 4]) if j else None
+            res.elastic.append({**row, "suspension_energy": share,
+                                "contaminated": bool(j and (abs(row["suspended_shift_percent"]) > shift_limit_percent
+                                                            or share > energy_limit))})
+        if res.separation < 2.0:
+            k = int(np.flatnonzero(susp)[np.argmax(modes.frequencies_hz[susp])])
+            res.problems.append(f"suspension mode '{modes.labels[k]}' ({modes.frequencies_hz[k]:.3g} Hz) sits within "
+                                f"2x of the first elastic mode ({elastic_hz.min():.3g} Hz): soften the lines (plunge, "
+                                "roll) or lengthen them (pendulum), or move the attachments")
+        results.append(res)
+    return sorted(results, key=lambda r: (not r.acceptable, -r.separation))
+
+
+def effective_independence(shapes: np.ndarray, n_sensors: int) -> np.ndarray:
+    """Indices of ``n_sensors`` rows of ``shapes`` (n_candidates, n_modes) kept by effective
+    independence (Kammer): the candidate with the smallest E_i = diag(Phi (Phi^T Phi)^-1 Phi^T) is
+    dropped, one at a time, so the kept rows keep the target modes as independent as possible."""
+    Phi = np.asarray(shapes, float)
+    n_modes = Phi.shape[1]
+    if n_sensors < n_modes:
+        raise ModelError(f"effective_independence: {n_sensors} sensors cannot tell {n_modes} modes apart")
+    keep = np.arange(len(Phi))
+    while len(keep) > n_sensors:
+        P = Phi[keep]
+        E = np.einsum("ij,jk,ik->i", P, np.linalg.pinv(P.T @ P), P)
+        keep = np.delete(keep, int(np.argmin(E)))
+    return keep
+
+
+def place_sensors(modes, n_sensors: int, candidates=None, mode_indices=None):
+    """Sensors (flexgvt.correlation.Sensors) for the target modes on their deformed state: the
+    candidates (default: X, Y, Z at every node, following the deformed structure) chosen by
+    effective independence, and the candidates' auto-MAC of the targets."""
+    from ..correlation import Sensors, auto_mac
+    idx = np.arange(modes.n_modes) if mode_indices is None else np.asarray(mode_indices, int)
+    cand = candidates if candidates is not None else Sensors.triaxial(modes.node_ids)
+    S = cand.matrix(modes.node_ids, modes.state)
+    Phi = np.asarray(S @ modes.matrix()[:, idx])
+    keep = effective_independence(Phi, n_sensors)
+    chosen = Sensors([cand[k] for k in keep])
+    return chosen, auto_mac(Phi[keep].T)
+
+
+def driving_point(modes, candidates=None, mode_indices=None):
+    """The candidate sensor/exciter point that drives every target mode best: it maximises the
+    smallest driving-point residue phi_r(p)^2, each mode's residues normalised by their largest.
+    Returns (index into candidates, the normalised residues of that point per mode)."""
+    from ..correlation import Sensors
+    idx = np.arange(modes.n_modes) if mode_indices is None else np.asarray(mode_indices, int)
+    cand = candidates if candidates is not None else Sensors.triaxial(modes.node_ids)
+    Phi = np.asarray(cand.matrix(modes.node_ids, modes.state) @ modes.matrix()[:, idx])
+    res = Phi**2 / np.maximum((Phi**2).max(axis=0, keepdims=True), 1e-300)
+    best = int(np.argmax(res.min(axis=1)))
+    if res[best].min() < 1e-3:
+        weak = idx[np.argmin(res[best])]
+        raise ModelError(f"driving_point: no candidate drives mode {weak + 1} ({modes.labels[weak] if modes.labels else ''});"
+                         " add candidate points off the elastic axis or in other directions")
+    return best, res[best]
