@@ -29,7 +29,10 @@ except ImportError:  # not installed in this build
 if ema_app is not None:
     app.add_typer(ema_app, name="ema")
 
+from .suspension import app as _suspension_app  # noqa: E402
 from .verify import register as _register_verify  # noqa: E402
+
+app.add_typer(_suspension_app, name="suspension")
 
 _register_verify(app, console)
 
