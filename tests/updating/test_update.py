@@ -161,3 +161,16 @@ def test_configurations_evaluated_in_worker_processes_give_the_serial_answer():
         for a, b in zip(serial.tables[name], parallel.tables[name]):
             assert a["label"] == b["label"] and abs(a["updated_hz"] - b["updated_hz"]) < 1e-6 * a["updated_hz"]
     assert parallel.final.configurations["unloaded"].state is None  # evaluated remotely
+
+
+def test_the_answer_respects_the_bounds_when_the_data_pull_beyond_them():
+    """Data of a strip 20 % stiffer than the bounds allow: Levenberg-Marquardt runs past the bound,
+    the bounded continuation brings the answer back onto it, and no excursion is reported."""
+    case, initial, cfgs, variables, data, target, truth = _strip_problem(n_elements=30, names=("self_weight",),
+                                                                         n_modes=5, attributes=("E",))
+    data = [up.Measured(d.configuration, d.frequencies_hz * 1.1) for d in data]
+    result = up.update(initial, cfgs, data, variables)
+    lower = np.array([v.bounds[0] for v in variables])
+    upper = np.array([v.bounds[1] for v in variables])
+    assert np.all(result.x >= lower - 1e-12) and np.all(result.x <= upper + 1e-12)
+    assert any(row["at_bound"] for row in result.variables)

@@ -46,7 +46,9 @@ class _Driver:
             self.failures.append((np.array(x, float), str(exc)))
             return None
         merit = p.objective + _PENALTY * float(np.sum(np.maximum(0.0, -p.constraints) ** 2))
-        if self.best is None or merit < self.best_merit:
+        par = self.problem.par
+        inside = bool(np.all(p.x >= par.lower - 1e-12) and np.all(p.x <= par.upper + 1e-12))
+        if inside and (self.best is None or merit < self.best_merit):  # an unbounded method's excursion never wins
             self.best, self.best_merit = p, merit
         return p
 
