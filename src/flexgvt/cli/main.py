@@ -104,7 +104,9 @@ def solve(case: str = typer.Argument(..., help="built-in case (cantilever_strip,
           units: str = typer.Option("SI", help="bulk data units: SI, mm-N-t-s, in-lbf-s"),
           allow_unsupported: bool = typer.Option(False, help="bulk data: warn about unsupported cards instead of failing"),
           nastran_cbar_mass: bool = typer.Option(False, help="bulk data: CBAR lumped mass without torsional inertia, "
-                                                 "as Nastran does (flexgvt keeps rho*Ip by default)")):
+                                                 "as Nastran does (flexgvt keeps rho*Ip by default)"),
+          mass_frame: str = typer.Option("deformed", help="mass matrix about the deformed state (physical) or the "
+                                         "undeformed one (as Nastran SOL 400 and OpenSees)")):
     """Static shape and pre-stressed modes of each configuration of a built-in case or a Nastran deck."""
     try:
         if case.lower().endswith((".bdf", ".dat", ".nas", ".blk")):
@@ -130,7 +132,7 @@ def solve(case: str = typer.Argument(..., help="built-in case (cantilever_strip,
             t0 = time.perf_counter()
             st = _solve_with_progress(model, configurations[name])
             t1 = time.perf_counter()
-            md = solve_modes(st, modes)
+            md = solve_modes(st, modes, mass_frame=mass_frame)
             t2 = time.perf_counter()
             states[name], mode_sets[name] = st, md
             results[name] = _result_record(st, md, {"static": t1 - t0, "modes": t2 - t1})

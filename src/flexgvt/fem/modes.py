@@ -11,7 +11,7 @@ import scipy.linalg as sla
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-from ..errors import SolverError
+from ..errors import ModelError, SolverError
 from .labels import mac_matrix
 from .linsolve import HAVE_CHOLMOD, CholmodCache, serial_blas
 from .static import State
@@ -248,20 +248,29 @@ def _align_rigid_modes(phi: np.ndarray, zero: np.ndarray, system, x: np.ndarray,
     return out
 
 
+MASS_FRAMES = ("deformed", "undeformed")
+
+
 @serial_blas
 def solve_modes(state: State, n_modes: int = 15, *, damped: bool | None = None, shift: float | None = None,
-                label: bool = True, cholmod: bool = True) -> Modes:
+                label: bool = True, cholmod: bool = True, mass_frame: str = "deformed") -> Modes:
     """Modes about ``state`` with its tangent stiffness (symmetric part: stress and load stiffness included).
 
     damped: complex modes with the viscous dampers of springs and cords (default: when present).
     shift: eigenvalue shift [rad^2/s^2] (default: slightly negative, so rigid-body modes are found).
     cholmod: use CHOLMOD for the shift-invert where scikit-sparse is installed (else SuperLU), as
     StaticSettings.cholmod. Rigid-body modes of free structures come out at 0 Hz.
+    mass_frame: "deformed" (default, physical: the sections' inertia and offset masses turn with
+    the deformed structure) or "undeformed": the mass matrix of the undeformed configuration with
+    the deformed stiffness, as MSC Nastran SOL 400 and OpenSees compute pre-stressed modes (use it
+    to reproduce their numbers; docs/solver.md compares both with shell and brick models).
     """
+    if mass_frame not in MASS_FRAMES:
+        raise ModelError(f"solve_modes: mass_frame='{mass_frame}' must be one of {MASS_FRAMES}")
     system = state.system
     x, R = state.positions, state.rotations
     ev = system.evaluate(x, R, state.load_factor, assemble=False)
-    M = system.mass_matrix(x, R)
+    M = system.mass_matrix(x, R) if mass_frame == "deformed" else system.mass_matrix(x, R, frame="undeformed")
     K = system.newton_matrix(ev, M, 0.0)  # the symmetric part of the tangent
     clamped = system.clamped
     T = system.transformation(x, R) if system.has_links else None

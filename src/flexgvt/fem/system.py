@@ -629,9 +629,12 @@ class System:
         return A
 
     # ------------------------------------------------------------------ mass and damping
-    def mass_matrix(self, x: np.ndarray, R: np.ndarray) -> sp.csc_matrix:
-        """Reduced mass matrix about the state (beam mass in corotated frames, offset masses rotated)."""
-        return self._reduce_plain(self.pattern.assemble(self._mass_values(x, R)), x, R)
+    def mass_matrix(self, x: np.ndarray, R: np.ndarray, frame: str = "deformed") -> sp.csc_matrix:
+        """Reduced mass matrix about the state (beam mass in corotated frames, offset masses rotated);
+        frame="undeformed": the element and point-mass matrices of the undeformed configuration
+        (reduced with the links' state at (x, R)), as Nastran SOL 400 keeps them."""
+        values = self._mass_values(x, R) if frame == "deformed" else self._mass_values(*self.undeformed)
+        return self._reduce_plain(self.pattern.assemble(values), x, R)
 
     @cached_property
     def full_pattern(self) -> Pattern:

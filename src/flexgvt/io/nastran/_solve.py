@@ -16,11 +16,13 @@ class SubcaseResult:
     modes: object
 
 
-def solve_deck(deck, n_modes: int | None = None, configurations=None, **read_options) -> dict[str, SubcaseResult]:
+def solve_deck(deck, n_modes: int | None = None, configurations=None, mass_frame: str = "deformed",
+               **read_options) -> dict[str, SubcaseResult]:
     """Solve every (or the named) configuration of a deck: nonlinear static, then modes about it.
 
     deck: a BdfDeck or a path (read with read_bdf(path, **read_options)). n_modes: modes per
-    configuration (default: the subcase's EIGRL ND, else 10). Returns {name: SubcaseResult}.
+    configuration (default: the subcase's EIGRL ND, else 10). mass_frame: "undeformed" reproduces
+    MSC Nastran SOL 400's pre-stressed modes (see solve_modes). Returns {name: SubcaseResult}.
     """
     from ...fem import solve_modes, solve_static
     from ._read import read_bdf
@@ -33,5 +35,6 @@ def solve_deck(deck, n_modes: int | None = None, configurations=None, **read_opt
         cfg = deck.configurations[name]
         state = solve_static(deck.model, cfg)
         n = n_modes or deck.n_modes.get(name) or 10
-        out[name] = SubcaseResult(name, deck.subcases.get(name, 0), state, solve_modes(state, n_modes=n))
+        out[name] = SubcaseResult(name, deck.subcases.get(name, 0), state,
+                                  solve_modes(state, n_modes=n, mass_frame=mass_frame))
     return out
