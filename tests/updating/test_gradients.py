@@ -128,3 +128,27 @@ def test_partial_derivative_engine_matches_the_beam_parameter_derivative(attribu
     for a, b, floor in ((dR, ref.residual * p0, 0.0), (dK.toarray(), ref.stiffness.toarray() * p0, 0.0),
                         (dM.toarray(), ref.mass.toarray() * p0, 1e-14 * np.abs(M).max())):
         assert np.abs(a - b).max() <= 1e-9 * np.abs(b).max() + floor
+
+
+def test_mac_and_cross_orthogonality_rows_with_sensors_turning_with_the_structure():
+    from flexgvt.correlation import Sensors
+    case = fg.cases.cantilever_strip(n_elements=30)
+    ids = case.model.node_ids
+    sensors = Sensors(list(Sensors.uniaxial(np.repeat(ids[3::3], 2), (0, 0, 1),
+                                            np.tile([[-0.02, 0, 0], [0.02, 0, 0]], (10, 1))))
+                      + list(Sensors.uniaxial(ids[3::3], (1, 0, 0))))
+    cfgs = [case.configurations[n] for n in ("unloaded", "flatwise_2g")]
+    data = []
+    for c in cfgs:
+        state = fg.solve_static(case.model, c)
+        modes = fg.solve_modes(state, 6, label=False)
+        shapes = np.asarray(sensors.matrix(state.node_ids, state) @ modes.matrix()).T
+        noise = 0.05 * np.random.default_rng(3).standard_normal(shapes.shape) * np.abs(shapes).max(axis=1,
+                                                                                                     keepdims=True)
+        data.append(up.Measured(c.name, modes.frequencies_hz * 1.01, shapes + noise, sensors))
+    variables = [up.beam("E2", "region2", "E"), up.beam("w3", "region3", "width"), up.beam("t1", "region1", "thickness")]
+    problem = up.UpdatingProblem(case.model, cfgs, data, variables,
+                                 objective=up.Objective(mac=1.0, orthogonality=1.0), static_settings=TIGHT)
+    point = problem.evaluate(np.array([1.02, 0.98, 1.01]))
+    assert any("XOR" in n for n in point.residual_names) and any("MAC" in n for n in point.residual_names)
+    _check(problem, np.array([1.02, 0.98, 1.01]))

@@ -366,6 +366,7 @@ class UpdatingProblem:
         use_mac = meas.shapes is not None and w.mac > 0
         use_static = bool(meas.static) and w.static > 0
         use_mac_min = meas.shapes is not None and w.mac_min is not None
+        use_xor = meas.shapes is not None and w.orthogonality > 0
         res = [np.where(ok, w.frequency * wf * (fa - fm) / fm, 0.0)]
         names = [f"{name}: f{i + 1}" for i in range(len(fm))]
         if use_mac:
@@ -376,6 +377,13 @@ class UpdatingProblem:
             scale = np.maximum(np.abs(ref), 1e-3)
             res.append(w.static * (p.static - ref) / scale)
             names += [f"{name}: static {k}" for k in meas.static]
+        if use_xor:  # over all measured modes, so the vector keeps its length if a pair is lost
+            pi = np.flatnonzero(ok)
+            full = np.zeros((len(fm), len(fm)))
+            full[np.ix_(pi, pi)] = _cross_orthogonality(_real_shapes(meas.shapes[pi]), p.sensor_shapes[p.paired[pi]]) \
+                - np.eye(len(pi))
+            res.append(w.orthogonality * full.ravel())
+            names += [f"{name}: XOR[{a + 1},{b + 1}]" for a in range(len(fm)) for b in range(len(fm))]
         con, con_names = np.zeros(0), []
         if use_mac_min:
             con = np.where(ok, np.nan_to_num(p.mac) - w.mac_min, 0.0)
@@ -384,16 +392,25 @@ class UpdatingProblem:
         if not gradient:
             return block
         d = state_derivatives(self.par, self.work, x, p.state, p.tangent)
-        need_vectors = use_mac or use_mac_min
+        need_vectors = use_mac or use_mac_min or use_xor
         terms = modal_terms(d, p.state, p.phi[:, idx], p.eigenvalues[idx], need_vectors)
         dlam = eigenvalue_derivatives(p.eigenvalues[idx], p.phi[:, idx], d, terms)
         df = dlam / (8 * np.pi**2 * np.where(fa > 0, fa, 1.0))[:, None]
         rows = [np.where(ok[:, None], (w.frequency * wf / fm)[:, None] * df, 0.0)]
-        dmac = self._mac_derivatives(p, meas, d, dlam, terms) if need_vectors else None
+        shapes = self._shape_derivatives(p, meas, d, dlam, terms) if need_vectors else None
+        dmac = self._mac_derivatives(meas, shapes) if (use_mac or use_mac_min) else None
         if use_mac:
             rows.append(np.where(ok[:, None], -w.mac * dmac, 0.0))
         if use_static:
             rows.append(w.static * self._static_derivatives(p, meas, d) / scale[:, None])
+        if use_xor:
+            pi = np.flatnonzero(ok)
+            A = np.column_stack([shapes[i][0] for i in pi])
+            dA = np.stack([shapes[i][1] for i in pi], axis=1)  # (n_sensors, n_pairs, n_var)
+            full = np.zeros((len(fm), len(fm), len(self.par)))
+            full[np.ix_(pi, pi)] = _cross_orthogonality_derivative(_real_shapes(meas.shapes[pi]), A, dA).reshape(
+                len(pi), len(pi), -1)
+            rows.append(w.orthogonality * full.reshape(len(fm) ** 2, -1))
         block.jacobian = np.vstack(rows)
         block.constraint_jacobian = np.where(ok[:, None], dmac, 0.0) if use_mac_min else np.zeros((0, len(self.par)))
         return block
@@ -429,15 +446,16 @@ class UpdatingProblem:
         return np.where(np.array(out) > 0, np.array(out), 1.0)
 
     # ------------------------------------------------------------------ Jacobian pieces
-    def _mac_derivatives(self, p: ConfigurationPoint, meas: Measured, d, dlam, terms=None) -> np.ndarray:
-        """(n_measured, n_var) dMAC/dp of each pair, the analytical shape moving with p (Nelson) and
-        the sensors turning with the structure."""
+    def _shape_derivatives(self, p: ConfigurationPoint, meas: Measured, d, dlam, terms=None) -> dict:
+        """{measured mode i: (a, da)}: the paired analytical shape at the sensors (n_sensors,) and its
+        derivative (n_sensors, n_var), the shape moving with p (Nelson) and the sensors turning with
+        the structure."""
         system = p.state.system
         T = system.transformation(p.state.positions, p.state.rotations) if system.has_links else None
         S = meas.sensors.matrix(p.state.node_ids, p.state, follow=self.follow_sensors)
-        out = np.zeros((len(meas.frequencies_hz), len(self.par)))
         dS = [sensor_matrix_direction(meas.sensors, p.state, d.du[:, k], self.follow_sensors)
               for k in range(len(self.par))]
+        out = {}
         for i, j in enumerate(p.paired):
             if j < 0:
                 continue
@@ -449,6 +467,13 @@ class UpdatingProblem:
             for k in range(len(self.par)):
                 if dS[k] is not None:
                     da[:, k] += dS[k] @ full
+            out[i] = (a, da)
+        return out
+
+    def _mac_derivatives(self, meas: Measured, shapes: dict) -> np.ndarray:
+        """(n_measured, n_var) dMAC/dp of each pair from the analytical shapes' derivatives."""
+        out = np.zeros((len(meas.frequencies_hz), len(self.par)))
+        for i, (a, da) in shapes.items():
             m = meas.shapes[i]
             c = np.vdot(m, a)
             mm = np.real(np.vdot(m, m))
@@ -512,6 +537,55 @@ class UpdatingProblem:
             for a, i0 in enumerate(t.inertia):
                 rows.append(w.inertia * dIcg[a] / i0)
         return np.array(rows)
+
+
+def _real_shapes(shapes: np.ndarray) -> np.ndarray:
+    """Measured shapes (n, n_sensors) made real: each complex shape turned to its dominant real direction."""
+    if not np.iscomplexobj(shapes):
+        return np.asarray(shapes, float)
+    out = np.empty(shapes.shape)
+    for k, row in enumerate(shapes):
+        out[k] = np.real(row * np.exp(-0.5j * np.angle(np.sum(row * row))))
+    return out
+
+
+def _xor_parts(Psi: np.ndarray, A: np.ndarray):
+    """Q = pinv(A) Psi^T: the measured shapes' coordinates in the paired analytical shapes at the
+    sensors (the SEREP mass of those modes: Q is the cross-orthogonality before scaling)."""
+    AtA_inv = np.linalg.inv(A.T @ A)
+    P = AtA_inv @ A.T
+    return P, AtA_inv, P @ Psi.T
+
+
+def _cross_orthogonality(Psi: np.ndarray, A: np.ndarray) -> np.ndarray:
+    """(n_pairs, n_pairs) cross-orthogonality of the measured shapes Psi (n, n_sensors) with the paired
+    analytical ones (A: (n_pairs, n_sensors)) through the SEREP-reduced mass of the paired analytical
+    modes: row i = measured mode i's coordinates in the analytical modes, scaled to unit generalised
+    mass and signed so its diagonal term is positive (1 on the diagonal, 0 off it for a perfect model)."""
+    _, _, Q = _xor_parts(Psi, A.T)
+    Q = Q.T  # (n_measured, n_pairs)
+    norm = np.linalg.norm(Q, axis=1, keepdims=True)
+    sign = np.sign(np.diag(Q))[None, :]  # each analytical shape's arbitrary sign, turned to its pair's
+    return sign * Q / np.where(norm > 0, norm, 1.0)
+
+
+def _cross_orthogonality_derivative(Psi: np.ndarray, A: np.ndarray, dA: np.ndarray) -> np.ndarray:
+    """d(cross-orthogonality).ravel() / dp ((n_pairs^2, n_var)) from the paired analytical shapes'
+    derivatives dA (n_sensors, n_pairs, n_var): d pinv(A) = -pinv(A) dA pinv(A) + (A^T A)^-1 dA^T (I - A pinv(A))."""
+    P, AtA_inv, Q = _xor_parts(Psi, A)
+    resid = Psi.T - A @ Q  # (n_sensors, n_measured)
+    n = Q.shape[1]
+    out = np.empty((n * n, dA.shape[2]))
+    Qt = Q.T
+    norm = np.linalg.norm(Qt, axis=1, keepdims=True)
+    sign = np.sign(np.diag(Qt))[None, :]
+    for k in range(dA.shape[2]):
+        dAk = dA[:, :, k]
+        dQ = -P @ dAk @ Q + AtA_inv @ dAk.T @ resid
+        dQt = dQ.T
+        dnorm = np.sum(Qt * dQt, axis=1, keepdims=True) / norm
+        out[:, k] = (sign * (dQt / norm - Qt * dnorm / norm**2)).ravel()
+    return out
 
 
 def _moments(Mrb: np.ndarray) -> np.ndarray:

@@ -91,8 +91,9 @@ class MassTarget:
 class Objective:
     """Weights and limits of the updating objective (each term on when its data exist).
 
-    frequency, mac, mass, cg, inertia, static: weights of the residual groups (each residual is a
-    relative error; a MAC residual is 1 - MAC). mac_min: pairs below it violate a constraint
+    frequency, mac, mass, cg, inertia, static, orthogonality: weights of the residual groups (each
+    residual is a relative error; a MAC residual is 1 - MAC; the cross-orthogonality residuals are
+    XOR - I over the paired modes, XOR through the SEREP mass of the paired analytical modes). mac_min: pairs below it violate a constraint
     (SLSQP, trust-constr) or are penalised (least squares, Nelder-Mead); mass_limits: relative
     band the mass properties must stay in (e.g. 0.1 = +-10 %); use_std: weight frequency errors
     by the measured standard deviations when given (relative scatter over the median's)."""
@@ -107,3 +108,4 @@ class Objective:
     mass_limits: float | None = None
     use_std: bool = True
     mac_floor: float = 0.5
+    orthogonality: float = 0.0
