@@ -72,14 +72,15 @@ def test_cord_and_mass_variables_on_the_hung_strip():
     cfgs = [case.configurations["outboard"], case.configurations["inboard"]]
     variables = [up.cord("k_left", 0, "stiffness"), up.cord("k_right", 1, "stiffness", configurations=["outboard"]),
                  up.beam("E", "*", "E"), up.mass("accelerometers", range(26), "mass"),
-                 up.mass("acc_height", range(26), "offset_z", bounds=(-1, 3), scale=0.005)]
+                 up.mass("acc_height", range(26), "offset_z", bounds=(-1, 3), scale=0.005),
+                 up.cord("attach_left", 0, "offset_z", bounds=(-2, 4), scale=0.01)]
     data = []
     for c in cfgs:
         modes = fg.solve_modes(fg.solve_static(case.model, c), 12, damped=False, label=False)
         f = modes.frequencies_hz
         data.append(up.Measured(c.name, f[(f > 0.9)][:5] * 0.98))
     problem = up.UpdatingProblem(case.model, cfgs, data, variables, static_settings=TIGHT)
-    x0 = np.array([1.03, 0.98, 1.01, 1.04, 1.2])
+    x0 = np.array([1.03, 0.98, 1.01, 1.04, 1.2, 1.5])
     # A 3.66 m strip (EA/L ~ 2e8 N/m) on 5 N/m cords: cond(K) ~ 2e10, so the state's sensitivity
     # and the re-solved finite differences each carry ~eps cond(K) |du| (~6e-6 of du measured,
     # the tangent being consistent to round-off); through the stress stiffening of the stiff

@@ -151,13 +151,16 @@ class ValueChange:
     d rho A (k,), d inertia per length (k, 3)); masses: (indices into the system's point masses,
     (mass, offset) at p + h, (mass, offset) at p - h, 1 / (2 h)): masses enter linearly and
     offsets quadratically, so this central difference is exact; springs: (indices, d stiffness
-    (k, 6)); cords: (indices, d stiffness (k,)). Derivatives are per unit of the parameter.
+    (k, 6)); cords: (indices, d stiffness (k,)); cord_offsets: (indices, samples) with samples
+    [(offsets (k, 3), weight)] a finite-difference rule in the attachment offset (the cord's
+    line of action is not polynomial in it). Derivatives are per unit of the parameter.
     """
 
     beams: tuple | None = None
     masses: tuple | None = None
     springs: tuple | None = None
     cords: tuple | None = None
+    cord_offsets: tuple | None = None  # (indices, [(offsets (k, 3), weight), ...]): a difference rule in the offset
 
 
 def _beam_subset(b, rows, dsection):
@@ -216,6 +219,17 @@ def value_derivative(system, x: np.ndarray, R: np.ndarray, lam: float, change: V
         cn = system.cord_nodes[rows]
         g, K, _, _ = cord_forces(x[cn], R[cn], system.cord_offset[rows], system.cord_anchor[rows],
                                  np.asarray(dk, float), system.cord_l0_at(lam)[rows])
+        np.add.at(g_full, cn, g)
+        p.data_subset(2, rows, K, K_data)
+    if change.cord_offsets is not None:
+        rows, samples = change.cord_offsets
+        rows = np.asarray(rows, int)
+        cn = system.cord_nodes[rows]
+        g = K = 0.0
+        for off, w in samples:
+            gi, Ki, _, _ = cord_forces(x[cn], R[cn], np.asarray(off, float), system.cord_anchor[rows], system.cord_k[rows],
+                                       system.cord_l0_at(lam)[rows])
+            g, K = g + w * gi, K + w * Ki
         np.add.at(g_full, cn, g)
         p.data_subset(2, rows, K, K_data)
     if change.springs is not None:

@@ -43,6 +43,7 @@ from .variables import MATERIAL_ATTRIBUTES, Parametrisation
 
 _EXACT_STEP = 0.25  # normalised step of the two-point rule where the assembly is linear or quadratic
 _SECTION_STEP = 1e-3  # of the four-point rule on a beam group's values (section properties are not linear)
+_OFFSET_STEP = 1e-4  # [m] of the four-point rule on a cord's attachment offset
 _STATE_STEP = 1e-3  # largest rotation [rad] or translation / size of the state perturbation (four-point rule)
 
 
@@ -93,12 +94,23 @@ def value_change(par: Parametrisation, model, x: np.ndarray, k: int, configurati
             mask[int(v.attribute[1]) - 1] = 1.0
             base = base * mask
         return ValueChange(springs=(np.asarray(b.indices, int), base))
-    if v.attribute != "stiffness":
-        return ValueChange()
     mine = [(i, k0) for (c, i), k0 in zip(b.indices, b.initial) if c == configuration]
-    if not mine:
+    if not mine or v.attribute == "damping":
         return ValueChange()
-    return ValueChange(cords=(np.array([i for i, _ in mine], int), np.array([k0 for _, k0 in mine], float)))
+    rows = np.array([i for i, _ in mine], int)
+    if v.shifts:  # attachment offset [m]: four-point rule on the cord's forces and tangent
+        base = np.array([par.configurations[configuration].suspension[i].offset for i in rows], float)
+        current = base.copy()
+        axis = "xyz".index(v.attribute[-1])
+        current[:, axis] = np.array([k0 for _, k0 in mine]) + (x[k] - 1.0) * v.scale
+        h = _OFFSET_STEP / v.scale  # normalised step
+        samples = []
+        for off, w in zip((2 * h, h, -h, -2 * h), (-1 / 12, 8 / 12, -8 / 12, 1 / 12)):
+            o = current.copy()
+            o[:, axis] += off * v.scale
+            samples.append((o, w / h))
+        return ValueChange(cord_offsets=(rows, samples))
+    return ValueChange(cords=(rows, np.array([k0 for _, k0 in mine], float)))
 
 
 def partial_derivatives(par: Parametrisation, model, x: np.ndarray, state, k: int):

@@ -24,7 +24,7 @@ KINDS = ("beam", "mass", "spring", "cord")
 MATERIAL_ATTRIBUTES = ("E", "G", "rho")
 MASS_ATTRIBUTES = ("mass", "offset_x", "offset_y", "offset_z")
 SPRING_ATTRIBUTES = tuple(f"k{i}" for i in range(1, 7)) + tuple(f"c{i}" for i in range(1, 7)) + ("stiffness", "damping")
-CORD_ATTRIBUTES = ("stiffness", "damping")
+CORD_ATTRIBUTES = ("stiffness", "damping", "offset_x", "offset_y", "offset_z")
 SECTION_ALIASES = {"thickness": "height"}  # a RectangularSection's height is a strip's or skin's thickness
 
 
@@ -55,7 +55,7 @@ class Variable:
         lo, hi = (float(b) for b in self.bounds)
         if not (np.isfinite(lo) and np.isfinite(hi) and lo < hi):
             raise ModelError(f"design variable '{self.name}': bounds {self.bounds} must be finite with lower < upper")
-        if self.kind != "mass" or not self.shifts:
+        if not self.shifts:
             if lo <= 0:
                 raise ModelError(f"design variable '{self.name}': bounds {self.bounds} scale a physical property and "
                                  "must stay > 0")
@@ -90,11 +90,13 @@ def spring(name: str, springs: int | Iterable[int], attribute: str = "stiffness"
 
 
 def cord(name: str, cords: int | Iterable[int] | None = None, attribute: str = "stiffness", bounds=(0.8, 1.2),
-         configurations: Iterable[str] | None = None) -> Variable:
-    """Stiffness or damping of suspension cords (indices in each configuration's suspension; None:
-    all) in the named configurations (None: all)."""
+         configurations: Iterable[str] | None = None, scale: float = 0.01) -> Variable:
+    """Stiffness, damping or attachment offset (offset_x/y/z: the attachment point's position from
+    its node [m], shifted by (x - 1) scale; along the span it moves the attachment continuously) of
+    suspension cords (indices in each configuration's suspension; None: all) in the named
+    configurations (None: all)."""
     cords = () if cords is None else ((cords,) if np.isscalar(cords) else tuple(cords))
-    return Variable(name, "cord", attribute, tuple(int(c) for c in cords), bounds,
+    return Variable(name, "cord", attribute, tuple(int(c) for c in cords), bounds, scale,
                     configurations=None if configurations is None else tuple(configurations))
 
 
@@ -181,10 +183,11 @@ class Parametrisation:
                 if not 0 <= i < len(cords):
                     raise ModelError(f"{where}: configuration '{c}' has no cord {i} ({len(cords)} cords)")
                 idx.append((c, i))
-                initial.append(getattr(cords[i], v.attribute))
+                initial.append(cords[i].offset["xyz".index(v.attribute[-1])] if v.shifts
+                               else getattr(cords[i], v.attribute))
         if not idx:
             raise ModelError(f"{where}: no cord in configuration(s) {cfgs}")
-        if np.any(np.asarray(initial) <= 0):
+        if not v.shifts and np.any(np.asarray(initial) <= 0):
             raise ModelError(f"{where}: a cord's {v.attribute} is zero; a zero value cannot be scaled")
         return Binding(v, tuple(idx), np.array(initial, float))
 
@@ -279,7 +282,12 @@ class Parametrisation:
                 else:
                     c, i = idx
                     lst = cords.setdefault(c, list(configs[c].suspension))
-                    lst[i] = replace(lst[i], **{v.attribute: float(value)})
+                    if v.shifts:
+                        off = list(lst[i].offset)
+                        off["xyz".index(v.attribute[-1])] = float(value)
+                        lst[i] = replace(lst[i], offset=tuple(off))
+                    else:
+                        lst[i] = replace(lst[i], **{v.attribute: float(value)})
         for k, (mat, sec) in beams.items():
             group = base.beams[k]
             material = group.material
