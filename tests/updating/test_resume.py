@@ -13,13 +13,14 @@ import numpy as np
 from flexgvt import updating as up
 
 SCRIPT = textwrap.dedent("""
-    import sys
+    import sys, time
     sys.path.insert(0, {tests!r})
     from test_update import _strip_problem
     from flexgvt import updating as up
     case, initial, cfgs, variables, data, target, truth = _strip_problem(n_elements=30)
     store = up.ResultsStore({path!r})
-    up.update(initial, cfgs, data, variables, mass_target=target, store=store)
+    # A pause after each stored iterate stands for a long run (the kill must land midway).
+    up.update(initial, cfgs, data, variables, mass_target=target, store=store, callback=lambda row: time.sleep(1.0))
 """)
 
 
@@ -38,8 +39,8 @@ def test_a_run_killed_midway_resumes_to_the_same_answer(tmp_path):
     proc = subprocess.Popen([sys.executable, "-c", SCRIPT.format(tests=here, path=path)])
     try:
         deadline = time.time() + 120
-        while _iterations(path) < 4 and proc.poll() is None and time.time() < deadline:
-            time.sleep(0.05)
+        while _iterations(path) < 3 and proc.poll() is None and time.time() < deadline:
+            time.sleep(0.02)
         assert proc.poll() is None, "the run ended before it could be interrupted"
         proc.send_signal(signal.SIGKILL)
         proc.wait()
@@ -47,7 +48,7 @@ def test_a_run_killed_midway_resumes_to_the_same_answer(tmp_path):
         if proc.poll() is None:
             proc.kill()
     done_before = _iterations(path)
-    assert done_before >= 4
+    assert done_before >= 3
     case, initial, cfgs, variables, data, target, truth = _strip_problem(n_elements=30)
     store = up.ResultsStore(path)
     resumed = up.update(initial, cfgs, data, variables, mass_target=target, store=store)
