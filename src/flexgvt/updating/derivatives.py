@@ -7,17 +7,17 @@ At an equilibrium R(u, p) = 0 of the reduced residual:
     d lambda_i  = phi_i^T (dK - lambda_i dM) phi_i        (mass-normalised phi_i)
     d phi_i     : Nelson's method, (K - lambda_i M) v = -(dK - lambda_i dM - d lambda_i M) phi_i
 
-The partial derivatives at the fixed state come from the same assembly the solver uses:
-everything assembled is linear in what a variable scales (beam kernel coefficients, mass per
-length and inertia, point masses, spring and cord rates) except section dimensions, the
-shear-flexibility factors and mass offsets (quadratic), so a central difference of the assembly
-in the variable is exact for the linear and quadratic ones (two-point rule, large step: no
-truncation, little round-off) and a four-point rule is used for section attributes
-(truncation ~ h^4 = 1e-12). (dK/du)[v] is a four-point central difference of the tangent along v (the
-state moved by the solver's own update, rotations by spatial spins) with h |v| = 1e-3 rad or
-1e-3 of the structure's size: truncation ~ (h |v|)^4, and the round-off of the stiff axial terms
-(~ eps |K| / h) stays below 1e-6 of the bending and torsion terms (measured on the strip: a
-two-point rule at 1e-5 was round-off bound at 3e-4).
+dR/dp, dK/dp and dM/dp at the fixed state come from fem.sensitivity.value_derivative: the
+assembly is linear in what a variable changes (beam kernel coefficients, mass per length and
+inertia, point masses, spring and cord rates), so it is evaluated with the derivative of those
+values on the affected items only; a beam group's values are differentiated by a four-point rule
+on the section formulas (truncation ~1e-12), masses (linear) and their offsets (quadratic) by an
+exact central difference, cord attachment offsets by a four-point rule on the cord's forces.
+
+The state part (dK/du)[du/dp] of the modes' derivatives comes from element-level derivatives with
+exploded nodes (fem.sensitivity.modal_state_terms: 48 kernel calls whatever the number of
+variables); systems with rigid or interpolation links use a four-point difference of the tangent
+along each du/dp instead (state_direction), h |du| = 1e-3 rad or 1e-3 of the structure's size.
 
 Accuracy limit: du solves K du = -dR, and K of a flexible structure is ill-conditioned (cond
 ~1e9-1e10: axial EA/L against bending and suspension stiffness); the round-off of its stiff
@@ -39,7 +39,7 @@ import scipy.sparse.linalg as spla
 from ..errors import SolverError
 from ..fem.sensitivity import ValueChange, modal_state_terms, value_derivative
 from ..fem.system import group_values
-from .variables import MATERIAL_ATTRIBUTES, Parametrisation
+from .variables import Parametrisation
 
 _EXACT_STEP = 0.25  # normalised step of the two-point rule where the assembly is linear or quadratic
 _SECTION_STEP = 1e-3  # of the four-point rule on a beam group's values (section properties are not linear)
@@ -255,5 +255,5 @@ def sensor_matrix_direction(sensors, state, v: np.ndarray, follow: bool):
     return (out[0] - out[1]) / (2 * h)
 
 
-__all__ = ["MATERIAL_ATTRIBUTES", "StateDerivatives", "eigenvalue_derivatives", "eigenvector_derivatives",
+__all__ = ["StateDerivatives", "eigenvalue_derivatives", "eigenvector_derivatives",
            "partial_derivatives", "sensor_matrix_direction", "state_derivatives", "state_direction"]

@@ -267,16 +267,16 @@ class UpdatingProblem:
         fm = meas.frequencies_hz
         closeness = np.abs(np.log(np.where(f[None, :] > 0, f[None, :], 1e-300) / fm[:, None]))
         if shapes_s is not None:
-            from ..correlation import mac as mac_fn
-            macm = mac_fn(meas.shapes, shapes_s)
-            score = macm - 0.01 * np.minimum(closeness, 1.0)
-            score[:, ~elastic] = -1.0
-            rows, cols = linear_sum_assignment(-score)
+            from types import SimpleNamespace
+
+            from ..correlation import pair
+            got = pair(SimpleNamespace(frequencies_hz=fm, shapes=meas.shapes), SimpleNamespace(frequencies_hz=f,
+                       shapes=shapes_s), mac_floor=self.objective.mac_floor)
             paired = np.full(len(fm), -1)
-            ok = macm[rows, cols] >= self.objective.mac_floor
-            paired[rows[ok]] = cols[ok]
-            mac = np.where(paired >= 0, macm[np.arange(len(fm)), np.maximum(paired, 0)], np.nan)
-            return paired, mac, macm
+            paired[got.measured] = got.analytical
+            mac = np.full(len(fm), np.nan)
+            mac[got.measured] = got.mac
+            return paired, mac, got.mac_matrix
         previous = self._tracking.get(name)
         if previous is not None and previous.shape[0] == phi.shape[0]:
             weighted = M @ phi
