@@ -1,0 +1,139 @@
+"""Continuum reference for the mass-frame question (issue 23): the cantilever strip of METHOD.md
+case 3 (1.5 m x 50 mm x 3 mm aluminium) as CalculiX S8R shells, unloaded and after a geometrically
+nonlinear -1 g step, and the ratios f(-1 g) / f(unloaded) of the mode each -1 g mode grows from
+(paired by MAC of the mid-surface displacements).
+
+    python bench/calculix_strip.py --chord 8 --span 300 --json tests/data/mass_frame/ccx_s8r.json
+
+Needs `ccx` (Debian: apt-get install calculix-ccx). tests/fem/test_mass_frame.py runs a coarse mesh
+when it is installed.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import shutil
+import subprocess
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+L, B, T = 1.5, 0.05, 0.003
+E, NU, RHO = 70e9, 0.33, 2700.0
+
+
+def mesh(n_chord: int, n_span: int):
+    """S8R mesh of the strip in the x-y plane (chord x, span y): node ids, coordinates, elements."""
+    ids, xyz = {}, []
+    for j in range(2 * n_span + 1):
+        for i in range(2 * n_chord + 1):
+            if i % 2 and j % 2:  # S8R has no centre node
+                continue
+            ids[i, j] = len(xyz) + 1
+            xyz.append((-B / 2 + B * i / (2 * n_chord), L * j / (2 * n_span), 0.0))
+    elements = []
+    for j in range(n_span):
+        for i in range(n_chord):
+            a, b = 2 * i, 2 * j
+            corners = [ids[a, b], ids[a + 2, b], ids[a + 2, b + 2], ids[a, b + 2]]
+            mids = [ids[a + 1, b], ids[a + 2, b + 1], ids[a + 1, b + 2], ids[a, b + 1]]
+            elements.append(corners + mids)
+    return ids, np.array(xyz), elements
+
+
+def write_input(path: Path, n_chord: int, n_span: int, n_modes: int, gravity: bool) -> np.ndarray:
+    ids, xyz, elements = mesh(n_chord, n_span)
+    root = [n for (i, j), n in ids.items() if j == 0]
+    lines = ["*NODE"] + [f"{k + 1}, {x:.10g}, {y:.10g}, {z:.10g}" for k, (x, y, z) in enumerate(xyz)]
+    lines += ["*ELEMENT, TYPE=S8R, ELSET=EALL"] + [f"{e + 1}, " + ", ".join(map(str, el)) for e, el in enumerate(elements)]
+    lines += ["*NSET, NSET=ROOT"] + [", ".join(map(str, root[k:k + 12])) for k in range(0, len(root), 12)]
+    lines += ["*MATERIAL, NAME=AL", "*ELASTIC", f"{E:.6g}, {NU}", "*DENSITY", f"{RHO}",
+              "*SHELL SECTION, ELSET=EALL, MATERIAL=AL", f"{T}", "*BOUNDARY", "ROOT, 1, 6"]
+    if gravity:
+        lines += ["*STEP, NLGEOM, INC=200", "*STATIC", "0.05, 1.0, 1e-5, 0.1", "*DLOAD", "EALL, GRAV, 9.80665, 0., 0., -1.",
+                  "*NODE FILE", "U", "*END STEP", "*STEP, PERTURBATION"]
+    else:
+        lines += ["*STEP"]
+    lines += ["*FREQUENCY", f"{n_modes}", "*NODE FILE", "U", "*END STEP"]
+    path.write_text("\n".join(lines) + "\n")
+    return xyz
+
+
+def read_frequencies(dat: Path) -> np.ndarray:
+    """Frequencies [Hz] of the last eigenvalue table of a CalculiX .dat file."""
+    text = dat.read_text().splitlines()
+    start = max(k for k, line in enumerate(text) if "E I G E N V A L U E   O U T P U T" in line)
+    out = []
+    for line in text[start + 1:]:
+        parts = line.split()
+        if len(parts) == 5 and parts[0].isdigit():
+            out.append(float(parts[3]))
+        elif out and not line.strip():
+            break
+    return np.array(out)
+
+
+def read_mode_shapes(frd: Path, n_modes: int) -> np.ndarray:
+    """(n_modes, n_points, 3) displacements of the last n_modes DISP blocks of a .frd file, at every
+    node CalculiX writes (the shell's expanded nodes, numbered the same in both runs)."""
+    blocks, current = [], None
+    for line in frd.read_text().splitlines():
+        if line.startswith(" -4  DISP"):
+            current = {}
+        elif current is not None and line.startswith(" -1"):
+            current[int(line[3:13])] = [float(line[13 + 12 * k:25 + 12 * k]) for k in range(3)]
+        elif current is not None and line.startswith(" -3"):
+            blocks.append(np.array([current[n] for n in sorted(current)]))
+            current = None
+    return np.array(blocks[-n_modes:])
+
+
+def run(n_chord: int, n_span: int, n_modes: int = 15, keep: Path | None = None) -> dict:
+    if shutil.which("ccx") is None:
+        raise RuntimeError("CalculiX (ccx) is not installed: apt-get install calculix-ccx")
+    out = {}
+    with tempfile.TemporaryDirectory() as tmp:
+        work = Path(keep or tmp)
+        work.mkdir(parents=True, exist_ok=True)
+        for name, gravity in (("unloaded", False), ("minus_1g", True)):
+            write_input(work / f"{name}.inp", n_chord, n_span, n_modes, gravity)
+            t0 = time.perf_counter()
+            subprocess.run(["ccx", name], cwd=work, check=True, capture_output=True, text=True,
+                           env={"OMP_NUM_THREADS": "2", "PATH": "/usr/bin:/bin"})
+            out[name] = {"frequencies_hz": read_frequencies(work / f"{name}.dat"),
+                         "shapes": read_mode_shapes(work / f"{name}.frd", n_modes),
+                         "seconds": time.perf_counter() - t0}
+    u, g = out["unloaded"], out["minus_1g"]
+    A = u["shapes"].reshape(n_modes, -1)
+    Bm = g["shapes"].reshape(n_modes, -1)
+    mac = (A @ Bm.T) ** 2 / np.outer(np.sum(A * A, axis=1), np.sum(Bm * Bm, axis=1))
+    origin = np.argmax(mac, axis=0)  # the unloaded mode each -1 g mode resembles most
+    ratios = {int(k + 1): {"from_unloaded_mode": int(origin[k] + 1), "mac": float(mac[origin[k], k]),
+                           "ratio": float(g["frequencies_hz"][k] / u["frequencies_hz"][origin[k]])}
+              for k in range(n_modes)}
+    return {"mesh": f"S8R {n_chord} x {n_span}", "unloaded_hz": u["frequencies_hz"].tolist(),
+            "minus_1g_hz": g["frequencies_hz"].tolist(), "ratios": ratios,
+            "seconds": {"unloaded": u["seconds"], "minus_1g": g["seconds"]}}
+
+
+def main():
+    parser = argparse.ArgumentParser()
+    parser.add_argument("--chord", type=int, default=8)
+    parser.add_argument("--span", type=int, default=300)
+    parser.add_argument("--modes", type=int, default=15)
+    parser.add_argument("--json", type=Path)
+    args = parser.parse_args()
+    result = run(args.chord, args.span, args.modes)
+    for k, r in result["ratios"].items():
+        print(f"-1 g mode {k:2d}: {result['minus_1g_hz'][k - 1]:9.3f} Hz, from unloaded mode {r['from_unloaded_mode']:2d} "
+              f"(MAC {r['mac']:.3f}), ratio {r['ratio']:.4f}")
+    print(f"CalculiX time: {result['seconds']}")
+    if args.json:
+        args.json.write_text(json.dumps(result, indent=1))
+
+
+if __name__ == "__main__":
+    main()
