@@ -1,5 +1,6 @@
 """Continuum reference for the mass-frame question (issue 23): the cantilever strip of METHOD.md
-case 3 (1.5 m x 50 mm x 3 mm aluminium) as CalculiX S8R shells, unloaded and after a geometrically
+case 3 (1.5 m x 50 mm x 3 mm aluminium) as CalculiX S8R shells (or C3D20R bricks with --bricks N
+layers), unloaded and after a geometrically
 nonlinear -1 g step, and the ratios f(-1 g) / f(unloaded) of the mode each -1 g mode grows from
 (paired by MAC of the mid-surface displacements).
 
@@ -44,14 +45,45 @@ def mesh(n_chord: int, n_span: int):
     return ids, np.array(xyz), elements
 
 
-def write_input(path: Path, n_chord: int, n_span: int, n_modes: int, gravity: bool) -> np.ndarray:
-    ids, xyz, elements = mesh(n_chord, n_span)
-    root = [n for (i, j), n in ids.items() if j == 0]
+def brick_mesh(n_chord: int, n_span: int, n_thick: int):
+    """C3D20R mesh of the strip (chord x, span y, thickness z): node ids, coordinates, elements, root nodes."""
+    ids, xyz = {}, []
+    for k in range(2 * n_thick + 1):
+        for j in range(2 * n_span + 1):
+            for i in range(2 * n_chord + 1):
+                if (i % 2) + (j % 2) + (k % 2) > 1:  # 20-node bricks: no face or body centres
+                    continue
+                ids[i, j, k] = len(xyz) + 1
+                xyz.append((-B / 2 + B * i / (2 * n_chord), L * j / (2 * n_span), -T / 2 + T * k / (2 * n_thick)))
+    elements = []
+    for k in range(n_thick):
+        for j in range(n_span):
+            for i in range(n_chord):
+                a, b, c = 2 * i, 2 * j, 2 * k
+                n = lambda di, dj, dk: ids[a + di, b + dj, c + dk]  # noqa: E731
+                elements.append([n(0, 0, 0), n(2, 0, 0), n(2, 2, 0), n(0, 2, 0), n(0, 0, 2), n(2, 0, 2), n(2, 2, 2),
+                                 n(0, 2, 2), n(1, 0, 0), n(2, 1, 0), n(1, 2, 0), n(0, 1, 0), n(1, 0, 2), n(2, 1, 2),
+                                 n(1, 2, 2), n(0, 1, 2), n(0, 0, 1), n(2, 0, 1), n(2, 2, 1), n(0, 2, 1)])
+    root = [v for (i, j, k), v in ids.items() if j == 0]
+    return np.array(xyz), elements, root
+
+
+def write_input(path: Path, n_chord: int, n_span: int, n_modes: int, gravity: bool, bricks: int = 0) -> np.ndarray:
+    """A CalculiX input: S8R shells (bricks=0) or C3D20R bricks with ``bricks`` layers through the thickness."""
+    if bricks:
+        xyz, elements, root = brick_mesh(n_chord, n_span, bricks)
+        kind, section, fix = "C3D20R", ["*SOLID SECTION, ELSET=EALL, MATERIAL=AL"], "ROOT, 1, 3"
+    else:
+        ids, xyz, elements = mesh(n_chord, n_span)
+        root = [n for (i, j), n in ids.items() if j == 0]
+        kind, section, fix = "S8R", ["*SHELL SECTION, ELSET=EALL, MATERIAL=AL", f"{T}"], "ROOT, 1, 6"
     lines = ["*NODE"] + [f"{k + 1}, {x:.10g}, {y:.10g}, {z:.10g}" for k, (x, y, z) in enumerate(xyz)]
-    lines += ["*ELEMENT, TYPE=S8R, ELSET=EALL"] + [f"{e + 1}, " + ", ".join(map(str, el)) for e, el in enumerate(elements)]
+    lines += [f"*ELEMENT, TYPE={kind}, ELSET=EALL"]
+    for e, el in enumerate(elements):  # at most 16 entries per line
+        items = [str(e + 1)] + [str(v) for v in el]
+        lines += [", ".join(items[:16]) + ("," if len(items) > 16 else "")] + ([", ".join(items[16:])] if len(items) > 16 else [])
     lines += ["*NSET, NSET=ROOT"] + [", ".join(map(str, root[k:k + 12])) for k in range(0, len(root), 12)]
-    lines += ["*MATERIAL, NAME=AL", "*ELASTIC", f"{E:.6g}, {NU}", "*DENSITY", f"{RHO}",
-              "*SHELL SECTION, ELSET=EALL, MATERIAL=AL", f"{T}", "*BOUNDARY", "ROOT, 1, 6"]
+    lines += ["*MATERIAL, NAME=AL", "*ELASTIC", f"{E:.6g}, {NU}", "*DENSITY", f"{RHO}"] + section + ["*BOUNDARY", fix]
     if gravity:
         lines += ["*STEP, NLGEOM, INC=200", "*STATIC", "0.05, 1.0, 1e-5, 0.1", "*DLOAD", "EALL, GRAV, 9.80665, 0., 0., -1.",
                   "*NODE FILE", "U", "*END STEP", "*STEP, PERTURBATION"]
@@ -91,7 +123,7 @@ def read_mode_shapes(frd: Path, n_modes: int) -> np.ndarray:
     return np.array(blocks[-n_modes:])
 
 
-def run(n_chord: int, n_span: int, n_modes: int = 15, keep: Path | None = None) -> dict:
+def run(n_chord: int, n_span: int, n_modes: int = 15, keep: Path | None = None, bricks: int = 0) -> dict:
     if shutil.which("ccx") is None:
         raise RuntimeError("CalculiX (ccx) is not installed: apt-get install calculix-ccx")
     out = {}
@@ -99,7 +131,7 @@ def run(n_chord: int, n_span: int, n_modes: int = 15, keep: Path | None = None) 
         work = Path(keep or tmp)
         work.mkdir(parents=True, exist_ok=True)
         for name, gravity in (("unloaded", False), ("minus_1g", True)):
-            write_input(work / f"{name}.inp", n_chord, n_span, n_modes, gravity)
+            write_input(work / f"{name}.inp", n_chord, n_span, n_modes, gravity, bricks)
             t0 = time.perf_counter()
             subprocess.run(["ccx", name], cwd=work, check=True, capture_output=True, text=True,
                            env={"OMP_NUM_THREADS": "2", "PATH": "/usr/bin:/bin"})
@@ -114,7 +146,7 @@ def run(n_chord: int, n_span: int, n_modes: int = 15, keep: Path | None = None) 
     ratios = {int(k + 1): {"from_unloaded_mode": int(origin[k] + 1), "mac": float(mac[origin[k], k]),
                            "ratio": float(g["frequencies_hz"][k] / u["frequencies_hz"][origin[k]])}
               for k in range(n_modes)}
-    return {"mesh": f"S8R {n_chord} x {n_span}", "unloaded_hz": u["frequencies_hz"].tolist(),
+    return {"mesh": f"C3D20R {n_chord} x {n_span} x {bricks}" if bricks else f"S8R {n_chord} x {n_span}", "unloaded_hz": u["frequencies_hz"].tolist(),
             "minus_1g_hz": g["frequencies_hz"].tolist(), "ratios": ratios,
             "seconds": {"unloaded": u["seconds"], "minus_1g": g["seconds"]}}
 
@@ -124,9 +156,11 @@ def main():
     parser.add_argument("--chord", type=int, default=8)
     parser.add_argument("--span", type=int, default=300)
     parser.add_argument("--modes", type=int, default=15)
+    parser.add_argument("--bricks", type=int, default=0, help="C3D20R bricks with this many layers through the "
+                        "thickness instead of S8R shells")
     parser.add_argument("--json", type=Path)
     args = parser.parse_args()
-    result = run(args.chord, args.span, args.modes)
+    result = run(args.chord, args.span, args.modes, bricks=args.bricks)
     for k, r in result["ratios"].items():
         print(f"-1 g mode {k:2d}: {result['minus_1g_hz'][k - 1]:9.3f} Hz, from unloaded mode {r['from_unloaded_mode']:2d} "
               f"(MAC {r['mac']:.3f}), ratio {r['ratio']:.4f}")
