@@ -38,7 +38,9 @@ class Configuration:
     configuration-specific springs (a test-fixture root spring, say); masses: extra masses
     present only in this test; gravity: load factor on gravity (1.0 = 1 g) acting along
     ``gravity_direction`` with ``g`` [m/s^2]; forces and distributed loads are fixed in direction
-    and scaled by the same load factor ramp.
+    and scaled by the same load factor ramp. support: {node id: components} reference DOFs of a
+    free structure (Nastran SUPORT): they hold nothing (the structure is solved free-free, its
+    rigid-body modes at 0 Hz) and are kept for the analyses that need them.
     """
 
     name: str
@@ -52,6 +54,7 @@ class Configuration:
     forces: tuple[NodalLoad, ...] = ()
     distributed: tuple[DistributedLoad, ...] = ()
     prescribed: Mapping[int, Mapping[int, float]] = field(default_factory=dict)
+    support: Mapping[int, str] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "suspension", tuple(self.suspension))
@@ -62,6 +65,9 @@ class Configuration:
         object.__setattr__(self, "fixed", {int(k): str(v) for k, v in dict(self.fixed).items()})
         for node, spec in self.fixed.items():
             parse_dofs(spec, f"configuration '{self.name}': fixed[{node}]")
+        object.__setattr__(self, "support", {int(k): str(v) for k, v in dict(self.support).items()})
+        for node, spec in self.support.items():
+            parse_dofs(spec, f"configuration '{self.name}': support[{node}]")
         prescribed = {}
         for node, values in dict(self.prescribed).items():
             where = f"configuration '{self.name}': prescribed[{node}]"

@@ -36,11 +36,12 @@ NON_STRUCTURAL = {"AERO", "AEROS", "CAERO1", "CAERO2", "CAERO3", "CAERO4", "CAER
                   "DESVAR", "DVPREL1", "DVPREL2", "DVMREL1", "DVMREL2", "DVCREL1", "DVCREL2", "DVGRID", "DRESP1",
                   "DRESP2", "DRESP3", "DCONSTR", "DCONADD", "DOPTPRM", "DEQATN", "DTABLE", "DLINK", "DSCREEN",
                   "DLOAD", "TLOAD1", "TLOAD2", "RLOAD1", "RLOAD2", "TABLED1", "TABLED2", "TABLED3", "TABLED4",
-                  "TABDMP1", "DAREA", "DELAY", "DPHASE", "RANDPS", "NLCNTLG"}
+                  "TABDMP1", "DAREA", "DELAY", "DPHASE", "RANDPS", "NLCNTLG", "MONDSP1", "EPOINT", "AECOMP",
+                  "AECOMPL", "PLOTEL", "UXVEC", "AEDW", "AEFORCE", "AEPRESS", "SPLINRB"}
 # Bulk cards flexgvt reads (anything else present in the deck is reported as unsupported).
 READ_CARDS = set(SUPPORTED_ELEMENTS + SUPPORTED_PROPERTIES + SUPPORTED_LOADS) | {
     "GRID", "GRDSET", "MAT1", "CORD2R", "CORD2C", "CORD2S", "CORD1R", "CORD1C", "CORD1S", "SPC", "SPC1", "SPCADD", "LOAD",
-    "MPC", "MPCADD"}
+    "MPC", "MPCADD", "SUPORT", "SUPORT1"}
 # Cards read by pyNastran into dictionaries we inspect, mapped to where unsupported ones are listed.
 # Id namespaces as pyNastran keeps them (Nastran accepts, e.g., an RBAR and a CONM2 with the same id).
 ELEMENT_NAMESPACE = ("CBAR", "CBEAM", "CROD", "CONROD", "CTUBE", "CQUAD4", "CTRIA3", "CQUAD8", "CTRIA6", "CQUADR",
@@ -1039,9 +1040,10 @@ class _Reader:
             if loose:
                 raise ModelError(f"{where}: SPCD on node {n} component(s) {''.join(map(str, loose))}, which the "
                                  "subcase's SPC set does not hold; Nastran enforces SPCD values only on SPC'd DOFs")
+        support = self._support(sub)
         try:
             cfg = Configuration(name, fixed=fixed_spec, forces=tuple(forces), distributed=tuple(distributed),
-                                prescribed=prescribed, **kwargs)
+                                prescribed=prescribed, support=support, **kwargs)
         except ModelError as exc:
             raise ModelError(f"{where}: {exc}") from None
         self.deck.configurations[name] = cfg
@@ -1052,6 +1054,24 @@ class _Reader:
             eig = bdf.methods.get(int(method))
             nd = getattr(eig, "nd", None) if eig is not None else None
         self.deck.n_modes[name] = nd
+
+    def _support(self, sub) -> dict[int, str]:
+        """SUPORT (bulk data, every subcase) and the subcase's SUPORT1 set: reference DOFs of a free
+        structure. Nastran uses them to split rigid-body from elastic motion; flexgvt solves the
+        structure free-free (its rigid-body modes at 0 Hz, as Nastran prints them) and keeps them."""
+        dofs: dict[int, set] = {}
+        cards = list(getattr(self.bdf, "suport", []) or [])
+        sid = self._get(sub, "SUPORT1")
+        if sid is not None:
+            found = getattr(self.bdf, "suport1", {}).get(int(sid))
+            if found is None:
+                raise ModelError(f"{self.path}: the case control asks for SUPORT1 = {sid}, which the bulk data lacks; add "
+                                 "the SUPORT1 set or remove the request")
+            cards.append(found)
+        for card in cards:
+            for node, comps in zip(card.nodes, card.Cs):
+                dofs.setdefault(int(node), set()).update(str(comps or ""))
+        return {n: "".join(sorted(c)) for n, c in sorted(dofs.items()) if c}
 
     def _spc_cards(self, sid: int, where: str, depth: int = 0):
         bdf = self.bdf
