@@ -41,7 +41,7 @@ NON_STRUCTURAL = {"AERO", "AEROS", "CAERO1", "CAERO2", "CAERO3", "CAERO4", "CAER
 # Bulk cards flexgvt reads (anything else present in the deck is reported as unsupported).
 READ_CARDS = set(SUPPORTED_ELEMENTS + SUPPORTED_PROPERTIES + SUPPORTED_LOADS) | {
     "GRID", "GRDSET", "MAT1", "CORD2R", "CORD2C", "CORD2S", "CORD1R", "CORD1C", "CORD1S", "SPC", "SPC1", "SPCADD", "LOAD",
-    "MPC", "MPCADD", "SUPORT", "SUPORT1"}
+    "MPC", "MPCADD", "SUPORT", "SUPORT1", "CMASS1", "CMASS2", "PMASS"}
 # Cards read by pyNastran into dictionaries we inspect, mapped to where unsupported ones are listed.
 # Id namespaces as pyNastran keeps them (Nastran accepts, e.g., an RBAR and a CONM2 with the same id).
 ELEMENT_NAMESPACE = ("CBAR", "CBEAM", "CROD", "CONROD", "CTUBE", "CQUAD4", "CTRIA3", "CQUAD8", "CTRIA6", "CQUADR",
@@ -275,8 +275,10 @@ class _Reader:
             if elem.type in ("CBUSH",) and cid not in (None, -1, 0) and cid not in coords:
                 miss.append(f"{self.at(elem.type, eid)} refers to coordinate system {cid}, which is not defined")
         for eid, elem in bdf.masses.items():
-            if elem.nid not in nodes:
-                miss.append(f"{self.at(elem.type, eid)} refers to node {elem.nid}, which is not defined")
+            refs = [elem.nid] if hasattr(elem, "nid") else [n for n in getattr(elem, "nodes", []) if n not in (None, 0)]
+            for n in refs:
+                if n not in nodes:
+                    miss.append(f"{self.at(elem.type, eid)} refers to node {n}, which is not defined")
             if getattr(elem, "cid", 0) not in (None, -1, 0) and elem.cid not in coords:
                 miss.append(f"{self.at(elem.type, eid)} refers to coordinate system {elem.cid}, which is not defined")
         for eid, elem in bdf.rigid_elements.items():
@@ -669,8 +671,32 @@ class _Reader:
                 m, r, J = got
                 model.add_mass(elem.nid, m * u.mass * w, offset=r * u.length, inertia=J * u.inertia * w)
                 self.deck.mass_sources.append(("CONM1", int(eid)))
+            elif elem.type in ("CMASS1", "CMASS2"):
+                self._scalar_mass(elem, where)
             else:
                 self.skip(elem.type, eid)
+
+    def _scalar_mass(self, elem, where: str) -> None:
+        """CMASS1/CMASS2 on one grid's rotational component: an inertia m e e^T about that axis of the
+        grid's displacement system (CD). A scalar mass on a translational component (mass in one
+        direction only) or between two grids has no flexgvt counterpart and is named unsupported."""
+        bdf, u, w = self.bdf, self.units, self.wtmass
+        n1, n2 = (list(elem.nodes) + [None, None])[:2]
+        c1 = int(getattr(elem, "c1", 0) or 0)
+        if n2 not in (None, 0) or n1 in (None, 0):
+            self.skip(f"{elem.type} (between two grids or on a scalar point)", elem.eid)
+            return
+        if not 4 <= c1 <= 6:
+            self.skip(f"{elem.type} (translational component: a mass in one direction only)", elem.eid)
+            return
+        m = float(bdf.properties_mass[elem.pid].mass) if elem.type == "CMASS1" else float(elem.mass)
+        axis = coord_axes(bdf, bdf.nodes[n1].cd, self.xyz_deck[n1], where)[:, c1 - 4]
+        J = m * np.outer(axis, axis) * u.inertia * w
+        try:
+            self.model.add_mass(n1, 0.0, inertia=J)
+        except ModelError as exc:
+            raise ModelError(f"{where}: {exc}") from None
+        self.deck.mass_sources.append((elem.type, int(elem.eid)))
 
     # ----------------------------------------------------------------- springs and dampers
     def _scalar(self, elem, value_stiff: float, value_damp: float) -> None:
@@ -836,7 +862,7 @@ class _Reader:
     # ----------------------------------------------------------------- everything else
     def list_other_cards(self) -> None:
         bdf = self.bdf
-        used_pids = {getattr(e, "pid", None) for e in bdf.elements.values()}
+        used_pids = {getattr(e, "pid", None) for e in list(bdf.elements.values()) + list(bdf.masses.values())}
         used_mids = {getattr(p, "mid", None) for p in bdf.properties.values() if getattr(p, "pid", None) in used_pids}
         for p in bdf.properties.values():
             used_mids.update(getattr(p, "mids", []) or [])
