@@ -37,10 +37,10 @@ def mass_properties(state_or_model, configuration: Configuration | None = None) 
     return system_mass_properties(system, x, R)
 
 
-def system_mass_properties(system: System, x: np.ndarray, R: np.ndarray) -> MassProperties:
-    """Mass properties of a compiled system at positions x (n, 3) and rotations R (n, 3, 3)."""
-    M = system.full_mass_matrix(x, R)
-    n = system.n_nodes
+def rigid_body_basis(x: np.ndarray) -> np.ndarray:
+    """(6n, 6) unit rigid-body motions about the origin at positions x (n, 3): translations X, Y, Z,
+    then rotations about X, Y, Z (node-major, 6 DOF per node)."""
+    n = len(x)
     phi = np.zeros((n, 6, 6))
     for a in range(3):
         e = np.zeros(3)
@@ -48,7 +48,13 @@ def system_mass_properties(system: System, x: np.ndarray, R: np.ndarray) -> Mass
         phi[:, a, a] = 1.0
         phi[:, :3, 3 + a] = np.cross(e, x)
         phi[:, 3 + a, 3 + a] = 1.0
-    phi = phi.reshape(6 * n, 6)
+    return phi.reshape(6 * n, 6)
+
+
+def system_mass_properties(system: System, x: np.ndarray, R: np.ndarray) -> MassProperties:
+    """Mass properties of a compiled system at positions x (n, 3) and rotations R (n, 3, 3)."""
+    M = system.full_mass_matrix(x, R)
+    phi = rigid_body_basis(x)
     Mrb = phi.T @ (M @ phi)
     mass = float(np.trace(Mrb[:3, :3]) / 3)
     S = Mrb[3:, :3] / mass  # m S(c) -> S(c)

@@ -17,7 +17,7 @@ from scipy.optimize import linear_sum_assignment
 
 from ..errors import ConvergenceError, ModelError, SingularModelError, SolverError
 from ..fem import Modes, solve_static
-from ..fem.massprops import system_mass_properties
+from ..fem.massprops import rigid_body_basis, system_mass_properties
 from ..fem.modes import _frequency_hz, _lambda_max_bound, real_modes
 from ..fem.system import System
 from ..model import Configuration, Model
@@ -497,25 +497,13 @@ class UpdatingProblem:
             return np.zeros((0, len(self.par)))
         system = self._mass_system
         X, I3 = system.undeformed
-        phi = self._rigid_basis(X)
+        phi = rigid_body_basis(X)
         cols = []
         for k in range(len(self.par)):
             change = value_change(self.par, self.work, x, k, system.config.name)
             dM = value_derivative(system, X, I3, 0.0, change, full_mass=True)[2]
             cols.append(_moments(phi.T @ (dM @ phi)))
         return self._mass_chain(np.column_stack(cols))
-
-    @staticmethod
-    def _rigid_basis(X: np.ndarray) -> np.ndarray:
-        n = len(X)
-        phi = np.zeros((n, 6, 6))
-        for a in range(3):
-            e = np.zeros(3)
-            e[a] = 1.0
-            phi[:, a, a] = 1.0
-            phi[:, :3, 3 + a] = np.cross(e, X)
-            phi[:, 3 + a, 3 + a] = 1.0
-        return phi.reshape(6 * n, 6)
 
     def _mass_chain(self, dmom: np.ndarray) -> np.ndarray:
         """From d(moments) to d(residuals) at the current mass properties."""
