@@ -368,14 +368,13 @@ def modal_state_terms(system, x: np.ndarray, R: np.ndarray, lam: float, phi: np.
         Hb = [np.zeros((ne, 6 * p, 6 * p)) for _ in range(m)] if vectors else None
         for a, c, dK, dM in _element_state_derivatives(fn, x[nodes], R[nodes], h_t, h_r):
             col = 6 * a + c
-            Kphi = np.einsum("eab,ebi->eai", dK, ph)
-            qK = np.einsum("eai,eai->ei", ph, Kphi)
-            np.add.at(gK[:, c], nodes[:, a], qK)
+            Kphi = dK @ ph  # batched (e, d, d) @ (e, d, m)
+            np.add.at(gK[:, c], nodes[:, a], np.sum(ph * Kphi, axis=1))
             if dM is not None:
-                Mphi = np.einsum("eab,ebi->eai", dM, ph)
-                np.add.at(gM[:, c], nodes[:, a], np.einsum("eai,eai->ei", ph, Mphi))
+                Mphi = dM @ ph
+                np.add.at(gM[:, c], nodes[:, a], np.sum(ph * Mphi, axis=1))
             if vectors:
-                KTphi = np.einsum("eba,ebi->eai", dK, ph)
+                KTphi = np.swapaxes(dK, 1, 2) @ ph
                 for i in range(m):
                     v = 0.5 * (Kphi[:, :, i] + KTphi[:, :, i])
                     if dM is not None:

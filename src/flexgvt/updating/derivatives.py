@@ -113,11 +113,18 @@ def value_change(par: Parametrisation, model, x: np.ndarray, k: int, configurati
     return ValueChange(cords=(rows, np.array([k0 for _, k0 in mine], float)))
 
 
-def partial_derivatives(par: Parametrisation, model, x: np.ndarray, state, k: int):
+def partial_derivatives(par: Parametrisation, model, x: np.ndarray, state, k: int, change: ValueChange | None = None):
     """dR/dp_k (reduced), dK/dp_k, dM/dp_k at ``state`` (held fixed), p_k the normalised variable;
-    ``model`` is the working model at design point x (left unchanged)."""
-    change = value_change(par, model, x, k, state.configuration.name)
+    ``model`` is the working model at design point x (left unchanged); change: variable k's
+    ValueChange when already known (it is the same in every configuration but for cords)."""
+    if change is None:
+        change = value_change(par, model, x, k, state.configuration.name)
     return value_derivative(state.system, state.positions, state.rotations, state.load_factor, change)
+
+
+def shared_changes(par: Parametrisation, model, x: np.ndarray) -> list:
+    """Every variable's ValueChange that does not depend on the configuration (None for cords)."""
+    return [None if b.variable.kind == "cord" else value_change(par, model, x, k, "") for k, b in enumerate(par.bindings)]
 
 
 def state_direction(system, state, v: np.ndarray):
@@ -152,7 +159,7 @@ def state_direction(system, state, v: np.ndarray):
 
 
 def state_derivatives(par: Parametrisation, model, x: np.ndarray, state, tangent: sp.csc_matrix,
-                      per_direction: bool | None = None) -> StateDerivatives:
+                      per_direction: bool | None = None, changes: list | None = None) -> StateDerivatives:
     """du/dp and the partial dK/dp, dM/dp of every variable at ``state``.
 
     tangent: the (full, possibly unsymmetric) reduced tangent at ``state``, factorised once.
@@ -161,7 +168,8 @@ def state_derivatives(par: Parametrisation, model, x: np.ndarray, state, tangent
     or when asked; otherwise `modal_terms` gives it for the modes, whatever the number of variables."""
     system = state.system
     n = len(par)
-    partial = [partial_derivatives(par, model, x, state, k) for k in range(n)]
+    changes = changes or [None] * n
+    partial = [partial_derivatives(par, model, x, state, k, changes[k]) for k in range(n)]
     dR = np.column_stack([p[0] for p in partial])
     if np.any(dR):
         try:

@@ -23,7 +23,7 @@ from ..fem.system import System
 from ..model import Configuration, Model
 from ..fem.sensitivity import value_derivative
 from .derivatives import (eigenvalue_derivatives, eigenvector_derivatives, modal_terms, sensor_matrix_direction,
-                          state_derivatives, value_change)
+                          shared_changes, state_derivatives, value_change)
 from .targets import MassTarget, Measured, Objective
 from .variables import Parametrisation, Variable
 
@@ -327,10 +327,11 @@ class UpdatingProblem:
     def _assemble(self, x, points: dict[str, ConfigurationPoint], gradient: bool) -> Point:
         """Every configuration's block (computed here unless a remote evaluation brought it) and the
         mass-property rows, in one residual vector and one constraint vector."""
+        changes = shared_changes(self.par, self.work, x) if gradient else None
         for cfg in self.configurations:
             p = points[cfg.name]
             if p.block is None or (gradient and p.block.jacobian is None):
-                p.block = self._block(x, p, gradient)
+                p.block = self._block(x, p, gradient, changes)
         mp = self._mass_props()
         mres, mnames, _ = self._mass_vector(mp)
         blocks = [points[c.name].block for c in self.configurations]
@@ -343,7 +344,7 @@ class UpdatingProblem:
                                 for c in self.configurations})
         if gradient:
             nv = len(self.par)
-            dmp = self._mass_derivatives(x)
+            dmp = self._mass_derivatives(x, changes)
             point.jacobian = np.vstack([b.jacobian for b in blocks] + [dmp])
             crows = [b.constraint_jacobian for b in blocks]
             if len(mcon):
@@ -353,7 +354,7 @@ class UpdatingProblem:
             self.n_gradients += 1
         return point
 
-    def _block(self, x: np.ndarray, p: ConfigurationPoint, gradient: bool) -> Block:
+    def _block(self, x: np.ndarray, p: ConfigurationPoint, gradient: bool, changes: list | None = None) -> Block:
         """Residuals (frequencies, 1 - MAC, static deflections), constraints (MAC >= mac_min) and,
         with gradient, their exact Jacobian rows for one configuration."""
         w = self.objective
@@ -391,7 +392,7 @@ class UpdatingProblem:
         block = Block(np.concatenate(res), names, con, con_names)
         if not gradient:
             return block
-        d = state_derivatives(self.par, self.work, x, p.state, p.tangent)
+        d = state_derivatives(self.par, self.work, x, p.state, p.tangent, changes=changes)
         need_vectors = use_mac or use_mac_min or use_xor
         terms = modal_terms(d, p.state, p.phi[:, idx], p.eigenvalues[idx], need_vectors)
         dlam = eigenvalue_derivatives(p.eigenvalues[idx], p.phi[:, idx], d, terms)
@@ -490,7 +491,7 @@ class UpdatingProblem:
         rows = [du[p.state.node(node), int(c) - 1] for (node, c) in meas.static]
         return np.array(rows)
 
-    def _mass_derivatives(self, x: np.ndarray) -> np.ndarray:
+    def _mass_derivatives(self, x: np.ndarray, changes: list | None = None) -> np.ndarray:
         """d(mass residuals)/dp from the exact derivative of the undeformed mass matrix, projected on
         the rigid-body motions (the moments m, m cg, I are linear in it)."""
         if self.mass_target is None:
@@ -500,7 +501,8 @@ class UpdatingProblem:
         phi = rigid_body_basis(X)
         cols = []
         for k in range(len(self.par)):
-            change = value_change(self.par, self.work, x, k, system.config.name)
+            change = changes[k] if changes and changes[k] is not None else \
+                value_change(self.par, self.work, x, k, system.config.name)
             dM = value_derivative(system, X, I3, 0.0, change, full_mass=True)[2]
             cols.append(_moments(phi.T @ (dM @ phi)))
         return self._mass_chain(np.column_stack(cols))
