@@ -188,3 +188,17 @@ def test_sensor_and_exciter_placement_on_the_deformed_strip():
     with pytest.raises(ModelError, match="no candidate drives"):
         su.driving_point(modes, candidates=axis, mode_indices=np.r_[targets, np.flatnonzero(
             np.array([("T" in lab) for lab in modes.labels]))[:1]])
+
+
+def test_an_attachment_moved_along_the_span_tilts_its_cord_and_is_solved():
+    """A cord attached 1 cm along the span from its node (a rigid arm through the node's rotation)
+    pulls slightly sideways; the loaded cords' pendulum stiffness restrains that (the rigid-body
+    check refused it before, judging the cords by their unloaded tangent)."""
+    from dataclasses import replace
+    case = fg.cases.strip_366(n_elements=61)
+    cfg = case.configurations["outboard"]
+    moved = cfg.with_(suspension=(replace(cfg.suspension[0], offset=(0.0, 0.01, 0.0)),) + cfg.suspension[1:])
+    state = fg.solve_static(case.model, moved)
+    base = fg.solve_modes(fg.solve_static(case.model, cfg), 8, damped=False).frequencies_hz
+    f = fg.solve_modes(state, 8, damped=False).frequencies_hz
+    assert np.all(np.isfinite(f)) and np.abs(f / base - 1).max() < 0.05

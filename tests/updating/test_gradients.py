@@ -73,7 +73,7 @@ def test_cord_and_mass_variables_on_the_hung_strip():
     variables = [up.cord("k_left", 0, "stiffness"), up.cord("k_right", 1, "stiffness", configurations=["outboard"]),
                  up.beam("E", "*", "E"), up.mass("accelerometers", range(26), "mass"),
                  up.mass("acc_height", range(26), "offset_z", bounds=(-1, 3), scale=0.005),
-                 up.cord("attach_left", 0, "offset_z", bounds=(-2, 4), scale=0.01)]
+                 up.cord("attach_left", 0, "offset_y", bounds=(-2, 4), scale=0.01)]
     data = []
     for c in cfgs:
         modes = fg.solve_modes(fg.solve_static(case.model, c), 12, damped=False, label=False)

@@ -231,7 +231,9 @@ def solve_static(model: Model, configuration: Configuration, *, settings: Static
     ev0 = system.evaluate(x, R, 1.0, tangent=False)
     load_ref = max(np.linalg.norm(ev0.external), np.linalg.norm(ev0.internal), 1e-12)
     length = np.abs(system.cm.xyz).max() + 1.0  # correction energies |du . r| are per (load x length) [m]
-    _rigid_body_check(system, lambda: system.evaluate(x, R, 0.0).tangent, ev0.external - ev0.internal, x, R)
+    # The tangent with the full load at the undeformed state: loaded cords already give their
+    # pendulum stiffness there (a tilted cord pulls sideways and restrains that motion too).
+    _rigid_body_check(system, lambda: system.evaluate(x, R, 1.0).tangent, ev0.external - ev0.internal, x, R)
     levels = sorted(set(np.round(np.asarray(load_factors, float), 12))) if load_factors is not None else []
     saved: list[State] = []
 
