@@ -104,7 +104,7 @@ def cross_orthogonality(measured, modes, sensors=None, mass=None) -> np.ndarray:
     real direction). 1 on the diagonal and ~0 off it for a perfect model; the usual acceptance is
     diagonal > 0.9 and off-diagonal < 0.1."""
     A, B, sensors = _pair_shapes(measured, modes, sensors)
-    A = _realise(A)
+    A = realise(A)
     B = np.real(B)
     if mass is not None:
         M = mass
@@ -118,7 +118,7 @@ def cross_orthogonality(measured, modes, sensors=None, mass=None) -> np.ndarray:
     return A @ M @ B.T
 
 
-def _realise(A: np.ndarray) -> np.ndarray:
+def realise(A: np.ndarray) -> np.ndarray:
     """Real shapes from complex ones: each rotated to its dominant real direction."""
     if not np.iscomplexobj(A):
         return A

@@ -21,6 +21,7 @@ from ..fem.massprops import rigid_body_basis, system_mass_properties
 from ..fem.modes import _frequency_hz, _lambda_max_bound, real_modes
 from ..fem.system import System
 from ..model import Configuration, Model
+from ..correlation.mac import realise
 from ..fem.sensitivity import value_derivative
 from .derivatives import (eigenvalue_derivatives, eigenvector_derivatives, modal_terms, sensor_matrix_direction,
                           shared_changes, state_derivatives, value_change)
@@ -381,7 +382,7 @@ class UpdatingProblem:
         if use_xor:  # over all measured modes, so the vector keeps its length if a pair is lost
             pi = np.flatnonzero(ok)
             full = np.zeros((len(fm), len(fm)))
-            full[np.ix_(pi, pi)] = _cross_orthogonality(_real_shapes(meas.shapes[pi]), p.sensor_shapes[p.paired[pi]]) \
+            full[np.ix_(pi, pi)] = _cross_orthogonality(realise(meas.shapes[pi]), p.sensor_shapes[p.paired[pi]]) \
                 - np.eye(len(pi))
             res.append(w.orthogonality * full.ravel())
             names += [f"{name}: XOR[{a + 1},{b + 1}]" for a in range(len(fm)) for b in range(len(fm))]
@@ -409,7 +410,7 @@ class UpdatingProblem:
             A = np.column_stack([shapes[i][0] for i in pi])
             dA = np.stack([shapes[i][1] for i in pi], axis=1)  # (n_sensors, n_pairs, n_var)
             full = np.zeros((len(fm), len(fm), len(self.par)))
-            full[np.ix_(pi, pi)] = _cross_orthogonality_derivative(_real_shapes(meas.shapes[pi]), A, dA).reshape(
+            full[np.ix_(pi, pi)] = _cross_orthogonality_derivative(realise(meas.shapes[pi]), A, dA).reshape(
                 len(pi), len(pi), -1)
             rows.append(w.orthogonality * full.reshape(len(fm) ** 2, -1))
         block.jacobian = np.vstack(rows)
@@ -527,16 +528,6 @@ class UpdatingProblem:
             for a, i0 in enumerate(t.inertia):
                 rows.append(w.inertia * dIcg[a] / i0)
         return np.array(rows)
-
-
-def _real_shapes(shapes: np.ndarray) -> np.ndarray:
-    """Measured shapes (n, n_sensors) made real: each complex shape turned to its dominant real direction."""
-    if not np.iscomplexobj(shapes):
-        return np.asarray(shapes, float)
-    out = np.empty(shapes.shape)
-    for k, row in enumerate(shapes):
-        out[k] = np.real(row * np.exp(-0.5j * np.angle(np.sum(row * row))))
-    return out
 
 
 def _xor_parts(Psi: np.ndarray, A: np.ndarray):
