@@ -192,11 +192,14 @@ def element_frames_at(x, R, nodes, E0s, out):
         corotated(x[i1], x[i2], R[i1], R[i2], E0s[el], out[el], q1, q2, q)
 
 
+_CHUNK = 256  # elements per thread below which splitting the work costs more than it saves
+
+
 @njit(cache=True, nogil=True, parallel=True)
 def beam_kernel(x, R, nodes, E0s, L0s, stiff, arch, want_tangent, f_ref, g_out, K_out, f_out, threads):
     """All elements, in chunks over ``threads`` threads (elements are independent)."""
     n = nodes.shape[0]
-    chunks = min(max(n // 256, 1), threads)
+    chunks = min(max(n // _CHUNK, 1), threads)
     for c in prange(chunks):
         _beam_chunk(x, R, nodes, E0s, L0s, stiff, arch, want_tangent, f_ref, g_out, K_out, f_out,
                     c * n // chunks, (c + 1) * n // chunks)

@@ -18,7 +18,7 @@ from dataclasses import dataclass
 import numba
 import numpy as np
 
-from ._beam_kernel import beam_kernel, element_frames_at
+from ._beam_kernel import _CHUNK, _beam_chunk, beam_kernel, element_frames_at
 from .rotations import cross
 
 @dataclass(frozen=True)
@@ -79,8 +79,14 @@ def beam_forces(x: np.ndarray, R: np.ndarray, data: BeamData, tangent: bool = Tr
         np.ascontiguousarray(reference_forces, dtype=float)
     if ref.shape[0] not in (0, n):
         raise ValueError(f"reference_forces has {ref.shape[0]} rows for {n} beam elements")
-    beam_kernel(np.ascontiguousarray(x), np.ascontiguousarray(R), data.nodes, data.E0, data.L0, data.stiffness,
-                data.arch, tangent, ref, g, K, local, numba.get_num_threads())
+    args = (np.ascontiguousarray(x), np.ascontiguousarray(R), data.nodes, data.E0, data.L0, data.stiffness, data.arch,
+            tangent, ref, g, K, local)
+    if n < 2 * _CHUNK:
+        # One chunk: no parallel region. Launching one costs ~0.5 ms on a 2-core VM, several times the
+        # work of a few hundred elements (the updating's derivative passes make hundreds of such calls).
+        _beam_chunk(*args, 0, n)
+    else:
+        beam_kernel(*args, numba.get_num_threads())
     return g, (K if tangent else None), local
 
 
