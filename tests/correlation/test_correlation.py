@@ -171,3 +171,18 @@ def test_identified_modes_against_analytical_ones_end_to_end():
     assert sorted(p.analytical.tolist()) == bending
     assert p.mac.min() > 0.99 and np.abs(p.frequency_error).max() < 1e-3
     assert m.shape == (len(measured.frequencies_hz), 6)
+
+
+def test_a_far_mode_with_a_high_mac_is_not_paired():
+    """Few sensors can see a far mode's tiny motion with a high MAC: beyond max_frequency_ratio it
+    never pairs (a 16 Hz torsion mode must not pair with a 0.3 Hz pendulum mode)."""
+    shape = np.array([[1.0, 0.5, -0.3, 0.2]])
+    meas = SimpleNamespace(frequencies_hz=np.array([16.0]), shapes=shape)
+    fe = SimpleNamespace(frequencies_hz=np.array([0.3, 12.0]), shapes=np.vstack([shape, shape + [[0.0, 0.4, 0.3, 0.0]]]))
+    assert pair(meas, fe, max_frequency_ratio=None).analytical.tolist() == [0]
+    p = pair(meas, fe)
+    assert p.analytical.tolist() == [1] and p.mac[0] < 1.0
+    fe_far = SimpleNamespace(frequencies_hz=np.array([0.3, 40.0]), shapes=fe.shapes)
+    assert pair(meas, fe_far).unpaired == (0,)
+    with pytest.raises(ModelError, match="max_frequency_ratio"):
+        pair(meas, fe, max_frequency_ratio=1.0)

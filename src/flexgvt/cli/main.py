@@ -31,10 +31,12 @@ if ema_app is not None:
 
 from .suspension import app as _suspension_app  # noqa: E402
 from .verify import register as _register_verify  # noqa: E402
+from .workflow import register as _register_workflow  # noqa: E402
 
 app.add_typer(_suspension_app, name="suspension")
 
 _register_verify(app, console)
+_register_workflow(app, console)
 
 
 def _fail(exc: Exception) -> None:
@@ -164,53 +166,35 @@ def _write_figures(out: Path, title: str, states: dict, mode_sets: dict) -> list
 
 
 @app.command()
-def demo(out: Path = typer.Option(Path("demo-output"), help="folder for figures"),
-         json_path: Optional[Path] = typer.Option(None, "--json", help="write the figures' numbers as JSON")):
-    """Solve the cantilever strip under self-weight and the suspended 3.66 m strip: static shapes,
-    pre-stressed modes and modes followed from 0 to 1 g."""
+def demo(out: Path = typer.Option(Path("demo-output"), help="folder for the project, its data and results"),
+         json_path: Optional[Path] = typer.Option(None, "--json", help="write per-mode prediction errors as JSON"),
+         seed: int = typer.Option(7, help="seed of the as-built airframe and of the measurement noise"),
+         report: bool = typer.Option(True, help="write the HTML report (--no-report to skip)")):
+    """The whole method on the X-HALE-like aircraft: synthetic GVT of the as-built airframe in two
+    suspension layouts, PolyMAX, updating on both at once (30 variables), suspension removed,
+    free-free and 20 m bungee predictions scored against the as-built truth, report."""
+    from ..workflow.demo import SCORED_MODES, run_demo
+    from .workflow import prediction_table
     try:
-        from ..cases import cantilever_strip, strip_366
-        from ..fem import modes_versus_load, solve_modes
-        from ..report import plots
-
-        console.rule("[bold]flexgvt demo: very flexible strips[/]")
-        case = cantilever_strip()
-        console.print(case.description.splitlines()[0])
-        results, states, mode_sets = {}, {}, {}
-        for name in ("unloaded", "self_weight"):
-            st = _solve_with_progress(case.model, case.configurations[name])
-            md = solve_modes(st, 8)
-            states[name], mode_sets[name] = st, md
-            results[name] = _result_record(st, md, {"total": st.solve_time_s})
-        tip = states["self_weight"].displacements[-1, 2]
-        console.print(f"self-weight tip deflection {tip:.3f} m ({100 * abs(tip) / 1.5:.0f} % of the span)")
-        tracking = modes_versus_load(case.model, case.configurations["self_weight"], np.linspace(0, 1, 11), 8)
-        console.print(_tracking_table("Cantilever strip: modes followed by MAC from 0 to 1 g", tracking))
-        out.mkdir(parents=True, exist_ok=True)
-        files = _write_figures(out, "cantilever strip", states, mode_sets)
-        fig = plots.frequency_versus_load(tracking, "Cantilever strip: modes followed from 0 to 1 g")
-        files.append(out / "frequency_vs_load.png")
-        fig.savefig(files[-1], dpi=120)
-        console.print(f"frequency versus load: {files[-1]}")
-
-        strip = strip_366()
-        suspended = {}
-        for name in ("free_free", "outboard", "inboard"):
-            st = _solve_with_progress(strip.model, strip.configurations[name])
-            md = solve_modes(st, 10)
-            suspended[name] = _result_record(st, md, {"total": st.solve_time_s})
-            if name != "free_free":
-                states[f"strip_{name}"] = st
-        console.print(_modes_table("3.66 m strip: free-free and suspended (cords with damping)", suspended))
-        fig = plots.static_shape([states["strip_outboard"], states["strip_inboard"]], "3.66 m strip on two cords")
-        files.append(out / "strip_366_static_shape.png")
-        fig.savefig(files[-1], dpi=120)
-        console.print(f"figures written to {out}/")
+        console.rule("[bold]flexgvt demo: X-HALE-like aircraft, GVT on two suspension layouts[/]")
+        result = run_demo(out, seed=seed, log=console.print, report=report)
+        for name, c in result["configurations"].items():
+            console.print(f"configuration '{name}': rms frequency error {c['initial_rms_error_percent']:.2f} % "
+                          f"(initial model) -> {c['updated_rms_error_percent']:.2f} % (updated), {c['modes']} modes")
+        for key, rows in result["free_free"].items():
+            console.print(prediction_table(f"free-free prediction of the {key} model against the as-built truth "
+                                           f"(first {SCORED_MODES} elastic modes, paired by MAC)", rows))
+        for name, by_model in result["bungees"].items():
+            console.print(prediction_table(f"{name} (20 m bungees): updated model against the as-built truth",
+                                           by_model.get("updated", by_model.get("initial"))))
+        worst = result["max_abs_error_percent"]
+        console.print("largest free-free error: " + ", ".join(f"{k} model {v:.2f} %" for k, v in worst.items()))
+        if "report" in result["files"]:
+            console.print(f"report: {result['files']['report']}")
+        console.print(f"done in {result['timings_s']['total']:.1f} s; everything in {out}/")
         if json_path is not None:
-            json_path.write_text(json.dumps({"case": "demo", "configurations": {**results, **suspended},
-                                             "tracking": {"load_factors": tracking.load_factors.tolist(),
-                                                          "frequencies_hz": tracking.frequencies_hz.tolist(),
-                                                          "labels": list(tracking.labels)}}, indent=2))
+            json_path.write_text(json.dumps(result, indent=1, default=float))
+            console.print(f"results written to {json_path}")
     except FlexGVTError as exc:
         _fail(exc)
 

@@ -55,14 +55,17 @@ class Pairing:
                 "analytical mode reaches the MAC floor (a mode the model lacks, or too few analytical modes)")
 
 
-def pair(measured, modes, sensors=None, mac_floor: float = 0.5, exclude_rigid: bool = True) -> Pairing:
+def pair(measured, modes, sensors=None, mac_floor: float = 0.5, exclude_rigid: bool = True,
+         max_frequency_ratio: float | None = 2.0) -> Pairing:
     """Pair measured modes (ModalSet or (n, n_rows) array with frequencies given by ``measured``'s
     frequencies_hz) with analytical ones (fem Modes, reduced to the sensors).
 
     The assignment maximises the sum of MAC - 0.01 min(|ln(f_a / f_m)|, 1) (scipy's
     linear_sum_assignment): MAC decides, frequency only breaks near-ties. exclude_rigid leaves out
     analytical modes at 0 Hz (rigid-body modes of a free model); a suspended model's pendulum and
-    plunge modes have frequencies and pair with measured suspension modes like any other."""
+    plunge modes have frequencies and pair with measured suspension modes like any other.
+    max_frequency_ratio: an analytical mode more than this factor away in frequency never pairs
+    (a few sensors can see a far mode's tiny motion with a high MAC; None: no limit)."""
     A, B, _ = _pair_shapes(measured, modes, sensors)
     fm = np.asarray(getattr(measured, "frequencies_hz", np.full(len(A), np.nan)), float)
     fa = np.asarray(getattr(modes, "frequencies_hz", np.full(len(B), np.nan)), float)
@@ -74,10 +77,18 @@ def pair(measured, modes, sensors=None, mac_floor: float = 0.5, exclude_rigid: b
         usable &= fa > 0
     closeness = np.abs(np.log(np.where(fa[None, :] > 0, fa[None, :], 1.0) / np.where(fm[:, None] > 0, fm[:, None], 1.0)))
     closeness = np.where(np.isfinite(closeness), np.minimum(closeness, 1.0), 1.0)
-    score = np.where(usable[None, :], macm - TIE_BREAK * closeness, -1.0)
+    allowed = np.broadcast_to(usable[None, :], macm.shape).copy()
+    if max_frequency_ratio is not None:
+        if not max_frequency_ratio > 1.0:
+            raise ModelError(f"pair: max_frequency_ratio={max_frequency_ratio} must be > 1")
+        ratio = np.where((fa[None, :] > 0) & (fm[:, None] > 0),
+                         np.abs(np.log(np.where(fa[None, :] > 0, fa[None, :], 1.0) / np.where(fm[:, None] > 0, fm[:, None], 1.0))),
+                         0.0)
+        allowed &= ~(np.nan_to_num(ratio, nan=0.0) > np.log(max_frequency_ratio))
+    score = np.where(allowed, macm - TIE_BREAK * closeness, -1.0)
     rows, cols = linear_sum_assignment(-score) if len(A) and usable.any() else (np.zeros(0, int), np.zeros(0, int))
     keep = macm[rows, cols] >= mac_floor
-    keep &= usable[cols]
+    keep &= allowed[rows, cols]
     r, c = rows[keep], cols[keep]
     unpaired = tuple(sorted(set(range(len(A))) - set(r.tolist())))
     err = (fa[c] - fm[r]) / np.where(fm[r] != 0, fm[r], np.nan)

@@ -272,7 +272,8 @@ class UpdatingProblem:
 
             from ..correlation import pair
             got = pair(SimpleNamespace(frequencies_hz=fm, shapes=meas.shapes), SimpleNamespace(frequencies_hz=f,
-                       shapes=shapes_s), mac_floor=self.objective.mac_floor)
+                       shapes=shapes_s), mac_floor=self.objective.mac_floor,
+                       max_frequency_ratio=self.objective.max_frequency_ratio)
             paired = np.full(len(fm), -1)
             paired[got.measured] = got.analytical
             mac = np.full(len(fm), np.nan)

@@ -96,7 +96,9 @@ class Objective:
     XOR - I over the paired modes, XOR through the SEREP mass of the paired analytical modes). mac_min: pairs below it violate a constraint
     (SLSQP, trust-constr) or are penalised (least squares, Nelder-Mead); mass_limits: relative
     band the mass properties must stay in (e.g. 0.1 = +-10 %); use_std: weight frequency errors
-    by the measured standard deviations when given (relative scatter over the median's)."""
+    by the measured standard deviations when given (relative scatter over the median's);
+    mac_floor: pairs below it are not made; max_frequency_ratio: modes farther apart in frequency
+    than this factor are not paired (see flexgvt.correlation.pair)."""
 
     frequency: float = 1.0
     mac: float = 0.0
@@ -108,4 +110,5 @@ class Objective:
     mass_limits: float | None = None
     use_std: bool = True
     mac_floor: float = 0.5
+    max_frequency_ratio: float | None = 2.0
     orthogonality: float = 0.0

@@ -1,0 +1,19 @@
+"""The main job: a project file -> identified modes -> updated model -> free-flying prediction -> report.
+
+    project = fg.workflow.load_project("project.toml")      # validated before anything long runs
+    result = fg.workflow.run(project, log=print)             # resumable from the project's store
+
+Each step is a public function a script can call on its own: identify, update_model, check,
+predict, write_outputs, write_project_report.
+"""
+
+from .identification import Identified, identify, read_modes
+from .outputs import write_outputs
+from .project import Project, ProjectError, load_project
+from .runner import RunResult, identify_all, run
+from .steps import Prediction, check, objective, predict, score, update_model
+from .template import example_project, write_example
+
+__all__ = ["Identified", "Prediction", "Project", "ProjectError", "RunResult", "check", "example_project", "write_example",
+           "identify", "identify_all", "load_project", "objective", "predict", "read_modes", "run", "score",
+           "update_model", "write_outputs"]

@@ -1,0 +1,276 @@
+"""A project file read, validated and resolved into the model, configurations and variables it names.
+
+    project = fg.workflow.load_project("project.toml")
+    project.model, project.configurations, project.variables
+
+Every check that can fail is done here, before any long computation: TOML syntax, unknown keys,
+units, missing files, unknown configurations, block tests or model components, a configuration
+to update without test data. Each error names the file and the offending key.
+"""
+
+from __future__ import annotations
+
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+from pydantic import ValidationError
+
+from ..errors import FlexGVTError, ModelError
+from ..model import ConcentratedMass, Configuration, Cord, Model
+from ..model.configuration import STANDARD_GRAVITY
+from .schema import ConfigurationSpec, ProjectFile
+
+
+class ProjectError(FlexGVTError, ValueError):
+    """The project file is invalid: the message names the file, the key and the remedy."""
+
+
+def _loc(loc) -> str:
+    out = ""
+    for part in loc:
+        out += f"[{part}]" if isinstance(part, int) else (f".{part}" if out else str(part))
+    return out
+
+
+@dataclass
+class Project:
+    """A validated project: its file, the parsed spec and what it resolves to.
+
+    model: the structure (built-in case or deck); configurations: the project's test
+    configurations by name (suspension, masses, loads resolved); available: every configuration
+    the model defines (a case's or a deck's), for predictions; variables: the design variables;
+    sensors: {configuration: (node_map, offsets)} test point -> FE node and arm [m]."""
+
+    path: Path
+    spec: ProjectFile
+    model: Model
+    configurations: dict[str, Configuration]
+    available: dict[str, Configuration]
+    variables: list
+    case: object | None = None
+    deck: object | None = None
+    sensors: dict = field(default_factory=dict)
+
+    @property
+    def folder(self) -> Path:
+        return self.path.parent
+
+    def file(self, name: str) -> Path:
+        """A path of the project file, relative to its folder."""
+        p = Path(name).expanduser()
+        return p if p.is_absolute() else self.folder / p
+
+    @property
+    def output(self) -> Path:
+        return self.file(self.spec.outputs.directory)
+
+    @property
+    def to_update(self) -> list[str]:
+        return [c.name for c in self.spec.configurations if c.role == "update"]
+
+
+def load_project(path: str | Path) -> Project:
+    """Read and check a project file; raises ProjectError naming the file and key on any problem."""
+    path = Path(path)
+    if not path.is_file():
+        raise ProjectError(f"{path}: project file not found")
+    try:
+        raw = tomllib.loads(path.read_text())
+    except tomllib.TOMLDecodeError as exc:
+        raise ProjectError(f"{path}: not valid TOML: {exc}") from None
+    except UnicodeDecodeError:
+        raise ProjectError(f"{path}: not a text file (TOML is UTF-8 text)") from None
+    try:
+        spec = ProjectFile.model_validate(raw)
+    except ValidationError as exc:
+        lines = []
+        for e in exc.errors():
+            msg = e["msg"].removeprefix("Value error, ")
+            if e["type"] == "extra_forbidden":
+                msg = "unknown key (check the spelling; `flexgvt init` writes every key with a comment)"
+            lines.append(f"  {_loc(e['loc']) or '(top level)'}: {msg}")
+        raise ProjectError(f"{path}: {len(lines)} problem(s) in the project file:\n" + "\n".join(lines)) from None
+    return resolve(path, spec)
+
+
+def _need_file(path: Path, where: str, what: str) -> Path:
+    if not path.is_file():
+        raise ProjectError(f"{where}: {what} '{path}' not found (paths are relative to the project file's folder)")
+    return path
+
+
+def resolve(path: Path, spec: ProjectFile) -> Project:
+    """Build the model, configurations and variables a validated spec names, checking every reference."""
+    folder = path.parent
+    rel = lambda s: (Path(s) if Path(s).is_absolute() else folder / s)  # noqa: E731
+    where = str(path)
+    case = deck = None
+    if spec.model.case is not None:
+        from .. import cases
+        try:
+            case = cases.get(spec.model.case, **spec.model.options)
+        except TypeError as exc:
+            raise ProjectError(f"{where}: model.options: {exc}") from None
+        except ModelError as exc:
+            raise ProjectError(f"{where}: model.case: {exc}") from None
+        model, available = case.model, dict(case.configurations)
+    else:
+        bdf = _need_file(rel(spec.model.bdf), f"{where}: model.bdf", "deck")
+        from ..io import read_bdf
+        try:
+            deck = read_bdf(bdf, units=spec.model.units)
+        except FlexGVTError as exc:
+            raise ProjectError(f"{where}: model.bdf: {exc}") from None
+        model, available = deck.model, dict(deck.configurations)
+
+    names = [c.name for c in spec.configurations]
+    for kind, items in (("configurations", names), ("variables", [v.name for v in spec.variables]),
+                        ("suspension_tests", [b.name for b in spec.suspension_tests])):
+        dup = sorted({n for n in items if items.count(n) > 1})
+        if dup:
+            raise ProjectError(f"{where}: {kind}: names must be unique; repeated: {dup}")
+    blocks = {b.name: b for b in spec.suspension_tests}
+    configurations, sensors = {}, {}
+    for k, c in enumerate(spec.configurations):
+        loc = f"{where}: configurations[{k}] ('{c.name}')"
+        configurations[c.name] = _configuration(c, available, blocks, model, loc)
+        if c.role == "update" and c.test is None:
+            raise ProjectError(f"{loc}: no test data: add a [configurations.test] table with 'frfs' or 'modes', "
+                               "or set role = \"check\" to only predict this configuration")
+        if c.test is not None:
+            t = c.test
+            for key, files in (("frfs", t.frfs), ("modes", t.modes)):
+                for f in ([files] if isinstance(files, str) else files or []):
+                    _need_file(rel(f), f"{loc}.test.{key}", "test data file")
+            sensors[c.name] = _points(t.points, case, model, rel, f"{loc}.test.points")
+    if not spec.variables and any(c.role == "update" for c in spec.configurations):
+        raise ProjectError(f"{where}: variables: no design variable; add [[variables]] tables (or set every "
+                           "configuration's role = \"check\" to only compare and predict)")
+    variables = _variables(spec, model, configurations, where)
+    for k, name in enumerate(spec.prediction.proposed):
+        if name not in available and name not in configurations:
+            raise ProjectError(f"{where}: prediction.proposed[{k}]: no configuration '{name}'; the model defines "
+                               f"{sorted(available)}, the project {names}")
+    if spec.prediction.reference is not None:
+        _need_file(rel(spec.prediction.reference), f"{where}: prediction.reference", "reference file")
+    return Project(path, spec, model, configurations, available, variables, case, deck, sensors)
+
+
+def _configuration(c: ConfigurationSpec, available: dict, blocks: dict, model: Model, loc: str) -> Configuration:
+    if c.from_ is not None and c.from_ not in available:
+        raise ProjectError(f"{loc}.from: the model has no configuration '{c.from_}'; it defines {sorted(available)}")
+    base = available[c.from_] if c.from_ is not None else Configuration(c.name)
+    changes: dict = {"name": c.name}
+    if c.gravity is not None:
+        changes["gravity"] = c.gravity
+    for j, m in enumerate(c.masses):
+        _node(model, m.node, f"{loc}.masses[{j}].node")
+    if c.masses:
+        changes["masses"] = tuple(base.masses) + tuple(
+            ConcentratedMass(m.node, m.mass, np.asarray(m.offset, float), np.zeros((3, 3))) for m in c.masses)
+    if c.fixed is not None:
+        fixed = {}
+        for node, comps in c.fixed.items():
+            try:
+                fixed[int(node)] = comps
+            except ValueError:
+                raise ProjectError(f"{loc}.fixed: key {node!r} must be a node id") from None
+            _node(model, int(node), f"{loc}.fixed.{node}")
+        changes["fixed"] = fixed
+    if c.cords is not None:
+        g = (c.gravity if c.gravity is not None else base.gravity) * base.g or STANDARD_GRAVITY
+        cords = []
+        for j, cs in enumerate(c.cords):
+            cl = f"{loc}.cords[{j}]"
+            _node(model, cs.node, f"{cl}.node")
+            k, damp = cs.stiffness, cs.damping
+            if cs.block_test is not None:
+                if cs.block_test not in blocks:
+                    raise ProjectError(f"{cl}.block_test: no suspension test '{cs.block_test}'; defined: "
+                                       f"{sorted(blocks)}")
+                point = block_point(blocks[cs.block_test])
+                k, damp = point.stiffness, point.damping
+            attach = model.xyz[model.index_of([cs.node])[0]] + np.asarray(cs.offset)
+            length = float(np.linalg.norm(np.asarray(cs.anchor) - attach))
+            free = cs.unstretched_length if cs.unstretched_length is not None else length - cs.carries * g / k
+            if free <= 0:
+                raise ProjectError(f"{cl}: the cord would need a negative unstretched length to carry "
+                                   f"{cs.carries} kg ({cs.carries * g / k:.3g} m stretch over a {length:.3g} m "
+                                   "cord); move the anchor higher or stiffen the cord")
+            cords.append(Cord(cs.node, tuple(cs.anchor), k, free, damp, tuple(cs.offset)))
+        changes["suspension"] = tuple(cords)
+    try:
+        return base.with_(**changes)
+    except ModelError as exc:
+        raise ProjectError(f"{loc}: {exc}") from None
+
+
+def block_point(b):
+    """The SuspensionPoint a block test gives (flexgvt.suspension.identify_block)."""
+    from ..suspension import identify_block
+    return identify_block(b.mass, frequency_hz=b.frequency_hz, damping_ratio=b.damping_ratio)
+
+
+def _node(model: Model, node: int, where: str) -> None:
+    try:
+        model.index_of([node], "node")
+    except ModelError:
+        raise ProjectError(f"{where}: node {node} is not in model '{model.name}'") from None
+
+
+def _points(points: str, case, model: Model, rel, where: str) -> tuple[dict, dict]:
+    """Test point -> FE node and arm: 'nodes' (same ids, no arm), 'case' (a built-in case's sensors,
+    point k + 1 = its k-th sensor position) or a CSV file point,node,dx,dy,dz [m]."""
+    if points == "nodes":
+        return {}, {}
+    if points == "case":
+        if case is None or not case.sensors:
+            raise ProjectError(f"{where}: 'case' needs a built-in model with sensors; give a CSV of points instead")
+        return case_points(case)
+    path = _need_file(rel(points), where, "test point file")
+    try:
+        rows = np.atleast_2d(np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2))
+    except ValueError as exc:
+        raise ProjectError(f"{where}: {path}: expected CSV columns point,node,dx,dy,dz [m] after a header: {exc}") \
+            from None
+    if rows.shape[1] not in (2, 5) or not np.all(np.isfinite(rows)):
+        raise ProjectError(f"{where}: {path}: expected columns point,node[,dx,dy,dz] with finite values")
+    node_map = {int(r[0]): int(r[1]) for r in rows}
+    for pt, node in node_map.items():
+        _node(model, node, f"{where}: {path} point {pt}")
+    offsets = {int(r[0]): r[2:5] for r in rows} if rows.shape[1] == 5 else {}
+    return node_map, offsets
+
+
+def case_points(case) -> tuple[dict, dict]:
+    """A case's sensor positions as test points 1..n (one per distinct node and arm)."""
+    node_map, offsets, seen = {}, {}, {}
+    for node, offset, _ in case.sensors.values():
+        key = (int(node), tuple(np.round(np.asarray(offset, float), 9)))
+        if key not in seen:
+            seen[key] = len(seen) + 1
+            node_map[seen[key]] = int(node)
+            offsets[seen[key]] = np.asarray(offset, float)
+    return node_map, offsets
+
+
+def _variables(spec: ProjectFile, model: Model, configurations: dict, where: str) -> list:
+    from ..updating import Parametrisation, Variable
+    out = []
+    for k, v in enumerate(spec.variables):
+        try:
+            var = Variable(v.name, v.kind, v.attribute if v.attribute != "thickness" else "height",
+                           tuple(v.targets), tuple(v.bounds),
+                           configurations=None if v.configurations is None else tuple(v.configurations))
+            Parametrisation(model, list(configurations.values()), [var])
+        except ModelError as exc:
+            raise ProjectError(f"{where}: variables[{k}] ('{v.name}'): {exc}") from None
+        out.append(var)
+    if out:
+        try:
+            Parametrisation(model, list(configurations.values()), out)
+        except ModelError as exc:
+            raise ProjectError(f"{where}: variables: {exc}") from None
+    return out

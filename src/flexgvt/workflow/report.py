@@ -1,0 +1,147 @@
+"""The run's results as a flexgvt.report ReportContent: deformed shapes, stabilisation diagrams,
+MAC matrices, frequency errors before and after, animated mode shapes (measured on analytical,
+on the deformed geometry), design variables with their uncertainty, frequency versus load and
+the free-flying prediction."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from ..io.uff import shapes_at_points
+
+
+def _geometry(model, positions):
+    from ..report import Geometry
+    edges = [model.index_of(g.nodes) for g in model.beams]
+    return Geometry(np.asarray(positions, float), np.concatenate(edges) if edges else np.zeros((0, 2), int))
+
+
+def _measured_points(project, item, state):
+    """Test points' deformed positions and measured real shapes (n_modes, p, 3), or (None, None)."""
+    if item.shapes is None:
+        return None, None
+    points, shapes = shapes_at_points(np.real(item.shapes), item.outputs)
+    node_map, offsets = project.sensors.get(item.configuration, ({}, {}))
+    ids = list(state.system.cm.node_ids)
+    xyz = []
+    for p in points:
+        k = ids.index(node_map.get(int(p), int(p)))
+        xyz.append(state.positions[k] + state.rotations[k] @ np.asarray(offsets.get(int(p), np.zeros(3)), float))
+    return np.asarray(xyz), shapes
+
+
+def _section(res, name: str):
+    from ..report import ConfigurationSection, ModeShape, StabilisationData
+    project, up = res.project, res.update
+    model = res.model
+    item = res.identified.get(name)
+    rows, mac0, mac1, modes, state = [], None, None, [], None
+    if up is not None and name in up.tables:
+        cp = up.final.configurations[name]
+        state = cp.state
+        fe = cp.modes()
+        rows = [{"mode": r["mode"], "label": r["label"], "measured_hz": r["measured_hz"],
+                 "initial_hz": r["initial_hz"], "updated_hz": r["updated_hz"],
+                 "initial_error_percent": r["initial_error_percent"],
+                 "updated_error_percent": r["updated_error_percent"],
+                 "mac_initial": r["initial_mac"], "mac_updated": r["updated_mac"]} for r in up.tables[name]]
+        if up.mac.get(name) is not None:
+            mac0, mac1 = up.mac[name]
+        xyz, meas = _measured_points(project, item, state) if item is not None else (None, None)
+        for i, j in enumerate(cp.paired):
+            if j < 0:
+                continue
+            modes.append(ModeShape(
+                f"{rows[i]['label'] or fe.labels[j]} ({rows[i]['measured_hz']:.3f} Hz measured)",
+                float(fe.frequencies_hz[j]), fe.shapes[j, :, :3], measured_hz=rows[i]["measured_hz"],
+                mac=rows[i]["mac_updated"], measured_xyz=xyz,
+                measured_displacement=None if meas is None else _aligned(meas[i], fe, j, xyz, state)))
+    else:
+        from ..fem import solve_modes, solve_static
+        state = solve_static(model, project.configurations[name])
+        fe = solve_modes(state, 12, damped=False)
+        modes = [ModeShape(f"{fe.labels[j]}", float(fe.frequencies_hz[j]), fe.shapes[j, :, :3])
+                 for j in range(min(8, fe.n_modes))]
+    d = None if item is None else item.diagram
+    stab = None if not d else StabilisationData(d["frequencies_hz"], d["indicator"], d["orders"], d["poles_hz"],
+                                                d["stable"], d["selected_hz"])
+    n_a = 0 if mac1 is None else mac1.shape[1]
+    labels_a = [f"{j + 1}: {fe.labels[j]} {fe.frequencies_hz[j]:.2f} Hz" if j < fe.n_modes else f"FE {j + 1}"
+                for j in range(n_a)]
+    labels_m = [f"{r['mode']}: {r['measured_hz']:.2f} Hz" for r in rows] if mac1 is not None else []
+    return ConfigurationSection(name, _geometry(model, model.xyz), _geometry(model, state.positions), rows,
+                                mac0, mac1, labels_m, labels_a, stab, modes)
+
+
+def _aligned(meas, fe, j, xyz, state):
+    """The measured shape (p, 3) scaled and signed to the analytical one at the test points, so the
+    two move together in the animation (least-squares scale)."""
+    pos = state.positions
+    near = [int(np.argmin(np.linalg.norm(pos - x, axis=1))) for x in xyz]
+    ana = fe.shapes[j, near, :3]
+    a, m = ana.ravel(), np.real(meas).ravel()
+    scale = float(a @ m) / float(m @ m) if float(m @ m) > 0 else 1.0
+    return np.real(meas) * scale
+
+
+def build_report_content(res):
+    """A ReportContent for a RunResult."""
+    from ..fem import modes_versus_load
+    from ..report import ReportContent
+    project, up = res.project, res.update
+    spec = project.spec
+    summary = [("project", f"{spec.project.name} ({project.path.name})"), ("model", project.model.name),
+               ("configurations", ", ".join(f"{c.name} ({c.role})" for c in spec.configurations))]
+    for name, item in res.identified.items():
+        summary.append((f"test data {name}", f"{len(item.frequencies_hz)} modes from {item.source}"))
+    variables, history = [], []
+    if up is not None:
+        summary += [("updating", f"{len(project.variables)} variables, {up.method}: {up.message}"),
+                    ("objective", f"{up.initial.objective:.4g} -> {up.final.objective:.4g} in "
+                                  f"{len(up.history) - 1} iterations ({up.solves} solves, {up.seconds:.1f} s)")]
+        for r in up.variables:
+            std = r["std"]
+            variables.append({"name": r["name"], "initial": r["initial"], "updated": r["final"],
+                              "change_percent": r["change_percent"],
+                              "std_percent": None if std is None or not r["initial"] else 100 * std / abs(r["initial"]),
+                              "bounds": (r["lower"], r["upper"]), "at_bound": r["at_bound"],
+                              "identifiable": r["identifiable"]})
+        history = [float(h["objective"]) for h in up.history]
+    summary.append(("run time", ", ".join(f"{k} {v:.1f} s" for k, v in res.timings.items())))
+    sections = [_section(res, c.name) for c in spec.configurations]
+    evolution = None
+    first = next((c.name for c in spec.configurations), None)
+    if first is not None:
+        cfg = (up.configurations if up is not None else project.configurations).get(first,
+                                                                                      project.configurations[first])
+        if cfg.gravity:
+            tr = modes_versus_load(res.model, cfg, np.linspace(0.0, cfg.gravity, 6), 12)
+            evolution = {"load_factors": tr.load_factors, "frequencies_hz": tr.frequencies_hz,
+                         "labels": list(tr.labels)}
+    prediction, title = [], "Free-flying prediction"
+    if "updated" in res.predictions or "initial" in res.predictions:
+        key = "updated" if "updated" in res.predictions else "initial"
+        init = {r["free_mode"]: r for r in res.predictions.get("initial", res.predictions[key]).rows}
+        for r in res.predictions[key].rows:
+            row = {"mode": r["free_mode"], "label": r["label"]}
+            if key == "updated" and r["free_mode"] in init:
+                row["initial_free_hz"] = init[r["free_mode"]]["free_hz"]
+                if "reference_hz" in init[r["free_mode"]]:
+                    row["initial_error_percent"] = init[r["free_mode"]]["error_percent"]
+            row.update({k: v for k, v in r.items() if k not in ("free_mode", "label") and not k.endswith("_mac")})
+            prediction.append(row)
+        title = (f"Free-flying prediction ({key} model): suspension removed (free_hz) and each suspended or "
+                 "proposed configuration's modes paired with it by mass-weighted MAC")
+    notes = []
+    if up is not None and up.identifiability.get("unidentifiable"):
+        notes.append(f"variables the data cannot see: {up.identifiability['unidentifiable']}")
+    return ReportContent(f"flexgvt: {spec.project.name}", summary, sections, variables, history, evolution,
+                         prediction, title, notes)
+
+
+def write_project_report(res, out: Path) -> Path:
+    """report.html (self-contained), figures/*.png and tables/*.csv in ``out``."""
+    from ..report import write_report
+    return write_report(build_report_content(res), out)

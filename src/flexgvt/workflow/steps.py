@@ -1,0 +1,162 @@
+"""Steps 2-4 of the main job, each a public function a script can call on its own:
+updating on every configuration at once, the check of unseen configurations, and the
+free-flying prediction (suspension removed, proposed suspensions) scored against a reference."""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..errors import FlexGVTError
+from ..model import Configuration, Model
+from .identification import Identified
+from .project import Project, ProjectError
+
+
+def objective(project: Project):
+    """(Objective, MassTarget or None) from the project's [objective] table."""
+    from ..updating import MassTarget, Objective
+    o = project.spec.objective
+    target = None
+    if o.measured_mass is not None:
+        m = o.measured_mass
+        target = MassTarget(m.mass, None if m.cg is None else tuple(m.cg), None if m.inertia is None else tuple(m.inertia))
+    return Objective(frequency=o.frequency, mac=o.mac, mass=o.mass, cg=o.cg, inertia=o.inertia,
+                     orthogonality=o.orthogonality, mac_min=o.mac_min, mac_floor=o.mac_floor,
+                     max_frequency_ratio=o.max_frequency_ratio,
+                     mass_limits=o.mass_limits), target
+
+
+def update_model(project: Project, identified: dict[str, Identified], store=None, callback=None):
+    """flexgvt.updating.update on every configuration with role 'update' at once."""
+    from ..updating import update
+    names = project.to_update
+    missing = [n for n in names if n not in identified]
+    if missing:
+        raise ProjectError(f"{project.path}: no measured modes for configuration(s) {missing}")
+    obj, target = objective(project)
+    opt = project.spec.optimiser
+    return update(project.model, [project.configurations[n] for n in names],
+                  [identified[n].measured(project) for n in names], project.variables, mass_target=target,
+                  objective=obj, method=opt.method, starts=opt.starts, seed=opt.seed,
+                  max_iterations=opt.max_iterations, tolerance=opt.tolerance, n_modes=opt.n_modes, store=store,
+                  callback=callback)
+
+
+def check(project: Project, model: Model, identified: dict[str, Identified], n_modes: int | None = None) -> dict:
+    """Configurations with role 'check' (not updated on): measured against ``model``'s modes, paired by
+    MAC (or frequency without shapes). Returns {name: rows}."""
+    from ..fem import solve_modes, solve_static
+    from ..correlation import pair
+    out = {}
+    for spec in project.spec.configurations:
+        if spec.role != "check" or spec.name not in identified:
+            continue
+        meas = identified[spec.name]
+        modes = solve_modes(solve_static(model, project.configurations[spec.name]),
+                            n_modes or 2 * len(meas.frequencies_hz) + 6, damped=False)
+        rows = []
+        if meas.shapes is not None:
+            m = meas.measured(project)
+            p = pair(_as_modal(meas), modes, m.sensors, mac_floor=project.spec.objective.mac_floor,
+                     max_frequency_ratio=project.spec.objective.max_frequency_ratio)
+            got = {int(i): (int(j), float(v)) for i, j, v in zip(p.measured, p.analytical, p.mac)}
+        else:
+            got = _pair_by_frequency(meas.frequencies_hz, modes.frequencies_hz)
+        for i, f in enumerate(meas.frequencies_hz):
+            j, mac = got.get(i, (None, None))
+            fa = None if j is None else float(modes.frequencies_hz[j])
+            rows.append({"mode": i + 1, "label": meas.labels[i] if i < len(meas.labels) else "",
+                         "measured_hz": float(f), "analytical_hz": fa,
+                         "error_percent": None if fa is None else 100 * (fa - f) / f, "mac": mac})
+        out[spec.name] = rows
+    return out
+
+
+def _as_modal(meas: Identified):
+    from types import SimpleNamespace
+    return SimpleNamespace(frequencies_hz=meas.frequencies_hz, shapes=meas.shapes, outputs=meas.outputs)
+
+
+def _pair_by_frequency(measured, analytical) -> dict:
+    from scipy.optimize import linear_sum_assignment
+    fa = np.asarray(analytical)
+    ok = np.flatnonzero(fa > 1e-6)
+    cost = np.abs(np.log(np.asarray(measured)[:, None] / fa[ok][None, :]))
+    r, c = linear_sum_assignment(cost)
+    return {int(i): (int(ok[j]), None) for i, j in zip(r, c)}
+
+
+@dataclass
+class Prediction:
+    """Free-flying prediction of one model: free-free modes (suspension removed, free fall) and each
+    proposed configuration's elastic modes paired with them by mass-weighted MAC; rows: one per
+    free elastic mode (free_hz, <configuration>_hz, <configuration>_shift_percent, ...,
+    reference_hz and error_percent when a reference was given)."""
+
+    model_name: str
+    rows: list[dict]
+    free: object
+    proposed: dict = field(default_factory=dict)
+
+    def frequencies(self) -> np.ndarray:
+        return np.array([r["free_hz"] for r in self.rows])
+
+
+def predict(project: Project, model: Model, configurations: dict[str, Configuration] | None = None,
+            n_modes: int | None = None) -> Prediction:
+    """Remove the suspension of ``model`` and predict the free-free modes, the tested configurations'
+    suspended modes and the proposed configurations' modes, each paired with the free-free ones."""
+    from ..suspension import remove_suspension
+    n = n_modes or project.spec.prediction.n_modes
+    configurations = configurations or project.configurations
+    cases = {name: cfg for name, cfg in configurations.items() if cfg.suspension and not cfg.fixed}
+    for name in project.spec.prediction.proposed:
+        cases[name] = project.available.get(name) or configurations[name]
+    if not cases:
+        raise ProjectError(f"{project.path}: nothing to predict: no configuration hangs on cords "
+                           "(add prediction.proposed or a suspended configuration)")
+    rows: dict[int, dict] = {}
+    free = None
+    proposed = {}
+    for name, cfg in cases.items():
+        try:
+            removal = remove_suspension(model, cfg, n_modes=n)
+        except FlexGVTError as exc:
+            raise ProjectError(f"prediction, configuration '{name}': {exc}") from None
+        free = removal.free
+        proposed[name] = removal.suspended
+        for r in removal.rows:
+            row = rows.setdefault(r["free_mode"], {"free_mode": r["free_mode"], "label": r["label"],
+                                                   "free_hz": r["free_hz"]})
+            row[f"{name}_hz"] = r["suspended_hz"]
+            row[f"{name}_shift_percent"] = r["suspended_shift_percent"]
+            row[f"{name}_mac"] = r["suspended_mac"]
+    out = Prediction(model.name, [rows[k] for k in sorted(rows)], free, proposed)
+    if project.spec.prediction.reference is not None:
+        score(out, json.loads(project.file(project.spec.prediction.reference).read_text()))
+    return out
+
+
+def score(prediction: Prediction, reference: dict) -> None:
+    """Add reference_hz and error_percent to the free-free rows. reference: {'free_free':
+    {'frequencies_hz': [...], 'labels': [...]}} (elastic modes); paired by label where the labels
+    agree one to one, else by nearest frequency (one to one)."""
+    ref = reference.get("free_free", reference)
+    f = np.asarray(ref.get("frequencies_hz", []), float)
+    labels = list(ref.get("labels", []))
+    if not len(f):
+        return
+    pred = prediction.frequencies()
+    pairs = _pair_by_frequency(f, pred)
+    lab = [r["label"] for r in prediction.rows]
+    for i, name in enumerate(labels):
+        if name and lab.count(name) == 1 and labels.count(name) == 1:
+            pairs[i] = (lab.index(name), None)
+    for i, (j, _) in pairs.items():
+        row = prediction.rows[j]
+        row["reference_hz"] = float(f[i])
+        row["reference_label"] = labels[i] if i < len(labels) else ""
+        row["error_percent"] = 100 * (row["free_hz"] - f[i]) / f[i]

@@ -1,0 +1,191 @@
+"""`flexgvt init`: a commented example project (every key explained) and, on request, a synthetic
+GVT of the X-HALE-like aircraft's "as-built" airframe so that the example runs as it is."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Callable
+
+import numpy as np
+
+HEADER = '''\
+# flexgvt project: GVT data of several deformed configurations -> updated model -> free-flying
+# prediction -> report. Run with `flexgvt run project.toml`. Paths are relative to this file.
+# Quantities are SI numbers, or strings with a unit: "17.6 N/m", "800 g", "4.3 GPa".
+
+[project]
+name = "{name}"
+description = "{description}"
+
+[model]
+case = "{case}"            # a built-in model (flexgvt.cases); or bdf = "wing.bdf" (Nastran bulk data)
+# units = "SI"             # the deck's unit system, with bdf (SI, mm-t-s, in-lbf-s, ...)
+# [model.options]          # keyword arguments of the built-in case, e.g. n_per_section = 8
+
+# Suspension points characterised on a block (METHOD.md section 2): stiffness and damping from the
+# block's mass, damped frequency and damping ratio (lists = repeated tests, averaged).
+[[suspension_tests]]
+name = "left"
+mass = "5.67 kg"
+frequency_hz = 0.280
+damping_ratio = 0.047
+
+[[suspension_tests]]
+name = "right"
+mass = "5.67 kg"
+frequency_hz = 0.283
+damping_ratio = 0.067
+'''
+
+CONFIGURATION = '''
+# A test configuration: starts from the model's configuration `from` (its suspension, boundary
+# conditions and load factor) and changes what is given here. role = "update" (the model is
+# updated against its data) or "check" (only compared: an unseen configuration).
+[[configurations]]
+name = "{name}"
+from = "{source}"
+role = "update"
+# gravity = 1.0            # load factor on gravity
+# fixed = {{ "12" = "123" }} # node id -> constrained components (a shaker stinger: translations)
+# [[configurations.masses]] # extra masses of this test only (shaker armature, adapters)
+# node = 12
+# mass = "150 g"
+{cords}
+[configurations.test]
+{data}
+points = "case"            # test point -> FE node: "case" (the built-in case's sensors, point k = sensor k),
+                           # "nodes" (point id = node id) or a CSV file point,node,dx,dy,dz [m]
+band_hz = [0.1, 10.0]      # identification band
+max_order = 60             # highest PolyMAX model order of the stabilisation diagram
+# select_hz = [0.96, 2.7]  # pick poles near these frequencies instead of the automatic selection
+# use_modes = [2, 3, 4]    # keep only these identified modes (1-based)
+'''
+
+CORD = '''[[configurations.cords]]    # replaces the configuration's suspension when given
+node = {node}
+anchor = [{ax:.4f}, {ay:.4f}, {az:.4f}]   # fixed end of the line below the pulley [m]
+block_test = "{block}"      # stiffness and damping from that block test (or stiffness =, damping =)
+carries = "{carries:.3f} kg"  # unstretched length sized to carry this mass (or unstretched_length =)
+'''
+
+TAIL = '''
+# Design variables: a property of model entities, normalised by its initial value (x = 1),
+# bounded. kind = beam (E, G, rho or a section attribute of beam groups named by targets, which
+# may be patterns like "wing_*"), mass, spring (k1..k6, c1..c6 of springs by index) or cord.
+{variables}
+[objective]                # weights of the residual groups (each residual a relative error)
+frequency = 1.0
+mac = 0.0                  # weight of 1 - MAC of the paired modes
+mac_floor = 0.5            # pairs below this MAC are not paired
+# mac_min = 0.8            # constraint (slsqp, trust-constr) or penalty (least squares)
+# mass_limits = 0.1        # mass properties within +-10 %
+# [objective.measured_mass]
+# mass = "11.35 kg"
+
+[optimiser]
+method = "least_squares"   # least_squares (Levenberg-Marquardt, then bounded), dogbox, trf, slsqp,
+                           # trust-constr, nelder-mead
+starts = 1                 # multi-start
+max_iterations = 30
+
+[prediction]               # suspension removed: free-free modes, and proposed suspensions
+free_free = true
+proposed = [{proposed}]
+n_modes = 10
+{reference}
+[outputs]
+directory = "results"      # report.html, updated.bdf, modes as UFF 55, CSV tables, the results store
+report = true
+bdf = true
+uff = true
+'''
+
+
+def _toml_list(items) -> str:
+    return ", ".join(json.dumps(i) for i in items)
+
+
+def example_project(case_name: str = "xhale", data: dict[str, str] | None = None, reference: str | None = None,
+                    name: str = "X-HALE-like aircraft, lab GVT on two suspension layouts") -> str:
+    """The commented project text for a built-in case (its configurations 'outboard' and 'inboard'
+    with the block-tested suspension, the case's design variables, bungee predictions). data:
+    {configuration: UFF FRF file} (default data/<name>.uff)."""
+    from .. import cases
+    case = cases.get(case_name)
+    g = 9.80665
+    text = HEADER.format(name=name, case=case_name, description="updated on both configurations at once")
+    layouts = [c for c in ("outboard", "inboard") if c in case.configurations]
+    for c in layouts:
+        cfg = case.configurations[c]
+        cords = ""
+        for cord, block in zip(cfg.suspension, ("left", "right")):
+            carries = cord.stiffness * (np.linalg.norm(np.asarray(cord.anchor) - case.model.xyz[
+                case.model.index_of([cord.node])[0]] - np.asarray(cord.offset)) - cord.unstretched_length) / g
+            cords += CORD.format(node=cord.node, ax=cord.anchor[0], ay=cord.anchor[1], az=cord.anchor[2],
+                                 block=block, carries=carries)
+        file = (data or {}).get(c, f"data/{c}.uff")
+        text += CONFIGURATION.format(name=c, source=c, cords=cords,
+                                     data=f'frfs = "{file}"          # UFF 58 FRFs to identify (PolyMAX); or '
+                                          'modes = "modes.uff" / .csv / .json (already identified)')
+    variables = ""
+    for vname, kind, targets, attribute, bounds in case.references.get("design_variables", []):
+        variables += (f'[[variables]]\nname = "{vname}"\nkind = "{kind}"\ntargets = [{_toml_list(targets)}]\n'
+                      f'attribute = "{attribute}"\nbounds = [{bounds[0]}, {bounds[1]}]\n\n')
+    proposed = [c for c in ("bungee_outboard", "bungee_inboard") if c in case.configurations]
+    ref = (f'reference = "{reference}"      # known free-free frequencies to score the prediction against\n'
+           if reference else '# reference = "reference.json"  # known free-free frequencies to score against\n')
+    return text + TAIL.format(variables=variables, proposed=_toml_list(proposed), reference=ref)
+
+
+def write_example(folder: Path, seed: int = 7, log: Callable[[str], None] = lambda s: None,
+                  snr_db: float = 30.0) -> list[Path]:
+    """Synthetic GVT of the X-HALE-like 'as-built' airframe in both suspension layouts (two
+    references, noise), the as-built free-free frequencies as reference.json, and the project."""
+    from .. import cases
+    from ..fem import solve_modes, solve_static
+    from ..io.uff import TestGeometry, write_uff
+    from ..model import Configuration
+    from .synthetic import synthetic_gvt
+
+    folder = Path(folder)
+    (folder / "data").mkdir(parents=True, exist_ok=True)
+    truth = cases.xhale(as_built=True, seed=seed)
+    refs = driving_points(truth.model, truth.sensors)
+    files, data = [], {}
+    for c in ("outboard", "inboard"):
+        gvt = synthetic_gvt(truth.model, truth.configurations[c], truth.sensors, refs, snr_db=snr_db, seed=seed)
+        pts = np.array(sorted(gvt.point_xyz))
+        path = write_uff(folder / "data" / f"{c}.uff", frfs=gvt.frfs,
+                         geometry=TestGeometry(pts, np.array([gvt.point_xyz[p] for p in pts])))
+        files.append(path)
+        data[c] = f"data/{c}.uff"
+        log(f"synthetic GVT '{c}': {gvt.frfs.H.shape[1]} channels x {gvt.frfs.H.shape[2]} references, "
+            f"{len(gvt.frfs.frequencies_hz)} lines, {snr_db:g} dB")
+    free = solve_modes(solve_static(truth.model, Configuration("free_free")), 16, damped=False)
+    elastic = np.flatnonzero(free.frequencies_hz > 0)[:10]
+    ref = {"about": "free-free modes of the as-built airframe (the truth the prediction is scored against)",
+           "free_free": {"frequencies_hz": free.frequencies_hz[elastic].tolist(),
+                         "labels": [free.labels[k] for k in elastic]}}
+    (folder / "reference.json").write_text(json.dumps(ref, indent=1))
+    files.append(folder / "reference.json")
+    (folder / "project.toml").write_text(example_project("xhale", data, "reference.json"))
+    files.append(folder / "project.toml")
+    return files
+
+
+def driving_points(model, sensors: dict) -> list[str]:
+    """Two references that drive bending and torsion of both wings: the vertical sensor farthest
+    outboard on the right near the leading edge, and the vertical one nearest mid-semi-span on the
+    left near the trailing edge."""
+    rows = []
+    for name, (node, offset, d) in sensors.items():
+        if abs(np.asarray(d, float)[2]) > 0.99:
+            xyz = model.xyz[model.index_of([node])[0]] + np.asarray(offset, float)
+            rows.append((name, xyz))
+    if len(rows) < 2:
+        return list(sensors)[:2]
+    span = max(abs(x[1]) for _, x in rows)
+    first = max(rows, key=lambda r: (round(r[1][1], 3), -r[1][0]))[0]
+    second = min(rows, key=lambda r: (abs(r[1][1] + span / 2), -r[1][0]))[0]
+    return [first, second]

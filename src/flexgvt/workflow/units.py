@@ -1,0 +1,85 @@
+"""Quantities in project files: a number is SI; a string carries its unit ("17.6 N/m", "4.3 GPa").
+
+The unit's dimension is checked against what the key expects, so "stiffness = '17.6 kg'" stops
+with a unit mismatch naming the key instead of silently becoming a wrong model.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+
+from ..errors import ModelError
+
+# Dimensions as exponents of (kg, m, s, rad); value: SI factor.
+_BASE = {
+    "kg": (1.0, (1, 0, 0, 0)), "g": (1e-3, (1, 0, 0, 0)), "t": (1e3, (1, 0, 0, 0)),
+    "m": (1.0, (0, 1, 0, 0)), "mm": (1e-3, (0, 1, 0, 0)), "cm": (1e-2, (0, 1, 0, 0)), "km": (1e3, (0, 1, 0, 0)),
+    "s": (1.0, (0, 0, 1, 0)), "ms": (1e-3, (0, 0, 1, 0)), "min": (60.0, (0, 0, 1, 0)),
+    "N": (1.0, (1, 1, -2, 0)), "kN": (1e3, (1, 1, -2, 0)),
+    "Pa": (1.0, (1, -1, -2, 0)), "kPa": (1e3, (1, -1, -2, 0)), "MPa": (1e6, (1, -1, -2, 0)),
+    "GPa": (1e9, (1, -1, -2, 0)),
+    "Hz": (1.0, (0, 0, -1, 0)), "rad": (1.0, (0, 0, 0, 1)), "deg": (math.pi / 180, (0, 0, 0, 1)),
+    "J": (1.0, (1, 2, -2, 0)),
+}
+
+DIMENSIONS = {
+    "mass": (1, 0, 0, 0), "length": (0, 1, 0, 0), "time": (0, 0, 1, 0), "frequency": (0, 0, -1, 0),
+    "force": (1, 1, -2, 0), "stiffness": (1, 0, -2, 0), "damping": (1, 0, -1, 0), "modulus": (1, -1, -2, 0),
+    "density": (1, -3, 0, 0), "angle": (0, 0, 0, 1), "force_per_length": (1, 0, -2, 0),
+    "rotational_stiffness": (1, 2, -2, -1), "inertia": (1, 2, 0, 0), "acceleration": (0, 1, -2, 0),
+}
+
+_TOKEN = re.compile(r"([A-Za-z]+)(?:\^?(-?\d+))?")
+
+
+def _parse_unit(text: str) -> tuple[float, tuple[int, ...]]:
+    """'N s/m' -> (1.0, (1, 0, -1, 0)); products by spaces, '*' or '.', one '/' for the denominator."""
+    factor, dims = 1.0, [0, 0, 0, 0]
+    num, _, den = text.replace("*", " ").replace("·", " ").partition("/")
+    for part, sign in ((num, 1), (den, -1)):
+        for tok in part.split():
+            m = _TOKEN.fullmatch(tok)
+            if not m or m.group(1) not in _BASE:
+                raise KeyError(tok)
+            f, d = _BASE[m.group(1)]
+            p = int(m.group(2) or 1) * sign
+            factor *= f ** p
+            dims = [a + p * b for a, b in zip(dims, d)]
+    return factor, tuple(dims)
+
+
+def quantity(value, dimension: str, where: str = "") -> float:
+    """SI value of ``value`` (a number, SI; or 'number unit') of the given dimension (DIMENSIONS);
+    ``where`` prefixes the error messages."""
+    where = f"{where}: " if where else ""
+    if isinstance(value, bool):
+        raise ModelError(f"{where}expected a {dimension}, got {value!r}")
+    if isinstance(value, (int, float)):
+        out = float(value)
+    elif isinstance(value, str):
+        m = re.fullmatch(r"\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*(.*?)\s*", value)
+        if not m:
+            raise ModelError(f"{where}{value!r} is not a number with a unit (e.g. '17.6 N/m')")
+        try:
+            factor, dims = _parse_unit(m.group(2)) if m.group(2) else (1.0, (0, 0, 0, 0))
+        except KeyError as exc:
+            raise ModelError(f"{where}unknown unit {exc.args[0]!r} in {value!r}; use SI numbers or one of "
+                             f"{sorted(_BASE)}") from None
+        want = DIMENSIONS[dimension]
+        # Radians are dimensionless: compare without them when one side has none.
+        if dims != want and not (dims[:3] == want[:3] and 0 in (dims[3], want[3])):
+            raise ModelError(f"{where}unit mismatch: {value!r} is not a {dimension} (expected units like "
+                             f"{_example(dimension)})")
+        out = float(m.group(1)) * factor
+    else:
+        raise ModelError(f"{where}expected a {dimension} (number in SI or 'value unit'), got {value!r}")
+    if not math.isfinite(out):
+        raise ModelError(f"{where}{value!r} is not finite")
+    return out
+
+
+def _example(dimension: str) -> str:
+    return {"mass": "kg", "length": "m or mm", "time": "s", "frequency": "Hz", "force": "N", "stiffness": "N/m",
+            "damping": "N s/m", "modulus": "Pa or GPa", "density": "kg/m^3", "angle": "rad or deg",
+            "rotational_stiffness": "N m/rad", "inertia": "kg m^2", "acceleration": "m/s^2"}.get(dimension, "SI")
