@@ -132,7 +132,11 @@ def hale_wing(n_elements: int = 32) -> Case:
         "tip_node": int(ids[-1])})
 
 
-BUILTIN = {"cantilever_strip": cantilever_strip, "strip_366": strip_366, "hale_wing": hale_wing}
+from .xhale import design_variables as xhale_variables  # noqa: E402  (they need Case above)
+from .xhale import match_modes as xhale_match_modes  # noqa: E402
+from .xhale import xhale  # noqa: E402
+
+BUILTIN = {"cantilever_strip": cantilever_strip, "strip_366": strip_366, "hale_wing": hale_wing, "xhale": xhale}
 
 
 def get(name: str, **kwargs) -> Case:

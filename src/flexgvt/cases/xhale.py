@@ -25,6 +25,9 @@ MEASURED_HZ = {"outboard": (0.28, 0.99, 2.74, 4.24, 4.53, 6.23, 7.18, 8.10),
                "inboard": (0.28, 0.95, 2.70, 4.75, 4.50, 6.90, 7.35, 8.38)}
 ORIGINAL_INITIAL_HZ = {"outboard": (0.27, 0.96, 2.76, 4.30, 4.60, 6.15, 7.77, 8.73),
                        "inboard": (0.28, 0.91, 2.78, 4.77, 4.58, 7.03, 7.79, 8.74)}
+# This model's modes matched to LABELS (nominal, n_per_section=8); see the tests.
+TUNED_HZ = {"outboard": (0.271, 1.000, 2.685, 4.251, 4.520, 6.267, 7.821, 8.979),
+            "inboard": (0.279, 0.925, 2.719, 4.632, 4.570, 7.011, 7.816, 8.563)}
 ORIGINAL_UPDATED_HZ = {"outboard": (0.27, 0.99, 2.69, 4.28, 4.46, 6.27, 7.20, 8.26),
                        "inboard": (0.28, 0.95, 2.71, 4.76, 4.44, 7.04, 7.22, 8.26)}
 
@@ -202,4 +205,180 @@ def _configurations(model: Model, info: dict, p: dict) -> dict[str, Configuratio
         out[name] = Configuration(name, suspension=cords, springs=springs, gravity=1.0)
     for name, y in (("bungee_outboard", 2.0), ("bungee_inboard", 1.0)):
         out[name] = Configuration(name, suspension=bungee(y), gravity=1.0)
+    return out
+
+
+def _design_variables() -> list[tuple]:
+    """The original work's 30 updating variables as (name, kind, targets, attribute, bounds)."""
+    out = []
+    for name in SECTIONS + JOINERS:
+        for attr in ("E", "G"):
+            out.append((f"{attr}_{name}", "beam", (name,), attr, (0.75, 1.25)))
+    booms = tuple(f"tail_boom_{'L' if y < 0 else 'R'}{int(abs(y))}" for y in BOOM_JUNCTIONS)
+    for attr in ("E", "G"):
+        out.append((f"{attr}_tail_boom", "beam", booms, attr, (0.75, 1.25)))
+    springs = tuple(range(len(BOOM_JUNCTIONS)))  # the wing-tail springs are the model's only springs
+    for i in range(1, 7):
+        out.append((f"k{i}_wing_tail", "spring", springs, f"k{i}", (0.5, 2.0)))
+    return out
+
+
+def design_variables(case) -> list:
+    """flexgvt.updating Variables of the case's 30 design variables (``case.references['design_variables']``)."""
+    from .. import updating as up
+    out = []
+    for name, kind, targets, attribute, bounds in case.references["design_variables"]:
+        out.append(up.beam(name, targets, attribute, bounds) if kind == "beam"
+                   else up.spring(name, targets, attribute, bounds))
+    return out
+
+
+def _as_built_factors(seed: int) -> tuple[dict, dict]:
+    """Seeded differences of the 'real airframe': stiffness factors the 30 variables can recover
+    (E, G per wing group +-8 %, the booms' E, G +-8 %, wing-tail springs x 0.7) and mass factors
+    they cannot (density of each wing group and boom, each pod mass, +-2 %)."""
+    rng = np.random.default_rng(seed)
+    factors = {}
+    for name in SECTIONS + JOINERS:
+        factors[f"E_{name}"], factors[f"G_{name}"] = rng.uniform(0.92, 1.08, 2)
+    factors["E_tail_boom"], factors["G_tail_boom"] = rng.uniform(0.92, 1.08, 2)
+    for i in range(1, 7):
+        factors[f"k{i}_wing_tail"] = 0.7
+    booms = [f"tail_boom_{'L' if y < 0 else 'R'}{int(abs(y))}" for y in BOOM_JUNCTIONS]
+    pods = [f"pod_{y:+.0f}" for y in JUNCTIONS_Y]
+    masses = dict(zip(list(SECTIONS + JOINERS) + booms + pods,
+                      rng.uniform(0.98, 1.02, len(SECTIONS) + len(JOINERS) + len(booms) + len(pods))))
+    return {k: float(v) for k, v in factors.items()}, {k: float(v) for k, v in masses.items()}
+
+
+def _sensors(model: Model, info: dict) -> dict:
+    """Accelerometers: normal to the wing at the leading and trailing edge (+-60 mm chordwise) at
+    1/6, 1/2 and 5/6 of each section, fore-aft (x) at mid-section, vertical on each tail."""
+    xyz = dict(zip(model.node_ids.tolist(), model.xyz))
+    normal_out = {"L": (0.0, math.sin(DIHEDRAL), math.cos(DIHEDRAL)),
+                  "R": (0.0, -math.sin(DIHEDRAL), math.cos(DIHEDRAL))}
+    sensors = {}
+    for sec in SECTIONS:
+        nodes = info["groups"][sec]
+        pts = np.array([xyz[n] for n in nodes])
+        arc = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(pts, axis=0), axis=1))]
+        tag = sec[5:]
+        normal = normal_out[tag[0]] if tag[1] == "3" else (0.0, 0.0, 1.0)
+        # number the stations from the root outwards
+        order = (1 / 6, 1 / 2, 5 / 6) if tag[0] == "R" else (5 / 6, 1 / 2, 1 / 6)
+        for k, frac in enumerate(order, start=1):
+            node = int(nodes[int(np.argmin(np.abs(arc - frac * arc[-1])))])
+            for side, dx in (("LE", -0.06), ("TE", 0.06)):
+                sensors[f"{tag}_{k}{side}"] = (node, (dx, 0.0, 0.0), normal)
+            if k == 2:
+                sensors[f"{tag}_{k}X"] = (node, (0.0, 0.0, 0.0), (1.0, 0.0, 0.0))
+    for name, node in info["tail"].items():
+        sensors[f"tail_{name[-2:]}"] = (node, (0.0, 0.0, 0.0), (0.0, 0.0, 1.0))
+    return sensors
+
+
+def xhale(n_per_section: int = 8, as_built: bool = False, seed: int = 0):
+    """X-HALE-like very flexible flying wing on its lab suspension (METHOD.md 5 case 6). SI units.
+
+    Axes: x chordwise aft, y spanwise right, z up, gravity -z. Six 1 m wing sections (beam groups
+    wing_L3 ... wing_R3, y from -3 to 3, outer two at 10 deg dihedral, tips at y = +-2.985 m,
+    z = 0.174 m) joined by 0.08 m joiner groups joiner_L2 ... joiner_R2 at y = -2, -1, 0, 1, 2.
+    Equivalent beam properties on E = 4.32 GPa, G = 1.71 GPa (one Material per group: the
+    updating variables' initial values); joiners the same moduli with a section 2.1 times
+    stiffer (the aluminium joiner inside). Wing 0.48 kg/m, EI flatwise 102, chordwise 7060,
+    GJ 191 N m^2; bending rotary inertia off, torsional inertia 0.0015 kg m/m on.
+    Five pods (3.40 kg centre, 0.92 kg others) 50 mm below and ahead of the junctions with
+    inertia; four tail booms (tail_boom_L2, _L1, _R1, _R2: 0.78 m fibreglass tubes, E 5.0 GPa,
+    G 1.88 GPa) aft from the pods at y = +-1, +-2 with a 32 g horizontal tail (mass and inertia)
+    at the end, each joined to the wing by a 6-component spring of 1e8 N/m, N m/rad between
+    coincident nodes (model.springs 0-3). Gross mass 11.35 kg, cg at x = y = 0.
+
+    Configurations: outboard / inboard (cords at the junctions y = +-2 / +-1 m, 1 g): left
+    K = 17.59 N/m, C = 0.94 N s/m, right K = 18.01 N/m, C = 1.35 N s/m, each carrying half the
+    weight; the spring-and-pulley line is a cord of rate K plus a grounded spanwise/fore-aft spring
+    that makes the pendulum arm the 3 m of Kevlar string below the pulley. free_free (no
+    suspension, no gravity). bungee_outboard / bungee_inboard: two bungees of 20 m unstretched,
+    EA 92.5 N (left) and 100 N (right), k = EA / 20 m, from a crane, 1 g.
+
+    Tuned (section properties, pod and tail masses, boom length) to the original work's initial
+    FE model (references['original_initial_fem_hz']): every listed mode within 4.2 %, 15 of 16
+    within 3 % (table in the tests and in references['tuned_hz']).
+    as_built=True: the 'real airframe' for synthetic GVTs, deterministic per seed: E, G of each
+    wing group and of the booms (one factor for all) x U(0.92, 1.08), wing-tail springs x 0.7
+    (references['as_built_factors'] are the 30 variables' true values), plus densities and pod
+    masses x U(0.98, 1.02), a model-form error the variables cannot recover.
+    """
+    if int(n_per_section) < 2:
+        raise ModelError("xhale: n_per_section must be at least 2")
+    p = dict(NOMINAL)
+    factors, mass_factors = _as_built_factors(seed) if as_built else ({}, {})
+    model, info = _build(p, int(n_per_section), factors, mass_factors)
+    if as_built:
+        model.name = f"X-HALE-like flying wing, as built (seed {seed})"
+    configs = _configurations(model, info, p)
+    variables = _design_variables()
+    truth = {v[0]: factors.get(v[0], 1.0) for v in variables}
+    references = {
+        "labels": LABELS,
+        "measured_hz": dict(MEASURED_HZ),
+        "original_initial_fem_hz": dict(ORIGINAL_INITIAL_HZ),
+        "original_updated_fem_hz": dict(ORIGINAL_UPDATED_HZ),
+        "tuned_hz": dict(TUNED_HZ),
+        "gross_mass_kg": GROSS_MASS,
+        "suspension_nodes": {name: tuple(c.node for c in cfg.suspension) for name, cfg in configs.items()
+                             if cfg.suspension},
+        "junction_nodes": dict(info["junction"]),
+        "tail_nodes": dict(info["tail"]),
+        "suspension": {"left": SUSPENSION["left"], "right": SUSPENSION["right"],
+                       "pendulum_length_m": p["pendulum_length"], "bungee_EA_N": BUNGEE_EA,
+                       "bungee_length_m": BUNGEE_LENGTH},
+        "design_variables": variables,
+        "as_built_factors": truth,
+        "as_built_mass_factors": dict(mass_factors),
+        "properties": p,
+    }
+    return _Case()("xhale", model, configs, xhale.__doc__ or "", references=references,
+                   sensors=_sensors(model, info))
+
+
+def _Case():
+    from . import Case
+    return Case
+
+
+def match_modes(modes, targets_hz, labels=LABELS) -> list[int]:
+    """Indices of the modes of ``modes`` that pair with the listed modes ``labels`` at ``targets_hz``.
+
+    By shape class first, frequency second: 'Plunge' pairs with the rigid-body/suspension modes
+    labelled 'RB plunge'; a label with T or IP (e.g. '1 T/2 IP') with the elastic modes whose
+    strain energy is mostly torsion or in-plane bending; an 'OOP' label with those mostly
+    out-of-plane bending. Within a class the pairing minimises the summed |log(f / target)|
+    (one model mode per listed mode), so a mode out of order still finds its partner.
+    """
+    from scipy.optimize import linear_sum_assignment
+    f = np.asarray(modes.frequencies_hz)
+    fr = modes.energy_fractions
+    rigid = np.array([lab.startswith("RB") for lab in modes.labels])
+    main = np.argmax(fr[:, :4], axis=1)
+    pools = {"plunge": np.flatnonzero(np.array([lab == "RB plunge" for lab in modes.labels])),
+             "oop": np.flatnonzero(~rigid & (main == 0)),
+             "tip": np.flatnonzero(~rigid & ((main == 1) | (main == 2)))}
+
+    def pool(label):
+        if label.lower() == "plunge":
+            return "plunge"
+        return "tip" if ("T" in label.split() or "IP" in label or "/T" in label) else "oop"
+
+    out = [-1] * len(labels)
+    for key, cand in pools.items():
+        rows = [i for i, lab in enumerate(labels) if pool(lab) == key]
+        if not rows:
+            continue
+        if len(cand) < len(rows):
+            raise ModelError(f"match_modes: {len(rows)} listed '{key}' modes but only {len(cand)} such model modes; "
+                             "compute more modes")
+        cost = np.abs(np.log(np.maximum(f[cand][None, :], 1e-9) / np.asarray(targets_hz, float)[rows][:, None]))
+        r, c = linear_sum_assignment(cost)
+        for i, j in zip(r, c):
+            out[rows[i]] = int(cand[j])
     return out
