@@ -3,11 +3,20 @@
 from __future__ import annotations
 
 import math
+from itertools import pairwise
 
 import numpy as np
 
 from ..errors import ModelError
-from ..model import CircularTubeSection, Configuration, Cord, GeneralSection, Material, Model, Spring
+from ..model import (
+    CircularTubeSection,
+    Configuration,
+    Cord,
+    GeneralSection,
+    Material,
+    Model,
+    Spring,
+)
 from ..model.configuration import STANDARD_GRAVITY
 
 # ---------------------------------------------------------------- published data (xhale_lab_gvt.json)
@@ -106,7 +115,7 @@ def _build(p: dict, n_per_section: int, factors: dict | None = None, mass_factor
         ids = model.add_nodes(_points(a, b, n)[1:])
         nodes = [chain[-1], *ids.tolist()]
         chain.extend(ids.tolist())
-        group_pairs.setdefault(name, []).extend(zip(nodes[:-1], nodes[1:]))
+        group_pairs.setdefault(name, []).extend(pairwise(nodes))
         wing_ids.setdefault(name, []).extend(nodes)
     xyz = dict(zip(model.node_ids.tolist(), model.xyz))
 
