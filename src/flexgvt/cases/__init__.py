@@ -1,4 +1,5 @@
-"""Built-in structures of METHOD.md section 5, each with its model and named configurations.
+"""Built-in structures of METHOD.md section 5, each with its model and named configurations:
+cantilever_strip, strip_366, hale_wing and the X-HALE-like flying wing xhale (module xhale).
 
     case = flexgvt.cases.cantilever_strip()
     case.model, case.configurations["self_weight"], case.references
@@ -11,7 +12,20 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..errors import ModelError
-from ..model import Configuration, Cord, GeneralSection, Material, Model, RectangularSection
+from ..model import (
+    Configuration,
+    Cord,
+    GeneralSection,
+    Material,
+    Model,
+    RectangularSection,
+)
+from .xhale import design_variables as xhale_variables
+from .xhale import match_modes as xhale_match_modes
+from .xhale import xhale
+
+__all__ = ["BUILTIN", "Case", "cantilever_strip", "get", "hale_wing", "strip_366", "xhale", "xhale_match_modes",
+           "xhale_variables"]
 
 
 @dataclass
@@ -132,7 +146,7 @@ def hale_wing(n_elements: int = 32) -> Case:
         "tip_node": int(ids[-1])})
 
 
-BUILTIN = {"cantilever_strip": cantilever_strip, "strip_366": strip_366, "hale_wing": hale_wing}
+BUILTIN = {"cantilever_strip": cantilever_strip, "strip_366": strip_366, "hale_wing": hale_wing, "xhale": xhale}
 
 
 def get(name: str, **kwargs) -> Case:

@@ -256,6 +256,7 @@ class Parametrisation:
         beams: dict[int, tuple[dict, dict]] = {}
         configs = dict(self.configurations)
         cords: dict[str, list] = {}
+        springs: dict[tuple[int, str], np.ndarray] = {}
         base = self.model
         for b, xi in zip(self.bindings, x):
             v = b.variable
@@ -273,11 +274,13 @@ class Parametrisation:
                         model.set_mass(idx, offset=off)
                 elif v.kind == "spring":
                     which = "stiffness" if v.attribute[0] == "k" or v.attribute == "stiffness" else "damping"
-                    arr = np.array(getattr(base.springs[idx], which), float)
+                    # Several variables may set components of one spring (k1..k6): build on what the
+                    # earlier ones of this design point set, from the bound model's values.
+                    arr = springs.setdefault((idx, which), np.array(getattr(base.springs[idx], which), float))
                     if v.attribute[1:].isdigit():
                         arr[int(v.attribute[1]) - 1] = value
                     else:
-                        arr = arr * (value / max(np.max(arr), 1e-300))
+                        arr *= value / max(np.max(arr), 1e-300)
                     model.set_spring(idx, **{which: arr})
                 else:
                     c, i = idx
