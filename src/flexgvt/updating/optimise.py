@@ -148,10 +148,12 @@ def minimise(problem: UpdatingProblem, x0: np.ndarray, method: str = "least_squa
         common = dict(jac=drv.jacobian, x_scale="jac", ftol=tolerance, xtol=tolerance, gtol=tolerance,
                       max_nfev=max_iterations)
         out = None
-        if method in ("least_squares", "lm"):
+        if method in ("least_squares", "lm") and drv._n_res >= len(x0):
             # MINPACK's Levenberg-Marquardt: on the cantilever verification 7-9 Jacobians where SciPy's
             # bounded trust regions took 12-26 (dogbox) and 47-66 (trf). It knows no bounds: its answer
             # is kept when it lies inside them, else dogbox continues from there inside the bounds.
+            # With fewer residuals than variables MINPACK refuses: dogbox alone, whose trust-region
+            # steps from x0 keep the variables the data cannot see where they were.
             drv.failure_value = 1e3  # a failed trial point must raise the cost, not poison MINPACK with NaN
             out = least_squares(drv.residuals, x0, method="lm", **common)
             drv.failure_value = np.nan

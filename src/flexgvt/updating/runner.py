@@ -30,7 +30,8 @@ def update(model: Model, configurations: Sequence[Configuration], measured: Sequ
     mass_target: measured mass properties; objective: weights and constraints; method:
     'least_squares' (default; alias 'lm': SciPy's least_squares with MINPACK's Levenberg-Marquardt on
     the residual vector and its exact Jacobian, continued by the bounded dogbox trust region from
-    its answer if that lies outside the bounds), 'dogbox' or 'trf' (SciPy's bounded trust regions
+    its answer if that lies outside the bounds; dogbox alone when there are fewer residuals than
+    variables), 'dogbox' or 'trf' (SciPy's bounded trust regions
     from the start), 'slsqp', 'trust-constr' (analytic
     gradients, constraints enforced), 'nelder-mead' (penalties, no gradients); starts: multi-start
     count (x0 = 1 plus seeded uniform points in the bounds; the best run wins); store: a

@@ -28,19 +28,18 @@ class SyntheticGVT:
 
 
 def _code(direction) -> int:
+    """UFF direction code (+-1..3) of the global axis nearest ``direction``."""
     d = np.asarray(direction, float)
-    d = d / np.linalg.norm(d)
     k = int(np.argmax(np.abs(d)))
-    if abs(abs(d[k]) - 1) > 1e-9:
-        raise ModelError(f"synthetic GVT: sensor direction {d.tolist()} is not along a global axis (UFF codes 1-3)")
     return int(np.sign(d[k])) * (k + 1)
 
 
 def synthetic_gvt(model, configuration, sensors: dict, references: list[str], *, f_max_hz: float = 10.0,
                   df_hz: float = 0.02, n_modes: int = 40, structural_damping: float = 0.015, snr_db: float | None = 30.0,
                   seed: int = 0) -> SyntheticGVT:
-    """FRFs of ``model`` in ``configuration`` at ``sensors`` ({name: (node, offset (3,), direction (3,))},
-    directions along global axes; test point k + 1 per distinct (node, offset) in order) for forces
+    """FRFs of ``model`` in ``configuration`` at ``sensors`` ({name: (node, offset (3,), direction (3,))};
+    each reads along the global axis nearest its direction, as UFF direction codes 1-3 say; test
+    point k + 1 per distinct (node, offset) in order) for forces
     at the ``references`` (sensor names: driving points along their directions). Lines df_hz to
     f_max_hz [Hz]; structural_damping: modal damping ratio of every mode, scattered +-30 % per mode
     (seeded), the cords' dashpots on top; snr_db: complex noise relative to each line's magnitude."""
@@ -57,8 +56,9 @@ def synthetic_gvt(model, configuration, sensors: dict, references: list[str], *,
     items, outputs = [], []
     for name in names:
         node, off, d = sensors[name]
-        items.append(Sensor(int(node), np.asarray(d, float), np.asarray(off, float), name))
-        outputs.append((point_of[(int(node), tuple(np.round(np.asarray(off, float), 9)))], _code(d)))
+        code = _code(d)
+        items.append(Sensor(int(node), np.sign(code) * np.eye(3)[abs(code) - 1], np.asarray(off, float), name))
+        outputs.append((point_of[(int(node), tuple(np.round(np.asarray(off, float), 9)))], code))
     unknown = [r for r in references if r not in sensors]
     if unknown:
         raise ModelError(f"synthetic GVT: references {unknown} are not sensors")

@@ -56,7 +56,7 @@ role = "update"
 {data}
 points = "case"            # test point -> FE node: "case" (the built-in case's sensors, point k = sensor k),
                            # "nodes" (point id = node id) or a CSV file point,node,dx,dy,dz [m]
-band_hz = [0.1, 10.0]      # identification band
+band_hz = [0.1, 11.5]      # identification band
 max_order = 60             # highest PolyMAX model order of the stabilisation diagram
 # select_hz = [0.96, 2.7]  # pick poles near these frequencies instead of the automatic selection
 # use_modes = [2, 3, 4]    # keep only these identified modes (1-based)
@@ -154,7 +154,8 @@ def write_example(folder: Path, seed: int = 7, log: Callable[[str], None] = lamb
     refs = driving_points(truth.model, truth.sensors)
     files, data = [], {}
     for c in ("outboard", "inboard"):
-        gvt = synthetic_gvt(truth.model, truth.configurations[c], truth.sensors, refs, snr_db=snr_db, seed=seed)
+        gvt = synthetic_gvt(truth.model, truth.configurations[c], truth.sensors, refs, f_max_hz=12.0, snr_db=snr_db,
+                            seed=seed)
         pts = np.array(sorted(gvt.point_xyz))
         path = write_uff(folder / "data" / f"{c}.uff", frfs=gvt.frfs,
                          geometry=TestGeometry(pts, np.array([gvt.point_xyz[p] for p in pts])))
