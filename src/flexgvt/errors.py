@@ -41,3 +41,7 @@ class FileFormatError(FlexGVTError, ValueError):
 
 class EMAError(FlexGVTError, ValueError):
     """Experimental modal analysis could not proceed with the given data or settings."""
+
+
+class ReportError(FlexGVTError, ValueError):
+    """Report content is inconsistent (array shapes, missing labels) or cannot be written."""

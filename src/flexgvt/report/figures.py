@@ -1,0 +1,195 @@
+"""Static PNG figures of the report (matplotlib, object API, no pyplot state).
+
+Each function takes the plain data of report.content and returns a `matplotlib.figure.Figure`
+(or None when there is nothing to draw); `save(fig, path)` writes it. Units: m, Hz, %.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from .content import ConfigurationSection, StabilisationData
+
+BLUE, GREY, RED = "#1f5fbf", "#999999", "#d62728"
+
+
+def _figure(figsize):
+    from matplotlib.figure import Figure
+
+    return Figure(figsize=figsize, layout="constrained")
+
+
+def save(fig, path: Path, dpi: int = 110) -> Path:
+    """Write a figure as PNG and return the path."""
+    fig.savefig(path, dpi=dpi)
+    return Path(path)
+
+
+def _lines(xyz, edges):
+    """(m, 2, 3) segments of a wireframe, or a single polyline when there are no edges."""
+    if len(edges):
+        return xyz[edges]
+    return np.stack([xyz[:-1], xyz[1:]], axis=1)
+
+
+def deformed_shape(section: ConfigurationSection):
+    """3D view (equal scales) and front view (span y against z) of the undeformed (grey dashed) and
+    deformed (blue) wireframes."""
+    from mpl_toolkits.mplot3d.art3d import Line3DCollection
+    from matplotlib.collections import LineCollection
+
+    fig = _figure((11, 4.6))
+    ax3 = fig.add_subplot(1, 2, 1, projection="3d")
+    front = fig.add_subplot(1, 2, 2)
+    und, dfm = section.undeformed, section.deformed
+    for geom, color, style, lw, lab in ((und, GREY, "--", 1.0, "undeformed"), (dfm, BLUE, "-", 2.0, "deformed")):
+        seg = _lines(geom.xyz, geom.edges)
+        ax3.add_collection3d(Line3DCollection(seg, colors=color, linestyles=style, linewidths=lw, label=lab))
+        front.add_collection(LineCollection(seg[:, :, [1, 2]], colors=color, linestyles=style,
+                                            linewidths=lw, label=lab))
+    allxyz = np.vstack([und.xyz, dfm.xyz])
+    lo, hi = allxyz.min(0), allxyz.max(0)
+    mid, half = (lo + hi) / 2, max(float((hi - lo).max()) / 2, 1e-9) * 1.05
+    ranges = np.maximum(hi - lo, 1e-3 * 2 * half) * 1.05
+    for k, setter in enumerate((ax3.set_xlim, ax3.set_ylim, ax3.set_zlim)):
+        setter(mid[k] - ranges[k] / 2, mid[k] + ranges[k] / 2)
+    ax3.set_box_aspect(tuple(ranges / ranges.max()), zoom=0.9)
+    ax3.set_xlabel("x [m]")
+    ax3.set_ylabel("y [m]")
+    ax3.set_zlabel("z [m]")
+    ax3.view_init(elev=20, azim=-60)
+    front.set_aspect("equal", adjustable="datalim")
+    front.autoscale_view()
+    front.set_xlabel("y (span) [m]")
+    front.set_ylabel("z [m]")
+    front.set_title("front view (equal scales)")
+    front.grid(alpha=0.3)
+    front.legend(fontsize=8)
+    fig.suptitle(f"{section.name}: static deformed shape")
+    return fig
+
+
+def stabilisation(data: StabilisationData, title: str):
+    """Poles by order (stable filled blue, others open grey), selected modes as red dashed lines and
+    the indicator on a secondary log axis."""
+    fig = _figure((9, 4.8))
+    ax = fig.add_subplot()
+    f = data.frequencies_hz
+    if len(f):
+        ax2 = ax.twinx()
+        ind = np.where(data.indicator > 0, data.indicator, np.nan)
+        ax2.semilogy(f, ind, color="#333333", lw=0.8)
+        ax2.set_ylabel("indicator")
+        ax.set_xlim(f.min(), f.max())
+    ns, st = ~data.stable, data.stable
+    ax.scatter(data.poles_hz[ns], data.orders[ns], s=10, facecolors="none", edgecolors=GREY, label="not stable")
+    ax.scatter(data.poles_hz[st], data.orders[st], s=10, color=BLUE, label="stable")
+    for k, s in enumerate(data.selected_hz):
+        ax.axvline(s, color=RED, ls="--", lw=0.8, label="selected" if k == 0 else None)
+    ax.set_xlabel("frequency [Hz]")
+    ax.set_ylabel("model order")
+    ax.set_title(title)
+    ax.legend(fontsize=8, loc="upper left")
+    return fig
+
+
+def mac_matrices(section: ConfigurationSection):
+    """Initial and updated MAC matrices with their values."""
+    mats = [(t, m) for t, m in (("initial", section.mac_initial), ("updated", section.mac_updated))
+            if m is not None]
+    if not mats:
+        return None
+    nr, nc = mats[0][1].shape
+    w = min(max(3.2 + 0.45 * nc, 4.5), 9.0)
+    fig = _figure((w * len(mats), min(max(2.5 + 0.4 * nr, 3.5), 9.0)))
+    axes = fig.subplots(1, len(mats), squeeze=False)[0]
+    for ax, (t, m) in zip(axes, mats):
+        im = ax.imshow(m, vmin=0, vmax=1, cmap="Blues")
+        for (i, j), v in np.ndenumerate(m):
+            ax.text(j, i, f"{v:.2f}", ha="center", va="center", fontsize=7,
+                    color="white" if v > 0.6 else "black")
+        ax.set_xticks(range(nc), section.analytical_labels, rotation=45, ha="right", fontsize=8)
+        ax.set_yticks(range(nr), section.measured_labels, fontsize=8)
+        ax.set_xlabel("FE mode")
+        ax.set_ylabel("test mode")
+        ax.set_title(f"MAC {t}")
+    fig.colorbar(im, ax=list(axes), shrink=0.8)
+    fig.suptitle(f"{section.name}: MAC matrices")
+    return fig
+
+
+def frequency_errors(rows: list[dict], title: str):
+    """Grouped bars of the initial and updated frequency errors [%] per mode."""
+    keys = [("initial_error_percent", "initial", GREY), ("updated_error_percent", "updated", BLUE)]
+    keys = [k for k in keys if any(r.get(k[0]) is not None for r in rows)]
+    if not rows or not keys:
+        return None
+    fig = _figure((max(6.0, 0.6 * len(rows) + 2), 4))
+    ax = fig.add_subplot()
+    x = np.arange(len(rows))
+    w = 0.8 / len(keys)
+    for k, (key, name, color) in enumerate(keys):
+        v = [np.nan if r.get(key) is None else float(r[key]) for r in rows]
+        ax.bar(x + (k - (len(keys) - 1) / 2) * w, v, w, color=color, label=name)
+    ax.set_xticks(x, [str(r.get("label") or r.get("mode", i + 1)) for i, r in enumerate(rows)],
+                  rotation=30, ha="right", fontsize=8)
+    ax.axhline(0, color="#444", lw=0.8)
+    ax.set_ylabel("frequency error [%]")
+    ax.set_title(title)
+    ax.grid(alpha=0.3, axis="y")
+    ax.legend(fontsize=8)
+    return fig
+
+
+def design_variables(rows: list[dict]):
+    """Bars of the design-variable changes [%] with one-sigma error bars."""
+    if not rows:
+        return None
+    fig = _figure((max(6.0, 0.5 * len(rows) + 2), 4))
+    ax = fig.add_subplot()
+    x = np.arange(len(rows))
+    change = [np.nan if r.get("change_percent") is None else float(r["change_percent"]) for r in rows]
+    std = [0.0 if r.get("std_percent") is None else float(r["std_percent"]) for r in rows]
+    ax.bar(x, change, color=BLUE, yerr=std if any(s > 0 for s in std) else None, capsize=3,
+           error_kw=dict(lw=1))
+    ax.set_xticks(x, [str(r.get("name", i + 1)) for i, r in enumerate(rows)], rotation=30, ha="right", fontsize=8)
+    ax.axhline(0, color="#444", lw=0.8)
+    ax.set_ylabel("change [%]")
+    ax.set_title("Design-variable changes (± one standard deviation)")
+    ax.grid(alpha=0.3, axis="y")
+    return fig
+
+
+def history(values: list[float]):
+    """Objective per iteration (log axis when all positive)."""
+    if not values:
+        return None
+    v = np.asarray(values, float)
+    fig = _figure((6.5, 3.8))
+    ax = fig.add_subplot()
+    ax.plot(np.arange(len(v)), v, "o-", ms=3, color=BLUE)
+    if np.all(v > 0):
+        ax.set_yscale("log")
+    ax.set_xlabel("iteration")
+    ax.set_ylabel("objective")
+    ax.set_title("Optimiser history")
+    ax.grid(alpha=0.3, which="both")
+    return fig
+
+
+def load_evolution(ev: dict | None):
+    """Frequencies [Hz] versus load factor, one line per mode."""
+    if ev is None or len(ev["load_factors"]) == 0:
+        return None
+    fig = _figure((7, 4.5))
+    ax = fig.add_subplot()
+    for j, lab in enumerate(ev["labels"]):
+        ax.plot(ev["load_factors"], ev["frequencies_hz"][:, j], "o-", ms=3, label=str(lab))
+    ax.set_xlabel("load factor")
+    ax.set_ylabel("frequency [Hz]")
+    ax.set_title("Frequencies versus load")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8, ncol=2)
+    return fig

@@ -1,0 +1,227 @@
+"""The HTML report: files, CSVs, escaping, offline; rendered in headless Chromium (console errors,
+every plot drawn, screenshot not blank)."""
+
+from __future__ import annotations
+
+import csv
+import re
+import shutil
+import subprocess
+from html.parser import HTMLParser
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from flexgvt.errors import ReportError
+from flexgvt.report import (ConfigurationSection, Geometry, ModeShape, ReportContent, StabilisationData,
+                            write_report)
+
+LABEL = "1B <b>bold</b>"  # must come out escaped
+
+
+def _beam(n: int = 20, span: float = 8.0) -> Geometry:
+    y = np.linspace(0.0, span, n)
+    xyz = np.column_stack([np.zeros(n), y, np.zeros(n)])
+    # a beam along the span plus a small chordwise cross member at the tip
+    xyz = np.vstack([xyz, [[-0.3, span, 0.0], [0.3, span, 0.0]]])
+    edges = [(i, i + 1) for i in range(n - 1)] + [(n - 1, n), (n - 1, n + 1)]
+    return Geometry(xyz, np.array(edges))
+
+
+def _section(name: str, sag: float, rng: np.random.Generator) -> ConfigurationSection:
+    und = _beam()
+    y = und.xyz[:, 1] / und.xyz[:, 1].max()
+    dfm = Geometry(und.xyz + np.column_stack([0 * y, 0 * y, -sag * y**2]), und.edges)
+    n_modes = 4
+    labels = [LABEL, "1T", "2B", "1IP"]
+    fe = np.array([1.2, 3.4, 5.9, 7.1]) * (1 + sag / 10)
+    test = fe * (1 + rng.normal(0, 0.03, n_modes))
+    updated = test * (1 + rng.normal(0, 0.003, n_modes))
+    shapes = []
+    for k in range(n_modes):
+        d = np.zeros((len(und.xyz), 3))
+        if k in (0, 2):
+            d[:, 2] = np.sin((k + 1) * np.pi * y / 2)
+        elif k == 1:
+            d[:, 2] = y * und.xyz[:, 0] + 0.1 * y
+        else:
+            d[:, 0] = y**2
+        shapes.append(d)
+    pts = np.arange(2, 22, 3)
+    modes = [ModeShape(label=labels[k], analytical_hz=updated[k], measured_hz=test[k], mac=0.9 + 0.01 * k,
+                       displacement=shapes[k], measured_xyz=dfm.xyz[pts],
+                       measured_displacement=-3.0 * shapes[k][pts] + rng.normal(0, 0.02, (len(pts), 3)))
+             for k in range(n_modes)]
+    mac0 = np.clip(np.eye(n_modes) * 0.8 + rng.uniform(0, 0.2, (n_modes, n_modes)), 0, 1)
+    mac1 = np.clip(np.eye(n_modes) * 0.95 + rng.uniform(0, 0.05, (n_modes, n_modes)), 0, 1)
+    table = [dict(mode=k + 1, label=labels[k], measured_hz=test[k], initial_hz=fe[k], updated_hz=updated[k],
+                  initial_error_percent=100 * (fe[k] / test[k] - 1),
+                  updated_error_percent=100 * (updated[k] / test[k] - 1),
+                  mac_initial=mac0[k, k], mac_updated=None if k == 3 else mac1[k, k])
+             for k in range(n_modes)]
+    f = np.linspace(0.5, 9.0, 400)
+    indicator = sum(1.0 / np.abs(fk**2 - f**2 + 0.05j * fk * f) for fk in test)
+    orders = np.repeat(np.arange(4, 40, 2), n_modes + 2)
+    poles = np.tile(np.r_[test, 2.3, 8.5], len(orders) // (n_modes + 2)) * (1 + rng.normal(0, 0.004, len(orders)))
+    stable = rng.uniform(size=len(orders)) > 0.3
+    stab = StabilisationData(f, indicator, orders, poles, stable, selected_hz=test)
+    return ConfigurationSection(name, und, dfm, table, mac0, mac1, labels, [f"FE {lab}" for lab in labels],
+                                stab, modes)
+
+
+def synthetic_content() -> ReportContent:
+    rng = np.random.default_rng(7)
+    variables = [dict(name=f"EI_{k} <i>", initial=1.0e4 * (k + 1), updated=1.0e4 * (k + 1) * (1 + 0.05 * k),
+                      change_percent=5.0 * k, std_percent=None if k == 4 else 0.5 + 0.3 * k, bounds=(0.5, 2.0))
+                 for k in range(5)]
+    evol = dict(load_factors=np.linspace(0, 1, 6),
+                frequencies_hz=np.outer(1 + 0.2 * np.linspace(0, 1, 6), [1.2, 3.4, 5.9]), labels=["1B", "1T", "2B"])
+    prediction = [dict(mode=k + 1, label=lab, free_hz=f, truth_hz=None if k == 2 else f * 1.01,
+                       error_percent=None if k == 2 else -0.99, bungee_hz=0.3)
+                  for k, (lab, f) in enumerate([("1B", 1.1), ("1T", 3.3), ("2B", 5.7)])]
+    return ReportContent(
+        title="Synthetic <wing> report", summary=[("model", "beam & tip"), ("objective", "1.2e-2 -> 3.4e-5")],
+        configurations=[_section("outboard <a>", 0.4, rng), _section("inboard", 0.8, rng)],
+        variables=variables, history=list(np.geomspace(1.0, 1e-5, 12)), load_evolution=evol,
+        prediction=prediction, prediction_title="Free-flying prediction", notes=["a <note> & more"])
+
+
+@pytest.fixture(scope="module")
+def report(tmp_path_factory) -> Path:
+    return write_report(synthetic_content(), tmp_path_factory.mktemp("report"))
+
+
+def test_files_tables_and_escaping(report):
+    out = report.parent
+    pngs = sorted(p.name for p in (out / "figures").glob("*.png"))
+    for stem in ("outboard_a_deformed", "outboard_a_mac", "outboard_a_frequency_errors", "inboard_deformed",
+                 "inboard_stabilisation", "design_variables", "history", "frequency_vs_load"):
+        assert f"{stem}.png" in pngs
+    with open(out / "tables" / "inboard_frequencies.csv", newline="") as fh:
+        rows = list(csv.DictReader(fh))
+    assert len(rows) == 4 and rows[0]["label"] == LABEL and rows[3]["mac_updated"] == ""
+    assert float(rows[1]["measured_hz"]) > 0
+    with open(out / "tables" / "design_variables.csv", newline="") as fh:
+        assert len(list(csv.DictReader(fh))) == 5
+    with open(out / "tables" / "prediction.csv", newline="") as fh:
+        assert [r["truth_hz"] == "" for r in csv.DictReader(fh)] == [False, False, True]
+    text = report.read_text()
+    assert not re.search(r"<script[^>]*\bsrc\s*=", text, re.I)  # nothing loaded from outside
+    assert not re.search(r"<link[^>]*https?://", text, re.I)
+    assert text.count("plotly.js v") >= 1 and text.count("window.PlotlyConfig") == 1  # embedded once
+    assert "<b>bold</b>" not in text and "1B &lt;b&gt;bold&lt;/b&gt;" in text
+    assert "Synthetic &lt;wing&gt; report" in text and "a &lt;note&gt; &amp; more" in text
+
+
+def test_bad_shapes_raise():
+    with pytest.raises(ReportError, match="xyz"):
+        Geometry(np.zeros((4, 2)), np.zeros((0, 2)))
+    with pytest.raises(ReportError, match="edges"):
+        Geometry(np.zeros((4, 3)), [[0, 4]])
+    with pytest.raises(ReportError, match="mac_initial"):
+        ConfigurationSection("c", _beam(), _beam(), mac_initial=np.eye(3), measured_labels=["a", "b"],
+                             analytical_labels=["a", "b"])
+
+
+def test_empty_parts_left_out(tmp_path):
+    g = _beam()
+    content = ReportContent("bare", configurations=[ConfigurationSection("only", g, g)])
+    text = write_report(content, tmp_path).read_text()
+    assert "Stabilisation" not in text and "Design variables" not in text and text.count('class="plot"') == 1
+    assert [p.name for p in (tmp_path / "figures").iterdir()] == ["only_deformed.png"]
+
+
+# ---------------------------------------------------------------- headless Chromium
+
+CHROMIUM = shutil.which("chromium")
+FLAGS = ["--headless=new", "--no-sandbox", "--disable-gpu", "--enable-unsafe-swiftshader",
+         "--enable-logging=stderr", "--v=0", "--virtual-time-budget=15000", "--hide-scrollbars"]
+
+
+def _start(page: Path, workdir: Path, *args: str) -> subprocess.Popen:
+    """Chromium rendering `page` in the background (own profile, so two can run at once)."""
+    if CHROMIUM is None:
+        pytest.skip("chromium not installed: apt-get install chromium")
+    return subprocess.Popen([CHROMIUM, *FLAGS, f"--user-data-dir={workdir / 'profile'}", *args, "--dump-dom",
+                             page.as_uri()], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+
+
+def console_errors(stderr: str) -> list[str]:
+    """Console messages that are errors: Chromium logs every console message as
+    `...:INFO:CONSOLE:<line>] "<message>", source: ...`; uncaught exceptions start with "Uncaught"."""
+    return [ln for ln in stderr.splitlines() if "CONSOLE" in ln and re.search(r"Uncaught|Error", ln)]
+
+
+class _Plots(HTMLParser):
+    """Per plotly div of the dumped DOM: [id, has a main-svg, has a canvas (3D, WebGL)]."""
+
+    def __init__(self):
+        super().__init__()
+        self.stack: list[int | None] = []  # index of the plot div each open div belongs to
+        self.plots: list[list] = []
+
+    def handle_starttag(self, tag, attrs):
+        cls = (dict(attrs).get("class") or "").split()
+        owner = next((s for s in reversed(self.stack) if s is not None), None)
+        if "plotly-graph-div" in cls:
+            self.plots.append([dict(attrs).get("id"), False, False])
+            owner = len(self.plots) - 1
+        if owner is not None:
+            self.plots[owner][1] |= "main-svg" in cls
+            self.plots[owner][2] |= tag == "canvas"
+        if tag == "div":
+            self.stack.append(owner if "plotly-graph-div" in cls else None)
+
+    def handle_endtag(self, tag):
+        if tag == "div" and self.stack:
+            self.stack.pop()
+
+
+def _dom_check(proc: subprocess.Popen) -> tuple[list[str], list[list]]:
+    """(console errors, [id, has main-svg, has canvas] per plot div) of a finished Chromium run."""
+    stdout, stderr = proc.communicate(timeout=90)
+    parser = _Plots()
+    parser.feed(stdout)
+    return console_errors(stderr), parser.plots
+
+
+@pytest.fixture(scope="module")
+def rendered(report, tmp_path_factory):
+    """The report (DOM + 1280x2000 screenshot) and a broken copy (a thrown error; plot2 cannot be
+    drawn), rendered side by side: {"good": (errors, plots), "broken": ..., "shot": png path}."""
+    work = tmp_path_factory.mktemp("chromium")
+    text, n = re.subn(r'Plotly\.newPlot\((\s*)"plot2"', r'Plotly.newPlotTypo(\1"plot2"', report.read_text())
+    assert n == 1
+    broken = work / "broken.html"
+    broken.write_text(text)
+    shot = work / "shot.png"
+    (work / "a").mkdir()
+    (work / "b").mkdir()
+    good = _start(report, work / "a", f"--screenshot={shot}", "--window-size=1280,2000")
+    bad = _start(broken, work / "b")
+    return {"good": _dom_check(good), "broken": _dom_check(bad), "shot": shot}
+
+
+def test_chromium_renders_every_plot(report, rendered):
+    n_divs = len(re.findall(r'class="plotly-graph-div"', report.read_text()))
+    errors, plots = rendered["good"]
+    assert errors == []
+    assert len(plots) == n_divs == 13  # 2 x (shape, stabilisation, MAC, errors, modes) + 3
+    assert [p[0] for p in plots if not p[1]] == []  # every plot drew its svg layers
+    assert sum(p[2] for p in plots) == 4  # the 3D ones (2 shapes, 2 animations) a WebGL canvas
+
+
+def test_chromium_check_can_fail(rendered):
+    """The broken copy must fail both checks: an uncaught error, plot2 not drawn."""
+    errors, plots = rendered["broken"]
+    assert any("Uncaught" in e for e in errors)
+    assert [p[0] for p in plots if not p[1]] == ["plot2"]
+
+
+def test_chromium_screenshot_not_blank(rendered):
+    import matplotlib.image
+
+    img = matplotlib.image.imread(rendered["shot"])
+    assert img.shape[:2] == (2000, 1280)
+    assert float(img[..., :3].std()) > 0.05
