@@ -132,9 +132,10 @@ def build_report_content(res):
                     row["initial_error_percent"] = init[r["free_mode"]]["error_percent"]
             row.update({k: v for k, v in r.items() if k not in ("free_mode", "label") and not k.endswith("_mac")})
             prediction.append(row)
-        title = (f"Free-flying prediction ({key} model): suspension removed (free_hz) and each suspended or "
-                 "proposed configuration's modes paired with it by mass-weighted MAC")
-    notes = []
+        title = f"Free-flying prediction ({key} model)"
+    notes = ["Free-flying prediction: free_hz is the model with the suspension removed (free-free, free fall); "
+             "each <configuration>_hz is that suspended or proposed configuration's mode paired with it by "
+             "mass-weighted MAC, with the shift the suspension causes."] if prediction else []
     if up is not None and up.identifiability.get("unidentifiable"):
         notes.append(f"variables the data cannot see: {up.identifiability['unidentifiable']}")
     return ReportContent(f"flexgvt: {spec.project.name}", summary, sections, variables, history, evolution,

@@ -87,7 +87,7 @@ mac_floor = 0.5            # pairs below this MAC are not paired
 method = "least_squares"   # least_squares (Levenberg-Marquardt, then bounded), dogbox, trf, slsqp,
                            # trust-constr, nelder-mead
 starts = 1                 # multi-start
-max_iterations = 30
+max_iterations = 60
 
 [prediction]               # suspension removed: free-free modes, and proposed suspensions
 free_free = true
