@@ -110,7 +110,7 @@ class StabilisationData:
         _array(self, "selected_hz", (None,))
 
     @classmethod
-    def from_stabilisation(cls, stab, selected_hz=None) -> "StabilisationData":
+    def from_stabilisation(cls, stab, selected_hz=None) -> StabilisationData:
         """From a `flexgvt.ema.polymax` Stabilisation (poles as complex s [rad/s] per order); the
         indicator is the sum of |H| over all outputs and inputs."""
         orders, poles, stable = [], [], []
@@ -119,7 +119,7 @@ class StabilisationData:
             orders.append(np.full(len(s), order, dtype=np.int64))
             poles.append(np.abs(s) / (2 * np.pi))
             stable.append(np.asarray(st, dtype=bool))
-        cat = lambda parts, dt: np.concatenate(parts) if parts else np.zeros(0, dtype=dt)  # noqa: E731
+        cat = lambda parts, dt: np.concatenate(parts) if parts else np.zeros(0, dtype=dt)
         H = np.asarray(stab.H)
         indicator = np.abs(H).reshape(len(H), -1).sum(axis=1)
         return cls(np.asarray(stab.frequencies_hz, float), indicator, cat(orders, np.int64),

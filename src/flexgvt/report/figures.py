@@ -37,12 +37,14 @@ def _lines(xyz, edges):
 def deformed_shape(section: ConfigurationSection):
     """3D view (equal scales) and front view (span y against z) of the undeformed (grey dashed) and
     deformed (blue) wireframes."""
-    from mpl_toolkits.mplot3d.art3d import Line3DCollection
     from matplotlib.collections import LineCollection
+    from matplotlib.ticker import MaxNLocator
+    from mpl_toolkits.mplot3d.art3d import Line3DCollection
 
-    fig = _figure((11, 4.6))
-    ax3 = fig.add_subplot(1, 2, 1, projection="3d")
-    front = fig.add_subplot(1, 2, 2)
+    fig = _figure((12, 4.6))
+    grid = fig.add_gridspec(1, 2, width_ratios=(1.5, 1))
+    ax3 = fig.add_subplot(grid[0], projection="3d")
+    front = fig.add_subplot(grid[1])
     und, dfm = section.undeformed, section.deformed
     for geom, color, style, lw, lab in ((und, GREY, "--", 1.0, "undeformed"), (dfm, BLUE, "-", 2.0, "deformed")):
         seg = _lines(geom.xyz, geom.edges)
@@ -55,11 +57,17 @@ def deformed_shape(section: ConfigurationSection):
     ranges = np.maximum(hi - lo, 1e-3 * 2 * half) * 1.05
     for k, setter in enumerate((ax3.set_xlim, ax3.set_ylim, ax3.set_zlim)):
         setter(mid[k] - ranges[k] / 2, mid[k] + ranges[k] / 2)
-    ax3.set_box_aspect(tuple(ranges / ranges.max()), zoom=0.9)
+    ratio = ranges / ranges.max()
+    ax3.set_box_aspect(tuple(ratio), zoom=1.3)
+    for axis, r in zip((ax3.xaxis, ax3.yaxis, ax3.zaxis), ratio):  # few ticks on short axes, none on tiny
+        if r < 0.15:
+            axis.set_ticks([])
+        else:
+            axis.set_major_locator(MaxNLocator(nbins=max(2, int(round(8 * r)))))
     ax3.set_xlabel("x [m]")
-    ax3.set_ylabel("y [m]")
+    ax3.set_ylabel("y [m]", labelpad=12)
     ax3.set_zlabel("z [m]")
-    ax3.view_init(elev=20, azim=-60)
+    ax3.view_init(elev=22, azim=-35)
     front.set_aspect("equal", adjustable="datalim")
     front.autoscale_view()
     front.set_xlabel("y (span) [m]")

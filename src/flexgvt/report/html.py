@@ -179,7 +179,7 @@ class _Page:
             return
         self.n_figures += 1
         div = fig.to_html(full_html=False, include_plotlyjs=self.n_figures == 1, div_id=f"plot{self.n_figures}",
-                          config={"displaylogo": False, "responsive": True})
+                          config={"displaylogo": False, "responsive": True}, auto_play=False)
         self.add(f'<div class="plot">{div}</div>')
 
 

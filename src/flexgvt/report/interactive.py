@@ -8,6 +8,7 @@ interprets a subset of HTML in labels. Units: m, Hz, %.
 from __future__ import annotations
 
 import html as _html
+import math
 
 import numpy as np
 
@@ -37,7 +38,11 @@ def _layout(fig, title: str, height: int, **kwargs) -> None:
 
 
 def _segments(xyz: np.ndarray, edges: np.ndarray) -> tuple[list, list, list]:
-    """x, y, z lists of a wireframe, one segment per edge separated by None (a gap)."""
+    """x, y, z lists of a wireframe, one segment per edge separated by None (a gap); coordinates
+    rounded to 1e-6 of the extent (they are written as JSON text, once per animation frame)."""
+    ext = float(np.ptp(xyz, axis=0).max()) if len(xyz) > 1 else 0.0
+    if ext > 0:
+        xyz = np.round(xyz, max(0, int(np.ceil(-np.log10(ext * 1e-6)))))
     if len(edges) == 0:
         return xyz[:, 0].tolist(), xyz[:, 1].tolist(), xyz[:, 2].tolist()
     pts = np.full((len(edges), 3, 3), np.nan)
@@ -46,7 +51,7 @@ def _segments(xyz: np.ndarray, edges: np.ndarray) -> tuple[list, list, list]:
     out = []
     for k in range(3):
         col = flat[:, k].tolist()
-        out.append([None if v != v else v for v in col])
+        out.append([None if math.isnan(v) else v for v in col])
     return out[0], out[1], out[2]
 
 
