@@ -5,16 +5,22 @@ from __future__ import annotations
 
 import csv
 import re
-import shutil
 import subprocess
-from html.parser import HTMLParser
 from pathlib import Path
 
 import numpy as np
 import pytest
 
 from flexgvt.errors import ReportError
-from flexgvt.report import ConfigurationSection, Geometry, ModeShape, ReportContent, StabilisationData, write_report
+from flexgvt.report import (
+    ConfigurationSection,
+    Geometry,
+    ModeShape,
+    ReportContent,
+    StabilisationData,
+    write_report,
+)
+from flexgvt.report.browser import chromium, finish, start_chromium
 
 LABEL = "1B <b>bold</b>"  # must come out escaped
 
@@ -133,56 +139,16 @@ def test_empty_parts_left_out(tmp_path):
 
 # ---------------------------------------------------------------- headless Chromium
 
-CHROMIUM = shutil.which("chromium")
-FLAGS = ["--headless=new", "--no-sandbox", "--disable-gpu", "--enable-unsafe-swiftshader",
-         "--enable-logging=stderr", "--v=0", "--virtual-time-budget=15000", "--hide-scrollbars"]
-
-
 def _start(page: Path, workdir: Path, *args: str) -> subprocess.Popen:
-    """Chromium rendering `page` in the background (own profile, so two can run at once)."""
-    if CHROMIUM is None:
+    if chromium() is None:
         pytest.skip("chromium not installed: apt-get install chromium")
-    return subprocess.Popen([CHROMIUM, *FLAGS, f"--user-data-dir={workdir / 'profile'}", *args, "--dump-dom",
-                             page.as_uri()], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    shot = Path(args[0].split("=", 1)[1]) if args else None
+    return start_chromium(page, workdir, screenshot=shot)
 
 
-def console_errors(stderr: str) -> list[str]:
-    """Console messages that are errors: Chromium logs every console message as
-    `...:INFO:CONSOLE:<line>] "<message>", source: ...`; uncaught exceptions start with "Uncaught"."""
-    return [ln for ln in stderr.splitlines() if "CONSOLE" in ln and re.search(r"Uncaught|Error", ln)]
-
-
-class _Plots(HTMLParser):
-    """Per plotly div of the dumped DOM: [id, has a main-svg, has a canvas (3D, WebGL)]."""
-
-    def __init__(self):
-        super().__init__()
-        self.stack: list[int | None] = []  # index of the plot div each open div belongs to
-        self.plots: list[list] = []
-
-    def handle_starttag(self, tag, attrs):
-        cls = (dict(attrs).get("class") or "").split()
-        owner = next((s for s in reversed(self.stack) if s is not None), None)
-        if "plotly-graph-div" in cls:
-            self.plots.append([dict(attrs).get("id"), False, False])
-            owner = len(self.plots) - 1
-        if owner is not None:
-            self.plots[owner][1] |= "main-svg" in cls
-            self.plots[owner][2] |= tag == "canvas"
-        if tag == "div":
-            self.stack.append(owner if "plotly-graph-div" in cls else None)
-
-    def handle_endtag(self, tag):
-        if tag == "div" and self.stack:
-            self.stack.pop()
-
-
-def _dom_check(proc: subprocess.Popen) -> tuple[list[str], list[list]]:
-    """(console errors, [id, has main-svg, has canvas] per plot div) of a finished Chromium run."""
-    stdout, stderr = proc.communicate(timeout=90)
-    parser = _Plots()
-    parser.feed(stdout)
-    return console_errors(stderr), parser.plots
+def _dom_check(proc: subprocess.Popen) -> tuple[list[str], list]:
+    check = finish(proc)
+    return check.errors, [list(p) for p in check.plots]
 
 
 @pytest.fixture(scope="module")
@@ -197,7 +163,7 @@ def rendered(report, tmp_path_factory):
     shot = work / "shot.png"
     (work / "a").mkdir()
     (work / "b").mkdir()
-    good = _start(report, work / "a", f"--screenshot={shot}", "--window-size=1280,2000")
+    good = _start(report, work / "a", f"--screenshot={shot}")
     bad = _start(broken, work / "b")
     return {"good": _dom_check(good), "broken": _dom_check(bad), "shot": shot}
 

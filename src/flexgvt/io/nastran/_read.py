@@ -7,7 +7,7 @@ import io
 import math
 import re
 import warnings
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
@@ -365,7 +365,10 @@ class _Reader:
                 raise ModelError(f"{where}: G and NU are both blank, which Nastran reads as G = 0 (no torsional or "
                                  "shear stiffness); give G or NU")
             consistent = G and nu is not None and math.isclose(G, E / (2 * (1 + nu)), rel_tol=1e-6)
-            kwargs = {"nu": float(nu)} if (consistent or not G) else {"G": float(G) * u.stress}
+            # E and G given with NU blank: Nastran takes NU = E/2G - 1 whatever its value (a beam's
+            # equivalent properties often give NU outside (-1, 0.5); only E and G act on a beam).
+            use_nu = not G or (consistent and -1 < nu < 0.5)
+            kwargs = {"nu": float(nu)} if use_nu else {"G": float(G) * u.stress}
             if G and nu is not None and not consistent and -1 < nu < 0.5:
                 kwargs["nu"] = float(nu)
             if getattr(mat, "ge", 0.0):
@@ -398,8 +401,21 @@ class _Reader:
                 self.skip("PBEAM (neutral-axis/NSM offsets)", prop.pid)
                 return None
             first = (lambda v: float(np.atleast_1d(v)[0]))
-            return from_properties(where, first(prop.A), first(prop.i1), first(prop.i2), first(prop.i12),
-                                   first(prop.j), prop.k1, prop.k2), first(prop.nsm)
+            sdata = from_properties(where, first(prop.A), first(prop.i1), first(prop.i2), first(prop.i12),
+                                    first(prop.j), prop.k1, prop.k2)
+            nsi = [float(v) for v in (prop.nsia, prop.nsib) if v is not None]
+            if nsi and any(nsi):
+                if not np.allclose(nsi, nsi[0], rtol=1e-9, atol=0.0):
+                    self.skip("PBEAM (NSIA != NSIB: tapered torsional inertia)", prop.pid)
+                    return None
+                rho = self.bdf.materials[prop.mid].rho or 0.0
+                if not rho:
+                    self.skip("PBEAM (NSI on a massless material)", prop.pid)
+                    return None
+                # NSI: extra mass moment of inertia per length; flexgvt keeps it in rho * Ip.
+                sec = sdata.section
+                sdata = replace(sdata, section=replace(sec, Ip=sec.polar + nsi[0] / rho))
+            return sdata, first(prop.nsm)
         if prop.type == "PBEAML":
             dims = [list(map(float, d)) for d in prop.dim]
             if any(not np.allclose(d, dims[0]) for d in dims):

@@ -26,6 +26,11 @@ def _material_values(mat: Material, u: Units, wtmass: float) -> dict:
     return out
 
 
+def vals_rho(group, u: Units) -> float:
+    """The group's density in deck units (mass / length^3)."""
+    return group.material.rho / u.density
+
+
 def _same(a, b, rtol=1e-9) -> bool:
     return np.allclose(np.asarray(a, float), np.asarray(b, float), rtol=rtol, atol=0.0)
 
@@ -285,15 +290,23 @@ def _write_compact(model: Model, path: Path, configurations, u: Units, size: int
                 eid_used.add(int(eid))
             continue
         dims = library_dims(section) if getattr(section, "shear", False) else None
+        beam = False
         if dims is not None:
             bdf.add_pbarl(pid, mid, dims[0], list(dims[1]), comment=comment)
         else:
             vals = to_properties(section)
             p = section.properties()
             if abs(p["Ip"] - (p["Iy"] + p["Iz"])) > 1e-9 * (p["Iy"] + p["Iz"]):
-                notes.append(f"beam group '{group.name}': polar moment Ip != Iy + Iz is not written (PBAR has none)")
-            bdf.add_pbar(pid, mid, A=vals["A"], i1=vals["I1"], i2=vals["I2"], i12=0.0, j=vals["J"],
-                         k1=vals["K1"], k2=vals["K2"], comment=comment)
+                # A polar mass moment other than rho (I1 + I2): PBEAM's NSI carries the difference
+                # (mass moment of inertia per length), which read_bdf adds back.
+                beam = True
+                nsi = float(vals_rho(group, u) * (p["Ip"] - p["Iy"] - p["Iz"]))
+                bdf.add_pbeam(pid, mid, [0.0], ["YES"], [vals["A"]], [vals["I1"]], [vals["I2"]], [0.0], [vals["J"]],
+                              nsm=[0.0], k1=vals["K1"] or 0.0, k2=vals["K2"] or 0.0, nsia=nsi, nsib=nsi,
+                              comment=comment)  # K = 0: no shear flexibility (PBEAM blank is 1.0)
+            else:
+                bdf.add_pbar(pid, mid, A=vals["A"], i1=vals["I1"], i2=vals["I2"], i12=0.0, j=vals["J"],
+                             k1=vals["K1"], k2=vals["K2"], comment=comment)
         a = np.array([xyz[n] for n in group.nodes[:, 0].tolist()])
         b = np.array([xyz[n] for n in group.nodes[:, 1].tolist()])
         ex = (b - a) / np.linalg.norm(b - a, axis=1, keepdims=True)
@@ -301,7 +314,8 @@ def _write_compact(model: Model, path: Path, configurations, u: Units, size: int
         z /= np.linalg.norm(z, axis=1, keepdims=True)
         v = np.cross(z, ex)  # Nastran v = element y, so that Nastran z = x cross v = flexgvt z
         for eid, (na, nb), vv in zip(group.ids.tolist(), group.nodes.tolist(), v):
-            bdf.add_cbar(int(eid), pid, [int(na), int(nb)], [float(c) for c in vv], None)
+            add = bdf.add_cbeam if beam else bdf.add_cbar
+            add(int(eid), pid, [int(na), int(nb)], [float(c) for c in vv], None)
             eid_used.add(int(eid))
     next_eid = max(eid_used | {0}) + 1
     next_pid = len(model.beams) + 1
