@@ -107,10 +107,12 @@ def _toml_list(items) -> str:
 
 
 def example_project(case_name: str = "xhale", data: dict[str, str] | None = None, reference: str | None = None,
-                    name: str = "X-HALE-like aircraft, lab GVT on two suspension layouts") -> str:
+                    name: str = "X-HALE-like aircraft, lab GVT on two suspension layouts",
+                    modes: dict[str, tuple[str, str, list[str]]] | None = None) -> str:
     """The commented project text for a built-in case (its configurations 'outboard' and 'inboard'
     with the block-tested suspension, the case's design variables, bungee predictions). data:
-    {configuration: UFF FRF file} (default data/<name>.uff)."""
+    {configuration: UFF FRF file} (default data/<name>.uff); modes: {configuration: (JSON file, key,
+    labels)} of modes already identified, used instead of FRFs."""
     from .. import cases
     case = cases.get(case_name)
     g = 9.80665
@@ -124,10 +126,16 @@ def example_project(case_name: str = "xhale", data: dict[str, str] | None = None
                 case.model.index_of([cord.node])[0]] - np.asarray(cord.offset)) - cord.unstretched_length) / g
             cords += CORD.format(node=cord.node, ax=cord.anchor[0], ay=cord.anchor[1], az=cord.anchor[2],
                                  block=block, carries=carries)
-        file = (data or {}).get(c, f"data/{c}.uff")
-        text += CONFIGURATION.format(name=c, source=c, cords=cords,
-                                     data=f'frfs = "{file}"          # UFF 58 FRFs to identify (PolyMAX); or '
-                                          'modes = "modes.uff" / .csv / .json (already identified)')
+        if modes and c in modes:
+            file, key, labels = modes[c]
+            test = (f'modes = "{file}"   # modes already identified (UFF 55, .csv or .json)\n'
+                    f'key = "{key}"              # the object holding them in the JSON file\n'
+                    f'labels = [{_toml_list(labels)}]')
+        else:
+            file = (data or {}).get(c, f"data/{c}.uff")
+            test = (f'frfs = "{file}"          # UFF 58 FRFs to identify (PolyMAX); or '
+                    'modes = "modes.uff" / .csv / .json (already identified)')
+        text += CONFIGURATION.format(name=c, source=c, cords=cords, data=test)
     variables = ""
     for vname, kind, targets, attribute, bounds in case.references.get("design_variables", []):
         variables += (f'[[variables]]\nname = "{vname}"\nkind = "{kind}"\ntargets = [{_toml_list(targets)}]\n'
