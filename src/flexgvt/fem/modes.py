@@ -56,11 +56,16 @@ class Modes:
                 for i, (f, z) in enumerate(zip(self.frequencies_hz, self.damping_ratio))]
 
 
-def _frequency_hz(lam: np.ndarray, round_off: float = 0.0) -> np.ndarray:
+def _frequency_hz(lam: np.ndarray, round_off: float = 0.0, n_rigid: int | None = None) -> np.ndarray:
     """Frequencies [Hz] of eigenvalues [rad^2/s^2]; round-off-sized ones (rigid-body modes) become 0:
-    below 1e-9 of the largest or ``round_off`` [rad^2/s^2]."""
+    below 1e-9 of the largest or ``round_off`` [rad^2/s^2], at most the ``n_rigid`` smallest."""
     scale = max(np.abs(lam).max(initial=0.0), 1.0)
-    lam = np.where(np.abs(lam) < max(1e-9 * scale, round_off), 0.0, lam)
+    zero = np.abs(lam) < max(1e-9 * scale, round_off)
+    if n_rigid is not None and zero.sum() > n_rigid:
+        keep = np.argsort(np.abs(lam))[:n_rigid]
+        zero = np.zeros_like(zero)
+        zero[keep] = True
+    lam = np.where(zero, 0.0, lam)
     return np.sign(lam) * np.sqrt(np.abs(lam)) / (2 * np.pi)
 
 
@@ -169,11 +174,12 @@ def real_modes(K: sp.spmatrix, M: sp.spmatrix, n_modes: int, shift: float | None
     return lam, phi
 
 
-def complex_modes(K, C, M, n_modes: int, clamped: bool = False):
+def complex_modes(K, C, M, n_modes: int, clamped: bool = False, n_rigid: int | None = None):
     """Lowest n_modes complex eigenpairs of (s^2 M + s C + K) phi = 0 (state-space, dense or sparse).
 
     One root per mode: one of each conjugate pair, and one of the double zero root of each
-    undamped rigid-body motion (both have its shape). clamped: no rigid-body motion is free.
+    undamped rigid-body motion (both have its shape). clamped: no rigid-body motion is free;
+    n_rigid: at most this many rigid motions (the rest of the near-zero roots are physical).
     """
     n = K.shape[0]
     lam_max = _lambda_max_bound(K, np.abs(M.diagonal()))
@@ -211,6 +217,8 @@ def complex_modes(K, C, M, n_modes: int, clamped: bool = False):
     # Roots at the round-off level of zero are rigid motions; each undamped one is a double root
     # (two copies of its shape): keep the first copy of each shape.
     zero = np.abs(s) < 10 * np.sqrt(np.finfo(float).eps * max(lam_max, 1.0))
+    if n_rigid is not None and zero.sum() > 2 * n_rigid:  # each rigid motion: a double root
+        zero[np.argsort(np.abs(s))[2 * n_rigid:]] = False
     zero_idx = np.flatnonzero(zero)
     mac = mac_matrix(v[:, zero_idx], v[:, zero_idx])
     taken = []
@@ -248,6 +256,26 @@ def _align_rigid_modes(phi: np.ndarray, zero: np.ndarray, system, x: np.ndarray,
     return out
 
 
+def _rigid_count(system, x: np.ndarray, T, K, M) -> int:
+    """How many rigid-body modes the structure has at the state: the rigid motions the fixed DOFs
+    leave free whose Rayleigh quotient (tangent over mass, cords, springs and gravity's load
+    stiffness included) is zero to within its own round-off eps |U|^T |K| |U|. That bound is set
+    by the mass the stiff members move, not by the stiffest element's K/M, so a suspended
+    structure's pendulum and plunge modes are never taken for rigid ones."""
+    motions, basis = system.unrestrained_rigid_motions(x)
+    if basis.shape[1] == 0:
+        return 0
+    U = np.stack([system.reduce_vector(motions @ basis[:, j], T) for j in range(basis.shape[1])], axis=1)
+    Kr = U.T @ (K @ U)
+    Mr = U.T @ (M @ U)
+    Ua = np.abs(U)
+    err = np.finfo(float).eps * (Ua.T @ (abs(K) @ Ua))
+    d = np.sqrt(np.maximum(np.diag(Mr), 1e-300))
+    lam = np.linalg.eigvals(np.linalg.solve(Mr, 0.5 * (Kr + Kr.T)))
+    bound = 100 * float(np.max(err / np.outer(d, d)))
+    return int(np.sum(np.abs(lam) <= bound))
+
+
 MASS_FRAMES = ("deformed", "undeformed")
 
 
@@ -278,7 +306,8 @@ def solve_modes(state: State, n_modes: int = 15, *, damped: bool | None = None, 
     use_damping = system.has_damping if damped is None else damped
     if use_damping:
         C = system.damping_matrix(x, R)
-        s, v = complex_modes(K, C, M, n_modes, clamped)
+        n_rigid = None if clamped else _rigid_count(system, x, T, K, M)
+        s, v = complex_modes(K, C, M, n_modes, clamped, n_rigid)
         wn = np.abs(s)
         freq = np.where(wn < 1e-5 * max(wn.max(initial=0.0), 1.0), 0.0, wn / (2 * np.pi))
         zeta = np.where(wn > 0, -s.real / np.where(wn > 0, wn, 1), 0.0)
@@ -292,7 +321,8 @@ def solve_modes(state: State, n_modes: int = 15, *, damped: bool | None = None, 
         lam, phi = real_modes(K, M, n_modes, shift, clamped, system.cholmod_cache, use_cholmod=cholmod)
         # Rigid-body eigenvalues are zero to about eps * lambda_max (see _rigid_safe_shift).
         f = _frequency_hz(lam, 0.0 if clamped else 100 * np.finfo(float).eps
-                          * _lambda_max_bound(K, np.abs(M.diagonal())))
+                          * _lambda_max_bound(K, np.abs(M.diagonal())),
+                          None if clamped else _rigid_count(system, x, T, K, M))
         if not clamped:
             phi = _align_rigid_modes(phi, f == 0, system, x, T, M)
         shapes = system.expand(phi, T).T.reshape(len(lam), n, 6)

@@ -35,34 +35,53 @@ def mass_matrix(R: np.ndarray, offset0: np.ndarray, mass: np.ndarray, inertia0: 
     return M
 
 
-def cord_forces(x: np.ndarray, R: np.ndarray, offset0: np.ndarray, anchor: np.ndarray, k: np.ndarray,
-                l0: np.ndarray):
-    """Cords from fixed anchors to rotating attachments: g (n, 6), K (n, 6, 6), tension (n,), length (n,)."""
-    r = (R @ offset0[:, :, None])[:, :, 0]
-    d = x + r - anchor
+def _cord_arms(xa, Ra, xb, Rb, offset0, w):
+    """Rotated arms r_a, r_b and the attachment point P = (1 - w)(x_a + r_a) + w (x_b + r_b)."""
+    ra = (Ra @ offset0[:, :, None])[:, :, 0]
+    rb = (Rb @ offset0[:, :, None])[:, :, 0]
+    P = (1.0 - w)[:, None] * (xa + ra) + w[:, None] * (xb + rb)
+    return ra, rb, P
+
+
+def _cord_map(ra, rb, w):
+    """(n, 3, 12) dP = TP [dx_a, w_a, dx_b, w_b]."""
+    n = len(w)
+    eye = np.broadcast_to(np.eye(3), (n, 3, 3))
+    return np.concatenate([(1.0 - w)[:, None, None] * np.concatenate([eye, -skew(ra)], axis=2),
+                           w[:, None, None] * np.concatenate([eye, -skew(rb)], axis=2)], axis=2)
+
+
+def cord_forces(xa, Ra, xb, Rb, offset0: np.ndarray, anchor: np.ndarray, k: np.ndarray, l0: np.ndarray,
+                w: np.ndarray):
+    """Cords from fixed anchors to an attachment point between two nodes, P = (1 - w)(x_a + R_a o) +
+    w (x_b + R_b o) (w = 0: at node a with the rigid arm o; 0 < w < 1: along the element a-b, the
+    translations interpolated linearly). Returns g (n, 12), K (n, 12, 12) over [dx_a, w_a, dx_b,
+    w_b], tension (n,) and length (n,)."""
+    ra, rb, P = _cord_arms(xa, Ra, xb, Rb, offset0, w)
+    d = P - anchor
     length = np.linalg.norm(d, axis=1)
     nvec = d / length[:, None]
     T = k * np.maximum(length - l0, 0.0)
     taut = (length >= l0).astype(float)  # a cord at its natural length already resists stretching
     gP = T[:, None] * nvec
-    g = np.concatenate([gP, cross(r, gP)], axis=1)
+    wa, wb = (1.0 - w)[:, None], w[:, None]
+    g = np.concatenate([wa * gP, wa * cross(ra, gP), wb * gP, wb * cross(rb, gP)], axis=1)
     nn = nvec[:, :, None] * nvec[:, None, :]
     KPP = (k * taut)[:, None, None] * nn + (T / length)[:, None, None] * (np.eye(3) - nn)
-    Sr = skew(r)
-    K = np.empty((len(r), 6, 6))
-    K[:, :3, :3] = KPP
-    K[:, :3, 3:] = -KPP @ Sr
-    K[:, 3:, :3] = Sr @ KPP
-    K[:, 3:, 3:] = skew(gP) @ Sr - Sr @ KPP @ Sr
+    TP = _cord_map(ra, rb, w)
+    K = np.swapaxes(TP, 1, 2) @ KPP @ TP
+    SgP = skew(gP)
+    K[:, 3:6, 3:6] += wa[:, :, None] * (SgP @ skew(ra))
+    K[:, 9:12, 9:12] += wb[:, :, None] * (SgP @ skew(rb))
     return g, K, T, length
 
 
-def cord_damping(x, R, offset0, anchor, c) -> np.ndarray:
-    """(n, 6, 6) viscous damping of cords along their current line of action."""
-    r = (R @ offset0[:, :, None])[:, :, 0]
-    d = x + r - anchor
+def cord_damping(xa, Ra, xb, Rb, offset0, anchor, c, w) -> np.ndarray:
+    """(n, 12, 12) viscous damping of cords along their current line of action (see cord_forces)."""
+    ra, rb, P = _cord_arms(xa, Ra, xb, Rb, offset0, w)
+    d = P - anchor
     nvec = d / np.linalg.norm(d, axis=1, keepdims=True)
-    TP = np.concatenate([np.broadcast_to(np.eye(3), (len(r), 3, 3)), -skew(r)], axis=2)  # dP = TP [dx, w]
+    TP = _cord_map(ra, rb, w)
     CPP = c[:, None, None] * nvec[:, :, None] * nvec[:, None, :]
     return np.swapaxes(TP, 1, 2) @ CPP @ TP
 

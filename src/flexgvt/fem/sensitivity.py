@@ -153,7 +153,8 @@ class ValueChange:
     offsets quadratically, so this central difference is exact; springs: (indices, d stiffness
     (k, 6)); cords: (indices, d stiffness (k,)); cord_offsets: (indices, samples) with samples
     [(offsets (k, 3), weight)] a finite-difference rule in the attachment offset (the cord's
-    line of action is not polynomial in it). Derivatives are per unit of the parameter.
+    line of action is not polynomial in it); cord_along: (indices, samples) the same rule in the
+    attachment fraction along the element. Derivatives are per unit of the parameter.
     """
 
     beams: tuple | None = None
@@ -161,6 +162,13 @@ class ValueChange:
     springs: tuple | None = None
     cords: tuple | None = None
     cord_offsets: tuple | None = None  # (indices, [(offsets (k, 3), weight), ...]): a difference rule in the offset
+    cord_along: tuple | None = None  # (indices, [(fractions (k,), weight), ...]): the same in the attachment fraction
+
+
+def _add_cords(g_full: np.ndarray, system, rows: np.ndarray, g: np.ndarray) -> None:
+    """Add cord element vectors (k, 12) over [node a, node b] into the (n, 6) nodal array."""
+    np.add.at(g_full, system.cord_nodes[rows], g[:, :6])
+    np.add.at(g_full, system.cord_nodes_b[rows], g[:, 6:])
 
 
 def _beam_subset(b, rows, dsection):
@@ -216,21 +224,23 @@ def value_derivative(system, x: np.ndarray, R: np.ndarray, lam: float, change: V
     if change.cords is not None:
         rows, dk = change.cords
         rows = np.asarray(rows, int)
-        cn = system.cord_nodes[rows]
-        g, K, _, _ = cord_forces(x[cn], R[cn], system.cord_offset[rows], system.cord_anchor[rows],
-                                 np.asarray(dk, float), system.cord_l0_at(lam)[rows])
-        np.add.at(g_full, cn, g)
+        g, K, _, _ = cord_forces(*system.cord_state(x, R, rows), system.cord_offset[rows], system.cord_anchor[rows],
+                                 np.asarray(dk, float), system.cord_l0_at(lam)[rows], system.cord_w[rows])
+        _add_cords(g_full, system, rows, g)
         p.data_subset(2, rows, K, K_data)
-    if change.cord_offsets is not None:
-        rows, samples = change.cord_offsets
+    for samples_of in (change.cord_offsets, change.cord_along):
+        if samples_of is None:
+            continue
+        rows, samples = samples_of
         rows = np.asarray(rows, int)
-        cn = system.cord_nodes[rows]
         g = K = 0.0
-        for off, w in samples:
-            gi, Ki, _, _ = cord_forces(x[cn], R[cn], np.asarray(off, float), system.cord_anchor[rows], system.cord_k[rows],
-                                       system.cord_l0_at(lam)[rows])
+        for value, w in samples:
+            off = np.asarray(value, float) if samples_of is change.cord_offsets else system.cord_offset[rows]
+            frac = system.cord_w[rows] if samples_of is change.cord_offsets else np.asarray(value, float)
+            gi, Ki, _, _ = cord_forces(*system.cord_state(x, R, rows), off, system.cord_anchor[rows],
+                                       system.cord_k[rows], system.cord_l0_at(lam)[rows], frac)
             g, K = g + w * gi, K + w * Ki
-        np.add.at(g_full, cn, g)
+        _add_cords(g_full, system, rows, g)
         p.data_subset(2, rows, K, K_data)
     if change.springs is not None:
         rows, dk = change.springs
@@ -343,7 +353,8 @@ def modal_state_terms(system, x: np.ndarray, R: np.ndarray, lam: float, phi: np.
         return K, mass_matrix(Rs[:, 0], mp.offset, mp.mass, mp.inertia)
 
     def cord_fn(xs, Rs):
-        _, K, _, _ = cord_forces(xs[:, 0], Rs[:, 0], system.cord_offset, system.cord_anchor, system.cord_k, l0)
+        _, K, _, _ = cord_forces(xs[:, 0], Rs[:, 0], xs[:, 1], Rs[:, 1], system.cord_offset, system.cord_anchor,
+                                 system.cord_k, l0, system.cord_w)
         return K, None
 
     def spring_fn(xs, Rs):
@@ -354,7 +365,8 @@ def modal_state_terms(system, x: np.ndarray, R: np.ndarray, lam: float, phi: np.
         K[ground, :, :6] = 0.0
         return K, None
 
-    kinds = [(beam_fn, b.nodes), (mass_fn, mp.nodes[:, None]), (cord_fn, cn[:, None]),
+    cord_pairs = np.column_stack([cn, system.cord_nodes_b]) if len(cn) else np.zeros((0, 2), int)
+    kinds = [(beam_fn, b.nodes), (mass_fn, mp.nodes[:, None]), (cord_fn, cord_pairs),
              (spring_fn, np.column_stack([ia, s.b]) if len(s.b) else np.zeros((0, 2), int))]
     for block, (fn, nodes) in enumerate(kinds):
         if len(nodes) == 0:

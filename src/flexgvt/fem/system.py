@@ -242,7 +242,8 @@ class System:
             raise ModelError(f"{where}: every DOF is fixed; nothing to solve")
 
         self.has_links = bool(dependent.any()) or len(cm.interp) > 0 or len(cm.mpc_dependent) > 0
-        blocks = [self._beam_dofs(), self._node_dofs(self.masses.nodes), self._node_dofs(self.cord_nodes),
+        blocks = [self._beam_dofs(), self._node_dofs(self.masses.nodes),
+                  np.concatenate([self._node_dofs(self.cord_nodes), self._node_dofs(self.cord_nodes_b)], axis=1),
                   self._spring_dofs()]
         self._blocks = blocks
         if self.has_links:
@@ -264,12 +265,24 @@ class System:
         where = f"configuration '{config.name}'"
         cords = list(config.suspension)
         self.cord_nodes = model.index_of([c.node for c in cords], f"{where}: cord") if cords else np.zeros(0, int)
+        self.cord_nodes_b = model.index_of([c.node if c.node_b is None else c.node_b for c in cords],
+                                           f"{where}: cord node_b") if cords else np.zeros(0, int)
         self.cord_offset = np.array([c.offset for c in cords], float).reshape(-1, 3)
         self.cord_anchor = np.array([c.anchor for c in cords], float).reshape(-1, 3)
         self.cord_k = np.array([c.stiffness for c in cords], float)
         self.cord_c = np.array([c.damping for c in cords], float)
         self.cord_l0 = np.array([c.unstretched_length for c in cords], float)
-        attach = cm.xyz[self.cord_nodes] + self.cord_offset
+        span = np.linalg.norm(cm.xyz[self.cord_nodes_b] - cm.xyz[self.cord_nodes], axis=1)
+        along = np.array([c.along for c in cords], float)
+        off = along > span * (1 + 1e-12)
+        if np.any(off):
+            k = int(np.flatnonzero(off)[0])
+            raise ModelError(f"{where}: cord {k} is attached {along[k]} m along from node {cords[k].node} toward node "
+                             f"{cords[k].node_b}, beyond the {span[k]:.6g} m between them: the attachment point "
+                             "is off the structure; give 0 <= along <= that distance")
+        self.cord_w = np.where(span > 0, along / np.where(span > 0, span, 1.0), 0.0)
+        attach = (1 - self.cord_w)[:, None] * cm.xyz[self.cord_nodes] + self.cord_w[:, None] * cm.xyz[
+            self.cord_nodes_b] + self.cord_offset
         self.cord_lgeom = np.linalg.norm(attach - self.cord_anchor, axis=1)
         if np.any(self.cord_lgeom == 0):
             raise ModelError(f"{where}: a cord's anchor coincides with its attachment point; move the anchor")
@@ -301,7 +314,8 @@ class System:
     def _topology(self) -> tuple:
         """What the DOF numbering and the sparsity pattern depend on."""
         s = self.springs
-        return (self.cm.beams.nodes, self.masses.nodes, s.a, s.b, self.cord_nodes, self.cm.links, self.cm.link_dofs,
+        return (self.cm.beams.nodes, self.masses.nodes, s.a, s.b, self.cord_nodes, self.cord_nodes_b, self.cm.links,
+                self.cm.link_dofs,
                 self.cm.interp.reference if len(self.cm.interp) else np.zeros(0, int), self.cm.mpc_dependent)
 
     def for_values(self, model: Model, config: Configuration) -> "System":
@@ -461,6 +475,11 @@ class System:
         return T @ v_red
 
     # ------------------------------------------------------------------ evaluation
+    def cord_state(self, x: np.ndarray, R: np.ndarray, rows=slice(None)) -> tuple:
+        """(x_a, R_a, x_b, R_b) of the cords' two nodes (the same node twice for a cord at a node)."""
+        a, b = self.cord_nodes[rows], self.cord_nodes_b[rows]
+        return x[a], R[a], x[b], R[b]
+
     def cord_l0_at(self, lam: float) -> np.ndarray:
         """Unstretched cord lengths along the load ramp: unstrained at lam = 0, nominal at lam = 1."""
         return self.cord_lgeom + lam * (self.cord_l0 - self.cord_lgeom)
@@ -490,11 +509,10 @@ class System:
         gm, Km = mass_gravity(R[m.nodes], m.offset, lam * self.mass_weight) if len(m.nodes) else \
             (np.zeros((0, 6)), np.zeros((0, 6, 6)))
         tension = length = np.zeros(0)
-        gc, Kc = np.zeros((0, 6)), np.zeros((0, 6, 6))
+        gc, Kc = np.zeros((0, 12)), np.zeros((0, 12, 12))
         if len(self.cord_nodes):
-            cn = self.cord_nodes
-            gc, Kc, tension, length = cord_forces(x[cn], R[cn], self.cord_offset, self.cord_anchor, self.cord_k,
-                                                  self.cord_l0_at(lam))
+            gc, Kc, tension, length = cord_forces(*self.cord_state(x, R), self.cord_offset, self.cord_anchor,
+                                                  self.cord_k, self.cord_l0_at(lam), self.cord_w)
         s = self.springs
         gs, Ks = np.zeros((0, 12)), np.zeros((0, 12, 12))
         if len(s.b):
@@ -649,15 +667,14 @@ class System:
         m = self.masses
         return [beam_mass_matrices(x, R, self.cm.beams, self.cm.beam_local_mass),
                 mass_matrix(R[m.nodes], m.offset, m.mass, m.inertia),
-                np.zeros((len(self.cord_nodes), 6, 6)), np.zeros((len(self.springs.b), 12, 12))]
+                np.zeros((len(self.cord_nodes), 12, 12)), np.zeros((len(self.springs.b), 12, 12))]
 
     def damping_matrix(self, x: np.ndarray, R: np.ndarray) -> sp.csc_matrix:
         """Reduced viscous damping matrix (springs/dampers and cords) about the state."""
         s = self.springs
         values = [np.zeros((len(self.cm.beams.L0), 12, 12)), np.zeros((len(self.masses.nodes), 6, 6))]
-        cn = self.cord_nodes
-        values.append(cord_damping(x[cn], R[cn], self.cord_offset, self.cord_anchor, self.cord_c) if len(cn)
-                      else np.zeros((0, 6, 6)))
+        values.append(cord_damping(*self.cord_state(x, R), self.cord_offset, self.cord_anchor, self.cord_c,
+                                   self.cord_w) if len(self.cord_nodes) else np.zeros((0, 12, 12)))
         if len(s.b):
             ground = s.a < 0
             Ra = np.where(ground[:, None, None], np.eye(3), R[np.where(ground, s.b, s.a)])

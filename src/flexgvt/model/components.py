@@ -74,8 +74,11 @@ class Cord:
     stiffness [N/m] and damping [N s/m] act along the cord; ``unstretched_length`` [m] sets the
     tension T = stiffness * (length - unstretched_length) (a slack cord carries nothing).
     ``offset`` [m] is the attachment point relative to the node (global axes, undeformed), so the
-    line of action follows the deformed attachment. A taut cord of length L adds the pendulum
-    stiffness T/L sideways.
+    line of action follows the deformed attachment. ``node_b`` and ``along`` [m] attach the cord
+    between two nodes (along an element): at ``along`` from ``node`` toward ``node_b``, the
+    attachment moving with the two nodes' translations interpolated linearly (plus the arm
+    ``offset`` turned with each node); ``along`` is continuous, so it can be a design variable.
+    A taut cord of length L adds the pendulum stiffness T/L sideways.
     """
 
     node: int
@@ -84,11 +87,18 @@ class Cord:
     unstretched_length: float
     damping: float = 0.0
     offset: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    node_b: int | None = None
+    along: float = 0.0
 
     def __post_init__(self) -> None:
         if not np.all(np.isfinite(np.r_[self.anchor, self.offset, self.stiffness, self.damping,
-                                        self.unstretched_length])):
+                                        self.unstretched_length, self.along])):
             raise ModelError(f"cord at node {self.node}: NaN or infinity in its data")
+        if self.node_b is None and self.along != 0.0:
+            raise ModelError(f"cord at node {self.node}: along={self.along} needs node_b, the element's other node")
+        if self.node_b is not None and (self.node_b == self.node or self.along < 0):
+            raise ModelError(f"cord at node {self.node}: node_b must be another node and along >= 0 "
+                             f"(got node_b={self.node_b}, along={self.along})")
         if self.stiffness <= 0 or self.damping < 0 or self.unstretched_length <= 0:
             raise ModelError(f"cord at node {self.node}: stiffness and unstretched_length must be > 0 and "
                              f"damping >= 0 (got {self.stiffness}, {self.unstretched_length}, {self.damping})")

@@ -98,6 +98,15 @@ def value_change(par: Parametrisation, model, x: np.ndarray, k: int, configurati
     if not mine or v.attribute == "damping":
         return ValueChange()
     rows = np.array([i for i, _ in mine], int)
+    if v.attribute == "along":  # attachment position along the element [m]: four-point rule on the fraction
+        cords = par.configurations[configuration].suspension
+        xyz = {int(n): p for n, p in zip(model.node_ids, model.xyz)}
+        span = np.array([np.linalg.norm(xyz[cords[i].node_b] - xyz[cords[i].node]) for i in rows])
+        current = np.array([k0 for _, k0 in mine]) + (x[k] - 1.0) * v.scale
+        h = _OFFSET_STEP / v.scale
+        samples = [((current + off * v.scale) / span, w / h)
+                   for off, w in zip((2 * h, h, -h, -2 * h), (-1 / 12, 8 / 12, -8 / 12, 1 / 12))]
+        return ValueChange(cord_along=(rows, samples))
     if v.shifts:  # attachment offset [m]: four-point rule on the cord's forces and tangent
         base = np.array([par.configurations[configuration].suspension[i].offset for i in rows], float)
         current = base.copy()

@@ -24,7 +24,7 @@ KINDS = ("beam", "mass", "spring", "cord")
 MATERIAL_ATTRIBUTES = ("E", "G", "rho")
 MASS_ATTRIBUTES = ("mass", "offset_x", "offset_y", "offset_z")
 SPRING_ATTRIBUTES = tuple(f"k{i}" for i in range(1, 7)) + tuple(f"c{i}" for i in range(1, 7)) + ("stiffness", "damping")
-CORD_ATTRIBUTES = ("stiffness", "damping", "offset_x", "offset_y", "offset_z")
+CORD_ATTRIBUTES = ("stiffness", "damping", "offset_x", "offset_y", "offset_z", "along")
 SECTION_ALIASES = {"thickness": "height"}  # a RectangularSection's height is a strip's or skin's thickness
 
 
@@ -64,8 +64,9 @@ class Variable:
 
     @property
     def shifts(self) -> bool:
-        """Offsets shift (p0 + (x - 1) scale); every other attribute scales (x p0)."""
-        return self.attribute.startswith("offset_")
+        """Offsets and a cord's attachment position ``along`` shift (p0 + (x - 1) scale); every other
+        attribute scales (x p0)."""
+        return self.attribute.startswith("offset_") or self.attribute == "along"
 
 
 def beam(name: str, groups: str | Iterable[str], attribute: str, bounds=(0.9, 1.1)) -> Variable:
@@ -91,9 +92,9 @@ def spring(name: str, springs: int | Iterable[int], attribute: str = "stiffness"
 
 def cord(name: str, cords: int | Iterable[int] | None = None, attribute: str = "stiffness", bounds=(0.8, 1.2),
          configurations: Iterable[str] | None = None, scale: float = 0.01) -> Variable:
-    """Stiffness, damping or attachment offset (offset_x/y/z: the attachment point's position from
-    its node [m], shifted by (x - 1) scale; along the span it moves the attachment continuously) of
-    suspension cords (indices in each configuration's suspension; None: all) in the named
+    """Stiffness, damping, attachment offset (offset_x/y/z: the attachment point's arm from its node
+    [m], shifted by (x - 1) scale) or position ``along`` its element [m] (a cord with node_b: the
+    attachment slides between the two nodes, shifted by (x - 1) scale) of suspension cords (indices in each configuration's suspension; None: all) in the named
     configurations (None: all)."""
     cords = () if cords is None else ((cords,) if np.isscalar(cords) else tuple(cords))
     return Variable(name, "cord", attribute, tuple(int(c) for c in cords), bounds, scale,
@@ -183,7 +184,10 @@ class Parametrisation:
                 if not 0 <= i < len(cords):
                     raise ModelError(f"{where}: configuration '{c}' has no cord {i} ({len(cords)} cords)")
                 idx.append((c, i))
-                initial.append(cords[i].offset["xyz".index(v.attribute[-1])] if v.shifts
+                if v.attribute == "along" and cords[i].node_b is None:
+                    raise ModelError(f"{where}: cord {i} of configuration '{c}' hangs at a node; give it node_b "
+                                     "(the element's other node) to move its attachment along the element")
+                initial.append(cords[i].offset["xyz".index(v.attribute[-1])] if v.attribute.startswith("offset_")
                                else getattr(cords[i], v.attribute))
         if not idx:
             raise ModelError(f"{where}: no cord in configuration(s) {cfgs}")
@@ -285,7 +289,7 @@ class Parametrisation:
                 else:
                     c, i = idx
                     lst = cords.setdefault(c, list(configs[c].suspension))
-                    if v.shifts:
+                    if v.attribute.startswith("offset_"):
                         off = list(lst[i].offset)
                         off["xyz".index(v.attribute[-1])] = float(value)
                         lst[i] = replace(lst[i], offset=tuple(off))

@@ -69,14 +69,17 @@ def synthetic_gvt(model, configuration, sensors: dict, references: list[str], *,
     zeta = structural_damping * (1 + 0.3 * rng.uniform(-1, 1, len(w_n)))
     C = np.diag(2 * zeta * w_n)
     ids = list(modes.node_ids)
-    for cord in configuration.suspension:
-        k = ids.index(cord.node)
-        R = state.rotations[k]
-        attach = state.positions[k] + R @ np.asarray(cord.offset, float)
+    system = state.system
+    for j, cord in enumerate(configuration.suspension):
+        # The dashpot acts along the cord at its attachment (between two nodes: interpolated).
+        ka, kb, w = system.cord_nodes[j], system.cord_nodes_b[j], system.cord_w[j]
+        ra = state.rotations[ka] @ np.asarray(cord.offset, float)
+        rb = state.rotations[kb] @ np.asarray(cord.offset, float)
+        attach = (1 - w) * (state.positions[ka] + ra) + w * (state.positions[kb] + rb)
         e = np.asarray(cord.anchor, float) - attach
         e /= np.linalg.norm(e)
-        r = R @ np.asarray(cord.offset, float)
-        b = modes.shapes[:, k, :3] @ e + np.cross(r, e) @ modes.shapes[:, k, 3:].T
+        b = sum(f * (modes.shapes[:, k, :3] @ e + np.cross(r, e) @ modes.shapes[:, k, 3:].T)
+                for f, k, r in ((1 - w, ka, ra), (w, kb, rb)))
         C += cord.damping * np.outer(b, b)
     f = np.arange(df_hz, f_max_hz + 0.5 * df_hz, df_hz)
     w = 2 * np.pi * f
