@@ -19,7 +19,7 @@ def _load(path: Path):
 
 def test_every_example_is_tested():
     scripts = sorted(p.relative_to(EXAMPLES).as_posix() for p in EXAMPLES.rglob("*.py"))
-    assert scripts == ["xhale_lab/run.py"]
+    assert scripts == ["strip_366_gvt.py", "xhale_lab/run.py"]
 
 
 def test_xhale_lab(tmp_path):
@@ -36,3 +36,18 @@ def test_xhale_lab(tmp_path):
         assert s["updated_hz"] < s["initial_hz"], c
         assert s["updated_hz"] < s["original_updated_hz"] + 1.0, c
     assert out["prediction"][0]["label"] == "1 OOP" and 0.85 < out["prediction"][0]["free_hz"] < 0.95
+
+
+def test_strip_366_gvt(tmp_path):
+    data = SHARED / "strip_366_gvt.json"
+    if not data.is_file():
+        pytest.skip(f"{data} not found (the measured tables ship beside the repository)")
+    out = _load(EXAMPLES / "strip_366_gvt.py").main(["--out", str(tmp_path / "o"), "--json", str(tmp_path / "s.json"),
+                                                     "--max-iterations", "10"])
+    saved = json.loads((tmp_path / "s.json").read_text())
+    assert set(saved["configurations"]) == {"outboard", "inboard"} and Path(saved["figure"]).is_file()
+    # The unpublished inboard attachment: the torsion modes put it 1.5-1.65 m from the ends.
+    assert 1.45 <= out["inboard_attachment_m"] <= 1.65
+    for name, s in out["summary"].items():
+        assert s["updated_median_percent"] < s["initial_median_percent"] + 0.5, name
+    assert out["summary"]["outboard"]["updated_median_percent"] < out["summary"]["outboard"]["initial_median_percent"]

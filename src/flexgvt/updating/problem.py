@@ -18,7 +18,7 @@ from scipy.optimize import linear_sum_assignment
 from ..errors import ConvergenceError, ModelError, SingularModelError, SolverError
 from ..fem import Modes, solve_static
 from ..fem.massprops import rigid_body_basis, system_mass_properties
-from ..fem.modes import _frequency_hz, _lambda_max_bound, real_modes
+from ..fem.modes import _frequency_hz, _lambda_max_bound, _rigid_count, real_modes
 from ..fem.system import System
 from ..model import Configuration, Model
 from ..correlation.mac import realise
@@ -247,23 +247,29 @@ class UpdatingProblem:
             raise DesignPointFailure(f"configuration '{name}': the eigen-solution failed at this design point ({exc})") \
                 from exc
         # Rigid-body eigenvalues are zero to about eps * lambda_max, as in solve_modes.
-        f = _frequency_hz(lam, 0.0 if system.clamped else 100 * np.finfo(float).eps * _lambda_max_bound(K, M.diagonal()))
+        T = system.transformation(x, R) if system.has_links else None
+        f = _frequency_hz(lam, 0.0 if system.clamped else 100 * np.finfo(float).eps * _lambda_max_bound(K, M.diagonal()),
+                          None if system.clamped else _rigid_count(system, x, T, K, M))
         self.states[name] = state
         sensors = meas.sensors
-        shapes_s = None
+        shapes_s = seen = None
         if meas.shapes is not None:
-            T = system.transformation(x, R) if system.has_links else None
             S = sensors.matrix(state.node_ids, state, follow=self.follow_sensors)
             shapes_s = np.asarray(S @ system.expand(phi, T)).T
-        paired, mac, macm = self._pair(name, meas, f, phi, shapes_s, M)
+        elif meas.observed_by is not None:
+            S = meas.observed_by.matrix(state.node_ids, state, follow=self.follow_sensors)
+            amp = np.linalg.norm(np.asarray(S @ system.expand(phi, T)), axis=0)
+            best = amp[f > 0].max(initial=0.0)
+            seen = amp >= meas.visibility * best if best > 0 else None
+        paired, mac, macm = self._pair(name, meas, f, phi, shapes_s, M, seen)
         static = np.array([state.displacements[state.node(node), int(c) - 1] for (node, c) in meas.static])
         return ConfigurationPoint(name, state, lam, f, phi, paired, mac, macm, shapes_s, static, K, M, tangent)
 
-    def _pair(self, name, meas: Measured, f, phi, shapes_s, M):
+    def _pair(self, name, meas: Measured, f, phi, shapes_s, M, seen=None):
         """Measured -> analytical pairing: by MAC with the measured shapes (frequency as tie-break,
         a floor below which a measured mode stays unpaired); without shapes, by MAC with the paired
         analytical shapes of the previous design point (so modes that cross stay paired), and at the
-        first point by frequency."""
+        first point by frequency (among the modes the sensors see, when ``seen`` is given)."""
         elastic = f > 0
         fm = meas.frequencies_hz
         closeness = np.abs(np.log(np.where(f[None, :] > 0, f[None, :], 1e-300) / fm[:, None]))
@@ -290,7 +296,8 @@ class UpdatingProblem:
             paired = np.full(len(fm), -1)
             paired[rows] = cols
         else:
-            cost = np.where(elastic[None, :], closeness, 1e6)
+            usable = elastic if seen is None else elastic & seen
+            cost = np.where(usable[None, :], closeness, 1e6)
             rows, cols = linear_sum_assignment(cost)
             paired = np.full(len(fm), -1)
             paired[rows] = cols

@@ -42,7 +42,8 @@ def fingerprint(problem, method: str) -> tuple[str, np.ndarray]:
         numbers.append(np.ravel(b.initial))
     for name, m in sorted(problem.measured.items()):
         h.update(repr((name, len(m.frequencies_hz), None if m.shapes is None else m.shapes.shape,
-                       sorted(m.static))).encode())
+                       sorted(m.static), None if m.observed_by is None else (m.observed_by.names, m.visibility))
+                      ).encode())
         numbers += [m.frequencies_hz, np.ravel(np.abs(m.shapes)) if m.shapes is not None else np.zeros(0),
                     np.array(list(m.static.values()), float)]
     h.update(repr(problem.objective).encode())

@@ -19,7 +19,10 @@ class Measured:
     frequency and followed by MAC between design points); frequency_std_hz: standard deviations
     of repeated tests (weights and the variables' uncertainty); static: {(node, component 1-6):
     measured static displacement [m or rad]} of the configuration's equilibrium; labels: names of
-    the measured modes for the tables.
+    the measured modes for the tables; observed_by: with frequencies only, the Sensors that measured
+    them: the first pairing then takes only analytical modes they see, whose reading amplitude
+    (mass-normalised shapes) is at least ``visibility`` times the best-seen mode's (vertical
+    accelerometers do not see in-plane or pendulum modes, which would otherwise pair by frequency).
     """
 
     configuration: str
@@ -29,6 +32,8 @@ class Measured:
     frequency_std_hz: np.ndarray | None = None
     static: dict = field(default_factory=dict)
     labels: tuple[str, ...] = ()
+    observed_by: object | None = None
+    visibility: float = 0.05
 
     def __post_init__(self) -> None:
         where = f"measured data of configuration '{self.configuration}'"
@@ -59,6 +64,8 @@ class Measured:
             if sd.shape != f.shape or not np.all(np.isfinite(sd)) or np.any(sd < 0):
                 raise ModelError(f"{where}: frequency_std_hz must be {len(f)} finite values >= 0")
             object.__setattr__(self, "frequency_std_hz", sd)
+        if self.observed_by is not None and not 0.0 < self.visibility < 1.0:
+            raise ModelError(f"{where}: visibility={self.visibility} must lie in (0, 1)")
         for key, value in self.static.items():
             if not np.isfinite(value):
                 raise ModelError(f"{where}: static deflection at {key} is not finite")
