@@ -18,7 +18,7 @@ import numpy as np
 from pydantic import ValidationError
 
 from ..errors import FlexGVTError, ModelError
-from ..model import ConcentratedMass, Configuration, Cord, Model
+from ..model import ConcentratedMass, Configuration, Cord, Model, NodalLoad
 from ..model.configuration import STANDARD_GRAVITY
 from .schema import ConfigurationSpec, ProjectFile
 
@@ -167,9 +167,8 @@ def _configuration(c: ConfigurationSpec, available: dict, blocks: dict, model: M
         changes["gravity"] = c.gravity
     for j, m in enumerate(c.masses):
         _node(model, m.node, f"{loc}.masses[{j}].node")
-    if c.masses:
-        changes["masses"] = tuple(base.masses) + tuple(
-            ConcentratedMass(m.node, m.mass, np.asarray(m.offset, float), np.zeros((3, 3))) for m in c.masses)
+    extra = [ConcentratedMass(m.node, m.mass, np.asarray(m.offset, float), np.zeros((3, 3))) for m in c.masses]
+    fixed = dict(base.fixed)
     if c.fixed is not None:
         fixed = {}
         for node, comps in c.fixed.items():
@@ -178,7 +177,22 @@ def _configuration(c: ConfigurationSpec, available: dict, blocks: dict, model: M
             except ValueError:
                 raise ProjectError(f"{loc}.fixed: key {node!r} must be a node id") from None
             _node(model, int(node), f"{loc}.fixed.{node}")
+    if c.shaker is not None:
+        _node(model, c.shaker.node, f"{loc}.shaker.node")
+        if c.shaker.mass:
+            extra.append(ConcentratedMass(c.shaker.node, c.shaker.mass, np.zeros(3), np.zeros((3, 3))))
+        if c.shaker.fixed:
+            held = set(fixed.get(c.shaker.node, "")) | set(c.shaker.fixed)
+            fixed[c.shaker.node] = "".join(sorted(held))
+    if c.fixed is not None or (c.shaker is not None and c.shaker.fixed):
         changes["fixed"] = fixed
+    if extra:
+        changes["masses"] = tuple(base.masses) + tuple(extra)
+    for j, f in enumerate(c.forces):
+        _node(model, f.node, f"{loc}.forces[{j}].node")
+    if c.forces:
+        changes["forces"] = tuple(base.forces) + tuple(NodalLoad(f.node, tuple(f.force), tuple(f.moment))
+                                                       for f in c.forces)
     if c.cords is not None:
         g = (c.gravity if c.gravity is not None else base.gravity) * base.g or STANDARD_GRAVITY
         cords = []

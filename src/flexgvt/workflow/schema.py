@@ -89,6 +89,27 @@ class MassSpec(Strict):
     offset: Vector3 = Field(default_factory=lambda: [0.0, 0.0, 0.0])
 
 
+Force = _q("force")
+Moment = _q("moment")
+
+
+class ForceSpec(Strict):
+    """A nodal load of this test (fixed direction, scaled with the load factor like gravity)."""
+
+    node: int
+    force: Annotated[list[Force], Field(min_length=3, max_length=3)] = Field(default_factory=lambda: [0.0] * 3)
+    moment: Annotated[list[Moment], Field(min_length=3, max_length=3)] = Field(default_factory=lambda: [0.0] * 3)
+
+
+class ShakerSpec(Strict):
+    """A shaker attached through a stinger: its moving mass at the node, and the components the
+    stinger holds (a stiff stinger on a heavy shaker: the translations, "123")."""
+
+    node: int
+    mass: Mass = 0.0
+    fixed: str = ""
+
+
 class TestData(Strict):
     """Measured data of a configuration: FRFs to identify (UFF 58) or identified modes (UFF 55, CSV, JSON)."""
 
@@ -126,6 +147,8 @@ class ConfigurationSpec(Strict):
     fixed: dict[str, str] | None = None
     cords: list[CordSpec] | None = None
     masses: list[MassSpec] = Field(default_factory=list)
+    forces: list[ForceSpec] = Field(default_factory=list)
+    shaker: ShakerSpec | None = None
     test: TestData | None = None
 
 

@@ -48,9 +48,16 @@ from = "{source}"
 role = "update"
 # gravity = 1.0            # load factor on gravity
 # fixed = {{ "12" = "123" }} # node id -> constrained components (a shaker stinger: translations)
-# [[configurations.masses]] # extra masses of this test only (shaker armature, adapters)
+# [[configurations.masses]] # extra masses of this test only (adapters, clips)
+# node = 12
+# mass = "15 g"
+# [configurations.shaker]  # a shaker on a stinger: its moving mass, and what the stinger holds
 # node = 12
 # mass = "150 g"
+# fixed = "123"            # a stiff stinger on the X-HALE held the translations (and removed plunge)
+# [[configurations.forces]] # a test load (fixed direction, scaled with the load factor)
+# node = 12
+# force = [0.0, 0.0, "-5 N"]
 {cords}
 [configurations.test]
 {data}
