@@ -79,3 +79,26 @@ def test_calculix_shells_give_the_same_ratios_where_ccx_is_installed():
         live = shells[mode]["ratio"]
         assert live == pytest.approx(REF["calculix_s8r_ratio"][key], rel=0.01)
         assert f1.frequencies_hz[mode - 1] / f0.frequencies_hz[f0.labels.index(origin)] == pytest.approx(live, rel=0.01)
+
+
+def test_a_plate_strip_section_brackets_mode_3():
+    """Flatwise stiffness E I / (1 - nu^2) (the plate-strip limit of a section stiffening with
+    curvature): the continuum's coupled mode 3 lies between the beam and plate-strip ratios, while
+    mode 13 moves away from it (so no such section fits both; docs/solver.md)."""
+    case = fg.cases.cantilever_strip()
+    p = case.model.beams[0].section.properties()
+    out = {}
+    for name, factor in (("beam", 1.0), ("plate", 1 / (1 - 0.33**2))):
+        m = fg.Model(name)
+        ids = m.add_nodes(np.c_[np.zeros(151), np.linspace(0, 1.5, 151), np.zeros(151)])
+        m.add_beams(np.c_[ids[:-1], ids[1:]], fg.Material("Al", E=70e9, nu=0.33, rho=2700),
+                    fg.GeneralSection(A=p["A"], Iy=p["Iy"] * factor, Iz=p["Iz"], J=p["J"], Ip=p["Ip"], Ay=p["Ay"],
+                                      Az=p["Az"]), orientation=(0, 0, 1), rotary_inertia=False)
+        clamp = fg.Configuration("unloaded", fixed={int(ids[0]): "123456"})
+        f0 = fg.solve_modes(fg.solve_static(m, clamp), 15)
+        f1 = fg.solve_modes(fg.solve_static(m, clamp.with_(gravity=1.0)), 13)
+        out[name] = {mode: f1.frequencies_hz[mode - 1] / f0.frequencies_hz[f0.labels.index(origin)]
+                     for mode, origin in ((3, "1 IP"), (13, "2 T"))}
+    ref3, ref13 = REF["calculix_s8r_ratio"]["3 (from 1 IP)"], REF["calculix_s8r_ratio"]["13 (from 2 T)"]
+    assert out["beam"][3] < ref3 < out["plate"][3]
+    assert abs(out["plate"][13] / ref13 - 1) > 3 * abs(out["beam"][13] / ref13 - 1)
