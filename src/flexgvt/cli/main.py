@@ -105,8 +105,8 @@ def solve(case: str = typer.Argument(..., help="built-in case (cantilever_strip,
           json_path: Optional[Path] = typer.Option(None, "--json", help="write results as JSON (layout: docs/cli.md)"),
           units: str = typer.Option("SI", help="bulk data units: SI, mm-N-t-s, in-lbf-s"),
           allow_unsupported: bool = typer.Option(False, help="bulk data: warn about unsupported cards instead of failing"),
-          nastran_cbar_mass: bool = typer.Option(False, help="bulk data: CBAR lumped mass without torsional inertia, "
-                                                 "as Nastran does (flexgvt keeps rho*Ip by default)"),
+          cbar_torsional_inertia: bool = typer.Option(False, help="bulk data: add rho*Ip torsional inertia to CBAR "
+                                                      "mass (Nastran's CBAR has none, the default)"),
           mass_frame: str = typer.Option("deformed", help="mass matrix about the deformed state (physical) or the "
                                          "undeformed one (as Nastran SOL 400 and OpenSees)")):
     """Static shape and pre-stressed modes of each configuration of a built-in case or a Nastran deck."""
@@ -116,7 +116,7 @@ def solve(case: str = typer.Argument(..., help="built-in case (cantilever_strip,
             with warnings.catch_warnings(record=True) as caught:
                 warnings.simplefilter("always")
                 deck = read_bdf(case, units=units, unsupported="warn" if allow_unsupported else "error",
-                                cbar_torsional_inertia=not nastran_cbar_mass)
+                                cbar_torsional_inertia=cbar_torsional_inertia)
             for w in caught:
                 console.print(f"[yellow]note:[/] {w.message}")
             model, configurations, title = deck.model, deck.configurations, Path(case).name

@@ -36,7 +36,7 @@ NON_STRUCTURAL = {"AERO", "AEROS", "CAERO1", "CAERO2", "CAERO3", "CAERO4", "CAER
                   "DESVAR", "DVPREL1", "DVPREL2", "DVMREL1", "DVMREL2", "DVCREL1", "DVCREL2", "DVGRID", "DRESP1",
                   "DRESP2", "DRESP3", "DCONSTR", "DCONADD", "DOPTPRM", "DEQATN", "DTABLE", "DLINK", "DSCREEN",
                   "DLOAD", "TLOAD1", "TLOAD2", "RLOAD1", "RLOAD2", "TABLED1", "TABLED2", "TABLED3", "TABLED4",
-                  "TABDMP1", "DAREA", "DELAY", "DPHASE", "RANDPS", "NLCNTLG", "MONDSP1", "EPOINT", "AECOMP",
+                  "TABDMP1", "TABRND1", "TABRNDG", "DAREA", "DELAY", "DPHASE", "RANDPS", "NLCNTLG", "MONDSP1", "EPOINT", "AECOMP",
                   "AECOMPL", "PLOTEL", "UXVEC", "AEDW", "AEFORCE", "AEPRESS", "SPLINRB"}
 # Bulk cards flexgvt reads (anything else present in the deck is reported as unsupported).
 READ_CARDS = set(SUPPORTED_ELEMENTS + SUPPORTED_PROPERTIES + SUPPORTED_LOADS) | {
@@ -214,7 +214,7 @@ def _check_duplicates(path: Path, index: CardIndex) -> None:
 
 class _Reader:
     def __init__(self, path: Path, units: Units, mass: str | None, rotary_inertia: bool,
-                 cbar_torsional_inertia: bool = True):
+                 cbar_torsional_inertia: bool = False):
         self.cbar_torsional_inertia = cbar_torsional_inertia
         self.path = path
         self.units = units
@@ -487,10 +487,10 @@ class _Reader:
                 continue
             sdata, nsm = got
             section = _scale_section(sdata.section, u.length)
-            if self.cbar_torsional_inertia is False and elems[0].type == "CBAR":
+            if not self.cbar_torsional_inertia and elems[0].type == "CBAR":  # Nastran's CBAR: no rho*Ip
                 p = section.properties()
                 section = GeneralSection(A=p["A"], Iy=p["Iy"], Iz=p["Iz"], J=p["J"], Ay=p["Ay"] or None,
-                                         Az=p["Az"] or None, Ip=1e-9 * (p["Iy"] + p["Iz"]))
+                                         Az=p["Az"] or None, Ip=0.0)
             pairs = np.array([[self._beam_end(e, 0), self._beam_end(e, 1)] for e in elems], int)
             ga = np.array([self.xyz[p[0]] for p in pairs])
             gb = np.array([self.xyz[p[1]] for p in pairs])
@@ -1302,7 +1302,7 @@ def _rigid_mass(M: np.ndarray, rtol: float = 1e-6):
 
 
 def read_bdf(path, *, units: str | Units = "SI", unsupported: str = "error", mass: str | None = None,
-             rotary_inertia: bool = False, cbar_torsional_inertia: bool = True) -> BdfDeck:
+             rotary_inertia: bool = False, cbar_torsional_inertia: bool = False) -> BdfDeck:
     """Read a Nastran bulk data deck into a flexgvt Model and Configurations.
 
     path: .bdf/.dat/.nas file (INCLUDEs followed; executive and case control optional).
@@ -1312,10 +1312,10 @@ def read_bdf(path, *, units: str | Units = "SI", unsupported: str = "error", mas
     has no flexgvt counterpart, with ids; 'warn' reads the rest and lists them in one warning.
     mass: 'lumped' or 'consistent' beam mass; default from PARAM,COUPMASS (lumped unless > 0).
     rotary_inertia: include bending rotary inertia of beams (Nastran's CBAR leaves it out, so the
-    default False matches Nastran; torsional inertia is always kept).
-    cbar_torsional_inertia: False reproduces Nastran's lumped CBAR, which has no torsional
-    inertia (measured against Simcenter Nastran on tests/data/bdf/beam_modes); the default True
-    keeps rho*Ip, as flexgvt's beams (and physics) have it.
+    default False matches Nastran; torsional inertia: see cbar_torsional_inertia).
+    cbar_torsional_inertia: the default False reproduces Nastran's CBAR, whose mass (lumped or
+    COUPMASS) has no torsional inertia (measured on the Simcenter beam_modes and MSC pt145 f06);
+    True adds the physical rho*Ip to CBARs (torsion modes drop; CBEAM always has it).
     Returns a BdfDeck with .model and .configurations (one per SUBCASE, named 'subcase_<id>', or
     one named after the file when there are no subcases).
     """
