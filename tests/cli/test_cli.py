@@ -71,7 +71,7 @@ def test_solve_a_real_nastran_deck_matches_nastran_eigenvalues(tmp_path):
 
     deck = Path(__file__).parents[1] / "data" / "bdf" / "beam_modes" / "beam_modes.dat"
     out = tmp_path / "r.json"
-    result = runner.invoke(app, ["solve", str(deck), "--units", "in-lbf-s", "--modes", "5", "--nastran-cbar-mass",
+    result = runner.invoke(app, ["solve", str(deck), "--units", "in-lbf-s", "--modes", "5",
                                  "--json", str(out)])
     assert result.exit_code == 0, result.output
     f = next(iter(json.loads(out.read_text())["configurations"].values()))["frequencies_hz"]

@@ -12,7 +12,8 @@ import numpy as np
 import pytest
 
 import flexgvt as fg
-from flexgvt.io.nastran import UnsupportedCardsError, solve_deck
+from flexgvt.io.nastran import UnsupportedCardsError
+from flexgvt.workflow import solve_deck
 
 DATA = Path(__file__).parents[1] / "data" / "bdf"
 BEAM_MODES = DATA / "beam_modes" / "beam_modes.dat"

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 import flexgvt as fg
-from flexgvt.io.nastran import solve_deck
+from flexgvt.workflow import solve_deck
 from flexgvt.model import GeneralSection, Material, Model
 
 E, RHO, NU = 7.0e10, 2700.0, 0.3

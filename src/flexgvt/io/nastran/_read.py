@@ -14,7 +14,7 @@ import numpy as np
 
 from ...errors import FileFormatError, FlexGVTError, ModelError
 from ...model import Configuration, DistributedLoad, GeneralSection, Material, Model, NodalLoad, RodSection
-from ._common import (CardIndex, UnsupportedCardsError, Units, absolute_include_lines, coord_axes, get_units,
+from ._common import (CardIndex, EigenMethod, UnsupportedCardsError, Units, absolute_include_lines, coord_axes, get_units,
                       split_first_fields, where_prefix)
 from ._sections import SectionData, from_properties, library_section
 
@@ -38,6 +38,8 @@ NON_STRUCTURAL = {"AERO", "AEROS", "CAERO1", "CAERO2", "CAERO3", "CAERO4", "CAER
                   "DLOAD", "TLOAD1", "TLOAD2", "RLOAD1", "RLOAD2", "TABLED1", "TABLED2", "TABLED3", "TABLED4",
                   "TABDMP1", "TABRND1", "TABRNDG", "DAREA", "DELAY", "DPHASE", "RANDPS", "NLCNTLG", "MONDSP1", "EPOINT", "AECOMP",
                   "AECOMPL", "PLOTEL", "UXVEC", "AEDW", "AEFORCE", "AEPRESS", "SPLINRB"}
+# Static (Guyan) reduction sets: flexgvt solves the full model (named in a note).
+REDUCTION_CARDS = {"ASET", "ASET1", "OMIT", "OMIT1"}
 # Bulk cards flexgvt reads (anything else present in the deck is reported as unsupported).
 READ_CARDS = set(SUPPORTED_ELEMENTS + SUPPORTED_PROPERTIES + SUPPORTED_LOADS) | {
     "GRID", "GRDSET", "MAT1", "CORD2R", "CORD2C", "CORD2S", "CORD1R", "CORD1C", "CORD1S", "SPC", "SPC1", "SPCADD", "LOAD",
@@ -85,6 +87,7 @@ class BdfDeck:
     flag, or the CBUSH end's arm to the spring location (ids above the deck's grids);
     interpolation_sources: RBE3 id per model.interpolations; constraint_sources: MPC set id per
     model.constraints (the one set all subcases select); n_modes: configuration -> EIGRL ND of its METHOD (None if not given);
+    methods: configuration -> its EigenMethod (EIGRL/EIGR: ND, window, normalisation) or None;
     subcases: configuration -> subcase id; unsupported: card (feature) -> ids that were not read;
     notes: things read with an approximation or ignored on purpose.
     """
@@ -106,6 +109,7 @@ class BdfDeck:
     constraint_sources: list[int] = field(default_factory=list)
     materials: dict[int, Material] = field(default_factory=dict)
     n_modes: dict[str, int | None] = field(default_factory=dict)
+    methods: dict[str, EigenMethod | None] = field(default_factory=dict)
     subcases: dict[str, int] = field(default_factory=dict)
     unsupported: dict[str, list] = field(default_factory=dict)
     notes: list[str] = field(default_factory=list)
@@ -882,11 +886,17 @@ class _Reader:
         used_mids = {getattr(p, "mid", None) for p in bdf.properties.values() if getattr(p, "pid", None) in used_pids}
         for p in bdf.properties.values():
             used_mids.update(getattr(p, "mids", []) or [])
+        reduced = sorted(name for name in bdf.card_count if name in REDUCTION_CARDS)
+        if reduced:
+            self.notes.append(f"{'/'.join(reduced)} (Guyan reduction to an analysis set) not applied: flexgvt solves "
+                              "the full model, so the higher modes will differ from Nastran's (the reduced model is "
+                              "stiffer; the lowest modes agree when the set is well chosen)")
         skipped = sorted(name for name in bdf.card_count if name in NON_STRUCTURAL)
         if skipped:
             self.notes.append(f"non-structural cards ignored: {', '.join(skipped)}")
         for name, count in bdf.card_count.items():
-            if name in READ_CARDS or name in IGNORED_CARDS or name in NON_STRUCTURAL or name in self.unsupported:
+            if name in READ_CARDS or name in IGNORED_CARDS or name in NON_STRUCTURAL or name in REDUCTION_CARDS or \
+                    name in self.unsupported:
                 continue
             ids = sorted({ident for (n, ident) in self.index.places if n == name}, key=_natural)
             if name in PROPERTY_NAMESPACE or name in MATERIAL_NAMESPACE:
@@ -1091,11 +1101,37 @@ class _Reader:
         self.deck.configurations[name] = cfg
         self.deck.subcases[name] = sid
         method = self._get(sub, "METHOD")
-        nd = None
-        if method is not None:
-            eig = bdf.methods.get(int(method))
-            nd = getattr(eig, "nd", None) if eig is not None else None
-        self.deck.n_modes[name] = nd
+        eig = self._method(int(method), where) if method is not None else None
+        self.deck.methods[name] = eig
+        self.deck.n_modes[name] = eig.nd if eig is not None else None
+
+    def _method(self, sid: int, where: str) -> EigenMethod | None:
+        """EIGRL/EIGR ``sid`` as an EigenMethod (None, with a note, if the deck lacks it)."""
+        eig = self.bdf.methods.get(sid)
+        if eig is None:
+            self.notes.append(f"{where}: METHOD = {sid} names no EIGRL/EIGR in the bulk data; 10 modes are computed")
+            return None
+        where = self.at(eig.type, sid)
+
+        def num(v):
+            return None if v is None or v == "" else float(v)
+        nd = int(eig.nd) if getattr(eig, "nd", None) not in (None, "", 0) else None
+        norm = (getattr(eig, "norm", None) or "MASS").upper()
+        if norm not in ("MASS", "MAX", "POINT"):
+            raise ModelError(f"{where}: NORM = {norm}; Nastran's real eigenvalue normalisations are MASS, MAX and "
+                             "POINT")
+        point = None
+        if norm == "POINT":
+            g, c = getattr(eig, "G", None), getattr(eig, "C", None)
+            if not g or not c or int(g) not in self.bdf.nodes:
+                raise ModelError(f"{where}: NORM = POINT needs the grid G and component C of an existing grid")
+            point = (int(g), int(c))
+        if eig.type == "EIGRL":
+            return EigenMethod("EIGRL", sid, "LAN", nd, num(eig.v1), num(eig.v2), norm, point)
+        method = str(eig.method or "LAN").upper()
+        tridiagonal = method in ("GIV", "MGIV", "HOU", "MHOU", "AHOU")
+        return EigenMethod("EIGR", sid, method, nd, num(eig.f1), num(eig.f2), norm, point,
+                           window_with_nd=not tridiagonal)
 
     def _support(self, sub) -> dict[int, str]:
         """SUPORT (bulk data, every subcase) and the subcase's SUPORT1 set: reference DOFs of a free
