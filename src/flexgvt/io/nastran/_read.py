@@ -337,6 +337,10 @@ class _Reader:
         if not nids:
             raise ModelError(f"{self.path}: the deck has no GRID cards; a model needs nodes")
         xyz = np.array([bdf.nodes[n].get_position() for n in nids], float).reshape(-1, 3) * u.length
+        bad = np.flatnonzero(~np.all(np.isfinite(xyz), axis=1))
+        if len(bad):
+            raise ModelError(f"{self.at('GRID', nids[bad[0]])}: coordinates {xyz[bad[0]] / u.length} are not finite "
+                             f"({len(bad)} grid(s)); give real numbers for X1-X3")
         self.xyz = dict(zip(nids, xyz))
         self.xyz_deck = {n: x / u.length for n, x in self.xyz.items()}
         model.add_nodes(xyz, ids=nids)
@@ -1021,7 +1025,14 @@ class _Reader:
     def _get(self, sub, key):
         if sub is None or key not in sub.params:
             return None
-        return sub.get_parameter(key)[0]
+        value = sub.get_parameter(key)[0]
+        if key in ("SPC", "LOAD", "MPC", "METHOD", "SUPORT1"):
+            try:
+                return int(value)
+            except (TypeError, ValueError):
+                raise ModelError(f"{self.path}: case control {key} = {value!r} (SUBCASE {getattr(sub, 'id', 0)}) is not "
+                                 "a set id; give the integer id of a bulk data set") from None
+        return value
 
     def configuration(self, name: str, sub, sid: int) -> None:
         bdf = self.bdf
