@@ -10,5 +10,14 @@ from ._read import BdfDeck, BeamSource, read_bdf
 from ._solve import solve_deck
 from ._write import write_bdf
 
-__all__ = ["BdfDeck", "EigenMethod", "BeamSource", "UNIT_SYSTEMS", "Units", "UnsupportedCardsError", "read_bdf", "solve_deck",
-           "write_bdf"]
+__all__ = [
+           "UNIT_SYSTEMS",
+           "BdfDeck",
+           "BeamSource",
+           "EigenMethod",
+           "Units",
+           "UnsupportedCardsError",
+           "read_bdf",
+           "solve_deck",
+           "write_bdf",
+]
