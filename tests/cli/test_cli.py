@@ -71,8 +71,21 @@ def test_solve_a_real_nastran_deck_matches_nastran_eigenvalues(tmp_path):
 
     deck = Path(__file__).parents[1] / "data" / "bdf" / "beam_modes" / "beam_modes.dat"
     out = tmp_path / "r.json"
-    result = runner.invoke(app, ["solve", str(deck), "--units", "in-lbf-s", "--modes", "5", "--nastran-cbar-mass",
+    result = runner.invoke(app, ["solve", str(deck), "--units", "in-lbf-s", "--modes", "5",
                                  "--json", str(out)])
     assert result.exit_code == 0, result.output
     f = next(iter(json.loads(out.read_text())["configurations"].values()))["frequencies_hz"]
     assert abs(f[0] / 456.6603 - 1) < 1e-5 and abs(f[4] / 3554.923 - 1) < 1e-5
+
+
+def test_solve_a_deck_honours_its_eigr_method(tmp_path):
+    """pt145's EIGR (GIV, ND = 6, NORM = MAX): six modes, Nastran's first one (39.9615 Hz), shapes with
+    largest component 1, without --modes."""
+    from pathlib import Path
+
+    deck = Path(__file__).parents[1] / "data" / "bdf" / "pynastran" / "pt145.bdf"
+    out = tmp_path / "r.json"
+    result = runner.invoke(app, ["solve", str(deck), "--json", str(out)])
+    assert result.exit_code == 0, result.output
+    f = next(iter(json.loads(out.read_text())["configurations"].values()))["frequencies_hz"]
+    assert len(f) == 6 and abs(f[0] / 39.9615 - 1) < 1e-5

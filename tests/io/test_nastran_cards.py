@@ -18,14 +18,16 @@ from flexgvt.model import GeneralSection, Material, Model, RectangularSection
 ALL = Path(__file__).parents[1] / "data" / "bdf" / "all_cards.bdf"
 
 
-def read(path=ALL, **kw):
+def read(path=ALL, cbar_torsional_inertia=True, **kw):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        return fg.io.read_bdf(path, **kw)
+        return fg.io.read_bdf(path, cbar_torsional_inertia=cbar_torsional_inertia, **kw)
 
 
 @pytest.fixture(scope="module")
 def deck():
+    # Card mapping is checked on the physical sections (CBAR with rho*Ip, as a PBARL shape);
+    # Nastran's CBAR mass convention (the default) is checked in test_nastran_real.py.
     return read()
 
 

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import flexgvt as fg
-from flexgvt.io.nastran import solve_deck
+from flexgvt.workflow import solve_deck
 
 E, NU, RHO = 7.0e10, 0.3, 2700.0
 B, H, L = 0.05, 0.01, 1.0  # PBARL BAR: DIM1 along element z, DIM2 along y

@@ -12,7 +12,8 @@ import numpy as np
 import pytest
 
 import flexgvt as fg
-from flexgvt.io.nastran import UnsupportedCardsError, solve_deck
+from flexgvt.io.nastran import UnsupportedCardsError
+from flexgvt.workflow import solve_deck
 
 DATA = Path(__file__).parents[1] / "data" / "bdf"
 BEAM_MODES = DATA / "beam_modes" / "beam_modes.dat"
@@ -45,17 +46,18 @@ def test_beam_modes_reads_with_the_includes_and_params():
 
 
 def test_beam_modes_matches_simcenter_nastran_eigenvalues():
-    """All ten modes (bending pairs, torsion, axial) within 1e-5 of Nastran's when CBAR has no
-    torsional inertia, as Nastran's lumped CBAR mass does."""
-    deck = read_beam_modes(cbar_torsional_inertia=False)
+    """All ten modes (bending pairs, torsion, axial) within 1e-5 of Nastran's by default: CBAR mass
+    without torsional inertia, as Nastran's."""
+    deck = read_beam_modes()
     state = fg.solve_static(deck.model, deck.configurations["beam_modes"])
     modes = fg.solve_modes(state, 10)
     assert modes.frequencies_hz == pytest.approx(nastran_frequencies(), rel=1e-5)
 
 
-def test_beam_modes_default_keeps_torsional_inertia():
-    """Default read keeps rho*Ip on the CBARs: bending and axial modes stay Nastran's, torsion drops."""
-    deck = read_beam_modes()
+def test_beam_modes_option_keeps_torsional_inertia():
+    """cbar_torsional_inertia=True keeps rho*Ip on the CBARs: bending and axial modes stay Nastran's,
+    torsion drops."""
+    deck = read_beam_modes(cbar_torsional_inertia=True)
     modes = fg.solve_modes(fg.solve_static(deck.model, deck.configurations["beam_modes"]), 8)
     f = nastran_frequencies()
     bending_axial = [0, 1, 5, 6, 7]
@@ -124,11 +126,11 @@ def test_euler_column_reads_with_grdset_and_prestress_lowers_the_frequency():
 
 def test_beam_modes_template_round_trip_keeps_frequencies(tmp_path):
     """Write the real deck back through its template (PBARL and PBEAML ROD kept) and solve it again."""
-    deck = read_beam_modes(cbar_torsional_inertia=False)
+    deck = read_beam_modes()
     out = fg.io.write_bdf(deck.model, tmp_path / "beam_modes_out.bdf", template=deck)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        again = fg.io.read_bdf(out, units="in-lbf-s", cbar_torsional_inertia=False)
+        again = fg.io.read_bdf(out, units="in-lbf-s")
     assert again.bdf.properties[3].type == "PBEAML" and again.bdf.properties[1].type == "PBARL"
     modes = fg.solve_modes(fg.solve_static(again.model, again.configurations["beam_modes_out"]), 10)
     assert modes.frequencies_hz == pytest.approx(nastran_frequencies(), rel=1e-5)

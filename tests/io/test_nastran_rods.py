@@ -8,7 +8,7 @@ import pytest
 from nastran_helpers import assert_close, model_data, rebuild
 
 import flexgvt as fg
-from flexgvt.io.nastran import solve_deck
+from flexgvt.workflow import solve_deck
 
 DATA = Path(__file__).parents[1] / "data" / "bdf"
 STEEL = fg.Material("MAT1_1", E=2.1e11, nu=0.3, rho=7850.0)

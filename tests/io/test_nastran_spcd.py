@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import flexgvt as fg
-from flexgvt.io.nastran import solve_deck
+from flexgvt.workflow import solve_deck
 
 D = 2e-3  # m
 

@@ -100,13 +100,14 @@ def _tracking_table(title: str, tracking) -> Table:
 @app.command()
 def solve(case: str = typer.Argument(..., help="built-in case (cantilever_strip, strip_366, hale_wing) or a .bdf deck"),
           config: Optional[list[str]] = typer.Option(None, "--config", "-c", help="configuration name(s); default all"),
-          modes: int = typer.Option(10, help="number of modes"),
+          modes: Optional[int] = typer.Option(None, help="number of modes (default: a deck's EIGRL/EIGR ND, window "
+                                              "and normalisation, as Nastran; else 10)"),
           out: Optional[Path] = typer.Option(None, help="folder for figures"),
           json_path: Optional[Path] = typer.Option(None, "--json", help="write results as JSON (layout: docs/cli.md)"),
           units: str = typer.Option("SI", help="bulk data units: SI, mm-N-t-s, in-lbf-s"),
           allow_unsupported: bool = typer.Option(False, help="bulk data: warn about unsupported cards instead of failing"),
-          nastran_cbar_mass: bool = typer.Option(False, help="bulk data: CBAR lumped mass without torsional inertia, "
-                                                 "as Nastran does (flexgvt keeps rho*Ip by default)"),
+          cbar_torsional_inertia: bool = typer.Option(False, help="bulk data: add rho*Ip torsional inertia to CBAR "
+                                                      "mass (Nastran's CBAR has none, the default)"),
           mass_frame: str = typer.Option("deformed", help="mass matrix about the deformed state (physical) or the "
                                          "undeformed one (as Nastran SOL 400 and OpenSees)")):
     """Static shape and pre-stressed modes of each configuration of a built-in case or a Nastran deck."""
@@ -116,11 +117,13 @@ def solve(case: str = typer.Argument(..., help="built-in case (cantilever_strip,
             with warnings.catch_warnings(record=True) as caught:
                 warnings.simplefilter("always")
                 deck = read_bdf(case, units=units, unsupported="warn" if allow_unsupported else "error",
-                                cbar_torsional_inertia=not nastran_cbar_mass)
+                                cbar_torsional_inertia=cbar_torsional_inertia)
             for w in caught:
                 console.print(f"[yellow]note:[/] {w.message}")
             model, configurations, title = deck.model, deck.configurations, Path(case).name
+            methods = deck.methods
         else:
+            methods = {}
             from ..cases import get
             c = get(case)
             model, configurations, title = c.model, c.configurations, c.name
@@ -134,7 +137,11 @@ def solve(case: str = typer.Argument(..., help="built-in case (cantilever_strip,
             t0 = time.perf_counter()
             st = _solve_with_progress(model, configurations[name])
             t1 = time.perf_counter()
-            md = solve_modes(st, modes, mass_frame=mass_frame)
+            if methods.get(name) is not None:
+                from ..workflow.deck import deck_modes
+                md = deck_modes(st, methods[name], modes, mass_frame)
+            else:
+                md = solve_modes(st, modes or 10, mass_frame=mass_frame)
             t2 = time.perf_counter()
             states[name], mode_sets[name] = st, md
             results[name] = _result_record(st, md, {"static": t1 - t0, "modes": t2 - t1})

@@ -22,13 +22,20 @@ def _check_positive(owner: str, **values: float | None) -> None:
             raise ModelError(f"{owner}: {name}={value!r} must be a finite positive number")
 
 
+def _check_nonnegative(owner: str, **values: float) -> None:
+    for name, value in values.items():
+        if not math.isfinite(value) or value < 0:
+            raise ModelError(f"{owner}: {name}={value!r} must be a finite number >= 0")
+
+
 @dataclass(frozen=True)
 class GeneralSection:
     """Section given by its properties.
 
     A [m^2], Iy, Iz [m^4] (about local y, z), J torsion constant [m^4], Ay, Az shear areas [m^2]
     (None: no shear deformation, Euler-Bernoulli), Ip polar moment for torsional inertia
-    [m^4] (default Iy + Iz).
+    [m^4] (default Iy + Iz; 0: no torsional inertia, as Nastran's CBAR). Iy, Iz or J = 0 leaves that bending plane or torsion without
+    stiffness (as Nastran allows): constraints must then hold those motions.
     """
 
     A: float
@@ -40,8 +47,9 @@ class GeneralSection:
     Ip: float | None = None
 
     def __post_init__(self) -> None:
-        _check_positive("GeneralSection", A=self.A, Iy=self.Iy, Iz=self.Iz, J=self.J, Ay=self.Ay, Az=self.Az,
-                        Ip=self.Ip)
+        _check_positive("GeneralSection", A=self.A, Ay=self.Ay, Az=self.Az)
+        _check_nonnegative("GeneralSection", Iy=self.Iy, Iz=self.Iz, J=self.J,
+                           **({} if self.Ip is None else {"Ip": self.Ip}))
 
     @property
     def polar(self) -> float:

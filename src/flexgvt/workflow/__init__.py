@@ -7,6 +7,7 @@ Each step is a public function a script can call on its own: identify, update_mo
 predict, write_outputs, write_project_report.
 """
 
+from .deck import SubcaseResult, solve_deck
 from .identification import Identified, identify, read_modes
 from .outputs import write_outputs
 from .project import Project, ProjectError, load_project
@@ -16,4 +17,4 @@ from .template import example_project, write_example
 
 __all__ = ["Identified", "Prediction", "Project", "ProjectError", "RunResult", "check", "example_project", "write_example",
            "identify", "identify_all", "load_project", "objective", "predict", "read_modes", "run", "score",
-           "update_model", "write_outputs"]
+           "SubcaseResult", "solve_deck", "update_model", "write_outputs"]

@@ -5,10 +5,19 @@ See docs/nastran.md for the card mapping, axes, units and what is not supported.
 
 from __future__ import annotations
 
-from ._common import UNIT_SYSTEMS, Units, UnsupportedCardsError
+from ._common import UNIT_SYSTEMS, EigenMethod, Units, UnsupportedCardsError
 from ._read import BdfDeck, BeamSource, read_bdf
 from ._solve import solve_deck
 from ._write import write_bdf
 
-__all__ = ["BdfDeck", "BeamSource", "UNIT_SYSTEMS", "Units", "UnsupportedCardsError", "read_bdf", "solve_deck",
-           "write_bdf"]
+__all__ = [
+           "UNIT_SYSTEMS",
+           "BdfDeck",
+           "BeamSource",
+           "EigenMethod",
+           "Units",
+           "UnsupportedCardsError",
+           "read_bdf",
+           "solve_deck",
+           "write_bdf",
+]

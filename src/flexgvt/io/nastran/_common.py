@@ -184,3 +184,24 @@ def absolute_include_lines(lines: list[str], folder: Path) -> list[str]:
         else:
             out.append(line)
     return out
+
+
+@dataclass(frozen=True)
+class EigenMethod:
+    """A subcase's real eigenvalue method (EIGRL, or EIGR with its METHOD).
+
+    nd: number of modes (None: all in the window); f1, f2: frequency window [Hz] (None: open);
+    norm: 'MASS' (phi^T M phi = 1), 'MAX' (largest component 1) or 'POINT' (component
+    ``point`` = (grid, component 1-6) equal to 1). For EIGR with GIV/HOU/MGIV/MHOU, Nastran
+    uses the window only when ND is blank; ``window_with_nd`` says whether both apply.
+    """
+
+    card: str
+    sid: int
+    method: str = "LAN"
+    nd: int | None = None
+    f1: float | None = None
+    f2: float | None = None
+    norm: str = "MASS"
+    point: tuple[int, int] | None = None
+    window_with_nd: bool = True

@@ -48,11 +48,13 @@ def _shear(k: float | None, A: float) -> float | None:
 
 def from_properties(where: str, A, I1, I2, I12, J, K1=None, K2=None) -> SectionData:
     """Section from Nastran A, I1, I2, I12, J and shear factors (PBAR/PBEAM convention)."""
-    vals = {"A": A, "I1": I1, "I2": I2, "J": J}
-    for name, v in vals.items():
-        if v is None or not math.isfinite(v) or v <= 0:
-            raise ModelError(f"{where}: {name}={v!r}; flexgvt beams need A, I1, I2 and J > 0 (J = 0 leaves torsion "
-                             "without stiffness). Give the missing value on the property card")
+    if A is None or not math.isfinite(A) or A <= 0:
+        raise ModelError(f"{where}: A={A!r}; a beam needs a cross-section area A > 0. Give it on the property card")
+    I1, I2, J = (0.0 if v is None else v for v in (I1, I2, J))  # blank: 0.0, as Nastran
+    for name, v in {"I1": I1, "I2": I2, "J": J}.items():
+        if not math.isfinite(v) or v < 0:
+            raise ModelError(f"{where}: {name}={v!r}; moments of inertia and J must be >= 0 (0: no stiffness in "
+                             "that plane or in torsion, held by constraints). Correct the property card")
     I12 = float(I12 or 0.0)
     if I12 != 0.0:
         if I1 * I2 <= I12 * I12:

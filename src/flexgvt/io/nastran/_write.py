@@ -289,24 +289,27 @@ def _write_compact(model: Model, path: Path, configurations, u: Units, size: int
                 bdf.add_crod(int(eid), pid, [int(na), int(nb)])
                 eid_used.add(int(eid))
             continue
+        # CBEAM keeps rho*Ip in Nastran's mass, CBAR has none (read_bdf follows Nastran): a section
+        # without torsional inertia is a CBAR + PBAR, any other a CBEAM + PBEAML/PBEAM.
         dims = library_dims(section) if getattr(section, "shear", False) else None
-        beam = False
+        p = section.properties()
+        beam = p["Ip"] > 0.0
         if dims is not None:
-            bdf.add_pbarl(pid, mid, dims[0], list(dims[1]), comment=comment)
+            bdf.add_pbeaml(pid, mid, dims[0], [1.0], [list(dims[1])], so=["YES"], nsm=[0.0], comment=comment)
+        elif beam:
+            vals = to_properties(section)
+            # A polar mass moment other than rho (I1 + I2): PBEAM's NSI carries the difference
+            # (mass moment of inertia per length), which read_bdf adds back.
+            nsi = float(vals_rho(group, u) * (p["Ip"] - p["Iy"] - p["Iz"]))
+            if abs(p["Ip"] - (p["Iy"] + p["Iz"])) <= 1e-12 * (p["Iy"] + p["Iz"]):
+                nsi = 0.0
+            bdf.add_pbeam(pid, mid, [0.0], ["YES"], [vals["A"]], [vals["I1"]], [vals["I2"]], [0.0], [vals["J"]],
+                          nsm=[0.0], k1=vals["K1"] or 0.0, k2=vals["K2"] or 0.0, nsia=nsi, nsib=nsi,
+                          comment=comment)  # K = 0: no shear flexibility (PBEAM blank is 1.0)
         else:
             vals = to_properties(section)
-            p = section.properties()
-            if abs(p["Ip"] - (p["Iy"] + p["Iz"])) > 1e-9 * (p["Iy"] + p["Iz"]):
-                # A polar mass moment other than rho (I1 + I2): PBEAM's NSI carries the difference
-                # (mass moment of inertia per length), which read_bdf adds back.
-                beam = True
-                nsi = float(vals_rho(group, u) * (p["Ip"] - p["Iy"] - p["Iz"]))
-                bdf.add_pbeam(pid, mid, [0.0], ["YES"], [vals["A"]], [vals["I1"]], [vals["I2"]], [0.0], [vals["J"]],
-                              nsm=[0.0], k1=vals["K1"] or 0.0, k2=vals["K2"] or 0.0, nsia=nsi, nsib=nsi,
-                              comment=comment)  # K = 0: no shear flexibility (PBEAM blank is 1.0)
-            else:
-                bdf.add_pbar(pid, mid, A=vals["A"], i1=vals["I1"], i2=vals["I2"], i12=0.0, j=vals["J"],
-                             k1=vals["K1"], k2=vals["K2"], comment=comment)
+            bdf.add_pbar(pid, mid, A=vals["A"], i1=vals["I1"], i2=vals["I2"], i12=0.0, j=vals["J"],
+                         k1=vals["K1"], k2=vals["K2"], comment=comment)
         a = np.array([xyz[n] for n in group.nodes[:, 0].tolist()])
         b = np.array([xyz[n] for n in group.nodes[:, 1].tolist()])
         ex = (b - a) / np.linalg.norm(b - a, axis=1, keepdims=True)
