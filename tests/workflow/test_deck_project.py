@@ -26,7 +26,7 @@ modes = "modes.json"
 [[variables]]
 name = "E_mid"
 kind = "beam"
-targets = ["PBARL_2"]
+targets = ["PBEAML_2"]
 attribute = "E"
 bounds = [0.9, 1.1]
 [prediction]
