@@ -16,7 +16,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..errors import ModelError
-from ..model import Configuration, Model, RodSection, parse_dofs
+from ..model import ConcentratedMass, Configuration, Model, RodSection, parse_dofs
 from .assembly import Pattern
 from .beam import (BeamData, beam_forces, beam_mass_matrices, element_frames, kernel_coefficients,
                    local_mass_matrices)
@@ -169,6 +169,22 @@ def _masses(model: Model, items) -> PointMasses:
                        np.array([m.inertia for m in items]))
 
 
+def _cord_masses(model: Model, cords) -> PointMasses:
+    """A third of each heavy cord's mass at its attachment (split between node and node_b)."""
+    items = []
+    for c in cords:
+        if c.mass <= 0:
+            continue
+        if c.node_b is None or c.along == 0.0:
+            items.append(ConcentratedMass(c.node, c.mass / 3, np.asarray(c.offset, float), np.zeros((3, 3))))
+            continue
+        idx = model.index_of([c.node, c.node_b], "cord")
+        w = c.along / float(np.linalg.norm(model.xyz[idx[1]] - model.xyz[idx[0]]))
+        for node, share in ((c.node, 1 - w), (c.node_b, w)):
+            items.append(ConcentratedMass(node, share * c.mass / 3, np.asarray(c.offset, float), np.zeros((3, 3))))
+    return _masses(model, items)
+
+
 def _springs(model: Model, items) -> Springs:
     items = list(items)
     if not items:
@@ -260,7 +276,8 @@ class System:
         self._revision = model.revision
         n = len(cm.xyz)
         self.n_nodes = n
-        self.masses = _merge_masses(cm.masses, _masses(model, config.masses))
+        self.masses = _merge_masses(_merge_masses(cm.masses, _masses(model, config.masses)),
+                                    _cord_masses(model, config.suspension))
         self.springs = _merge_springs(cm.springs, _springs(model, config.springs))
         where = f"configuration '{config.name}'"
         cords = list(config.suspension)
@@ -308,6 +325,14 @@ class System:
                 share = 0.5 * b.L0[ks][:, None] * np.asarray(load.per_length, float)[None, :]
                 np.add.at(f, (b.nodes[ks, 0], slice(0, 3)), share)
                 np.add.at(f, (b.nodes[ks, 1], slice(0, 3)), share)
+        # A heavy cord hangs half its weight on the structure; a third of its mass moves with the
+        # attachment (its point masses above, with their weight): the remaining sixth as a load.
+        for cord, a, b, w in zip(config.suspension, self.cord_nodes, self.cord_nodes_b, self.cord_w):
+            if cord.mass > 0:
+                F = cord.mass * gvec / 6.0
+                M = np.cross(np.asarray(cord.offset, float), F)
+                f[a] += (1 - w) * np.r_[F, M]
+                f[b] += w * np.r_[F, M]
         self.applied = f.reshape(-1)
         self.mass_weight = self.masses.mass[:, None] * gvec[None, :]
 

@@ -78,7 +78,10 @@ class Cord:
     between two nodes (along an element): at ``along`` from ``node`` toward ``node_b``, the
     attachment moving with the two nodes' translations interpolated linearly (plus the arm
     ``offset`` turned with each node); ``along`` is continuous, so it can be a design variable.
-    A taut cord of length L adds the pendulum stiffness T/L sideways.
+    A taut cord of length L adds the pendulum stiffness T/L sideways. ``mass`` [kg]: the cord's own
+    mass (a long bungee's): half its weight hangs on the structure (the tension at the attachment
+    is stiffness * stretch - m g / 2) and a third of it moves with the attachment (the Rayleigh
+    mass of a uniform spring).
     """
 
     node: int
@@ -89,11 +92,14 @@ class Cord:
     offset: tuple[float, float, float] = (0.0, 0.0, 0.0)
     node_b: int | None = None
     along: float = 0.0
+    mass: float = 0.0
 
     def __post_init__(self) -> None:
         if not np.all(np.isfinite(np.r_[self.anchor, self.offset, self.stiffness, self.damping,
-                                        self.unstretched_length, self.along])):
+                                        self.unstretched_length, self.along, self.mass])):
             raise ModelError(f"cord at node {self.node}: NaN or infinity in its data")
+        if self.mass < 0:
+            raise ModelError(f"cord at node {self.node}: mass={self.mass} must be >= 0")
         if self.node_b is None and self.along != 0.0:
             raise ModelError(f"cord at node {self.node}: along={self.along} needs node_b, the element's other node")
         if self.node_b is not None and (self.node_b == self.node or self.along < 0):

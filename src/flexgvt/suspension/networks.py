@@ -138,14 +138,20 @@ class Line:
     def cord(self, node: int, anchor, attachment, load: float, damping: float = 0.0, offset=(0.0, 0.0, 0.0)):
         """A flexgvt Cord for this line from ``anchor`` (3,) [m] to the structure's undeformed
         attachment point ``attachment`` (3,) [m], with the line's rate and damping (plus the
-        pulley's), unstretched so that it carries ``load`` [N] at that point (the solver then finds
-        the sag of the flexible structure from there)."""
+        pulley's) and, without a pulley, its mass, unstretched so that it carries ``load`` [N] at
+        that point with its own weight (the solver then finds the sag of the flexible structure)."""
         from ..model import Cord
         anchor = np.asarray(anchor, float)
         reach = float(np.linalg.norm(anchor - np.asarray(attachment, float)))
-        l0 = reach - load / self.stiffness
+        # Without a pulley the cord is the line (its own weight included in the stretch); with one,
+        # the cord stands for the segment below the pulley at the whole line's rate.
+        stretch = self.stretch(load) if self.after_pulley is None else load / self.stiffness
+        l0 = reach - stretch
         if l0 <= 0:
-            raise ModelError(f"suspension line: it would stretch {load / self.stiffness:.3g} m under {load:.3g} N, more "
+            raise ModelError(f"suspension line: it would stretch {stretch:.3g} m under {load:.3g} N, more "
                              f"than the {reach:.3g} m from anchor to attachment; raise the anchor or use a stiffer line")
+        # Without a pulley the line's weight hangs on the structure (Cord.mass); with one, the pulley
+        # carries the line above it and the short segment below is left massless.
+        mass = sum(e.mass for e in self.elements) if self.after_pulley is None else 0.0
         return Cord(node=int(node), anchor=tuple(anchor), stiffness=self.stiffness, unstretched_length=l0,
-                    damping=float(damping + self.pulley_damping), offset=tuple(offset))
+                    damping=float(damping + self.pulley_damping), offset=tuple(offset), mass=float(mass))

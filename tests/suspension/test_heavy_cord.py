@@ -1,0 +1,48 @@
+"""A bungee's own weight in the hung solution: half of it on the structure, a third of its mass
+moving with the attachment (Rayleigh), so a block on a heavy cord sits and bounces as a uniform
+spring's closed forms say."""
+
+import numpy as np
+import pytest
+
+import flexgvt as fg
+from flexgvt.suspension import Bungee, Line
+
+G = 9.80665
+
+
+def _block(mass_block: float, line: Line):
+    model = fg.Model("block")
+    ids = model.add_nodes([[0.0, -0.05, 0.0], [0.0, 0.05, 0.0]])
+    model.add_beams([ids], fg.Material("steel", E=2e11, nu=0.3, rho=0.0), fg.RectangularSection(0.05, 0.05),
+                    orientation=(0, 0, 1))
+    model.add_mass(int(ids[0]), mass_block / 2)
+    model.add_mass(int(ids[1]), mass_block / 2)
+    cords = [line.cord(int(n), (0.0, float(y), 20.5), (0.0, float(y), 0.0), mass_block / 2 * G)
+             for n, y in zip(ids, (-0.05, 0.05))]
+    return model, fg.Configuration("hung", suspension=cords, gravity=1.0), cords
+
+
+def test_block_on_heavy_bungees_sits_where_sized_and_plunges_at_the_rayleigh_frequency():
+    bungee = Bungee(EA=92.5, mass_per_length=0.02)
+    line = Line((bungee.element(20.0),))
+    M = 2.0
+    model, cfg, cords = _block(M, line)
+    assert cords[0].mass == pytest.approx(0.4)
+    state = fg.solve_static(model, cfg)
+    # Sized with the cord's weight: the block stays where the cords were sized to hold it.
+    assert np.abs(state.displacements[:, 2]).max() < 1e-6
+    k = 2 * cords[0].stiffness
+    plunge = fg.solve_modes(state, 6, damped=False)
+    f = plunge.frequencies_hz[plunge.labels.index("RB plunge")]
+    rayleigh = np.sqrt(k / (M + 2 * 0.4 / 3)) / (2 * np.pi)
+    assert f == pytest.approx(rayleigh, rel=1e-4)
+    # The exact first mode of a mass on a uniform spring: w L/c tan(w L/c) = m_cord / M.
+    from scipy.optimize import brentq
+    ratio = 2 * 0.4 / M
+    beta = brentq(lambda b: b * np.tan(b) - ratio, 1e-6, np.pi / 2 - 1e-9)
+    exact = beta * np.sqrt(k / (2 * 0.4)) / (2 * np.pi)
+    assert f == pytest.approx(exact, rel=2e-3)  # Rayleigh's third: 0.1 % high at m_cord / M = 0.4
+    massless = fg.solve_modes(fg.solve_static(model, cfg.with_(suspension=tuple(
+        c.__class__(**{**c.__dict__, "mass": 0.0}) for c in cords))), 6, damped=False)
+    assert massless.frequencies_hz[massless.labels.index("RB plunge")] > 1.05 * f
