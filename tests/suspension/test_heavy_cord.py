@@ -46,3 +46,18 @@ def test_block_on_heavy_bungees_sits_where_sized_and_plunges_at_the_rayleigh_fre
     massless = fg.solve_modes(fg.solve_static(model, cfg.with_(suspension=tuple(
         c.__class__(**{**c.__dict__, "mass": 0.0}) for c in cords))), 6, damped=False)
     assert massless.frequencies_hz[massless.labels.index("RB plunge")] > 1.05 * f
+
+
+def test_bad_suspension_input_is_named():
+    from flexgvt.errors import ModelError
+    from flexgvt.suspension import identify_block
+    with pytest.raises(ModelError, match="mass"):
+        identify_block(mass=-0.8, frequency_hz=0.4, damping_ratio=0.07)
+    with pytest.raises(ModelError, match="mass=-0.1 must be >= 0"):
+        fg.Cord(node=1, anchor=(0, 0, 1), stiffness=5.0, unstretched_length=0.5, mass=-0.1)
+    model, cfg, cords = _block(2.0, Line((Bungee(EA=92.5).element(20.0),)))
+    slack = cords[0].__class__(**{**cords[0].__dict__, "unstretched_length": 21.0})
+    # Named as a warning; the block then hangs on one cord and tips: the solver names the mechanism.
+    with pytest.warns(UserWarning, match=r"cord 0 \(node 1\) is slack at the start"):
+        with pytest.raises(fg.errors.SingularModelError, match="under-constrained"):
+            fg.solve_static(model, cfg.with_(suspension=(slack, cords[1])))

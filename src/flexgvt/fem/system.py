@@ -8,6 +8,7 @@ so one model is solved in many configurations without copying it.
 from __future__ import annotations
 
 import copy
+import warnings
 from dataclasses import dataclass
 from functools import cached_property
 
@@ -303,6 +304,13 @@ class System:
         self.cord_lgeom = np.linalg.norm(attach - self.cord_anchor, axis=1)
         if np.any(self.cord_lgeom == 0):
             raise ModelError(f"{where}: a cord's anchor coincides with its attachment point; move the anchor")
+        slack = np.flatnonzero(self.cord_l0 >= self.cord_lgeom)
+        if len(slack):
+            k = int(slack[0])
+            warnings.warn(f"{where}: cord {k} (node {cords[k].node}) is slack at the start: its unstretched length "
+                          f"{self.cord_l0[k]:.4g} m is not shorter than the {self.cord_lgeom[k]:.4g} m from its anchor "
+                          "to the attachment, so it carries nothing until the structure moves away; shorten it "
+                          "(size it with suspension.Line.cord) if it should hold the structure", stacklevel=3)
         # Applied loads at load factor 1 (fixed direction): lumped beam weight, nodal and distributed loads.
         gvec = config.gravity_vector
         f = np.zeros((n, 6))
