@@ -193,3 +193,35 @@ def test_chromium_screenshot_not_blank(rendered):
     # the WebGL deformed shape (first plot, below the header) is drawn: its blue line is there
     blue = np.abs(img[300:900, :, :3] - np.array([0x1F, 0x5F, 0xBF]) / 255).max(axis=-1) < 0.08
     assert blue.sum() > 300
+
+
+def test_chromium_plays_a_mode_animation(report, tmp_path):
+    """The animated mode shapes move: Plotly.animate to a frame at the peak of the cycle changes the
+    analytical wireframe by that frame's displacement (checked in the page, headless)."""
+    text = report.read_text()
+    div = re.search(r"Plotly\.addFrames\('(plot\d+)'", text).group(1)
+    probe = """<script>
+window.addEventListener('load', function () {
+  var gd = document.getElementById('%s');
+  var frames = gd._transitionData._frames, half = 0;
+  while (half < frames.length && !/f8$/.test(frames[half].name)) half++;
+  var before = gd.data[1].z.slice(), target = frames[half].data[0].z, expect = 0;
+  for (var i = 0; i < target.length; i++) if (target[i] !== null) expect = Math.max(expect, Math.abs(target[i] - before[i]));
+  Plotly.animate(gd, [frames[half].name], {mode: 'immediate', frame: {duration: 0, redraw: true}, transition: {duration: 0}})
+    .then(function () {
+      var after = gd.data[1].z, moved = 0;
+      for (var i = 0; i < after.length; i++) if (after[i] !== null) moved = Math.max(moved, Math.abs(after[i] - before[i]));
+      var out = document.createElement('pre'); out.id = 'probe';
+      out.textContent = 'expect=' + expect + ' moved=' + moved;
+      document.body.appendChild(out);
+    });
+});
+</script>""" % div
+    page = tmp_path / "probe.html"
+    page.write_text(text.replace("</body>", probe + "</body>"))
+    proc = _start(page, tmp_path / "chromium")
+    stdout, _ = proc.communicate(timeout=120)
+    got = re.search(r'<pre id="probe">expect=([0-9.e+-]+) moved=([0-9.e+-]+)', stdout)
+    assert got, "the probe did not run"
+    expect, moved = float(got.group(1)), float(got.group(2))
+    assert expect > 0 and moved == pytest.approx(expect, rel=1e-9)
