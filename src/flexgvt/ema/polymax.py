@@ -22,7 +22,9 @@ from ..errors import EMAError
 class ModalSet:
     """Identified modes: frequencies_hz, damping_ratio (n_modes,); shapes (n_modes, n_outputs)
     complex (normalised to a unit largest component); participation (n_modes, n_inputs);
-    residues (n_modes, n_outputs, n_inputs); outputs/inputs as in the FRFs."""
+    residues (n_modes, n_outputs, n_inputs); outputs/inputs as in the FRFs; frequency_std_hz and
+    damping_std (n_modes,) standard deviations where known (maximum-likelihood refinement, averaging
+    of repeated tests), else None."""
 
     frequencies_hz: np.ndarray
     damping_ratio: np.ndarray
@@ -31,6 +33,8 @@ class ModalSet:
     residues: np.ndarray
     outputs: np.ndarray = field(default_factory=lambda: np.zeros((0, 2)))
     inputs: np.ndarray = field(default_factory=lambda: np.zeros((0, 2)))
+    frequency_std_hz: np.ndarray | None = None  # (n_modes,) standard deviation [Hz], e.g. from refine()
+    damping_std: np.ndarray | None = None  # (n_modes,) standard deviation of the damping ratio
 
 
 @dataclass
