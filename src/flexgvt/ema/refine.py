@@ -47,6 +47,7 @@ class RefineInfo:
     variance_source: str
     scale: float  # chi2 / dof at the optimum (1 expected for correct variances)
     significance: np.ndarray  # per mode: cost increase when the mode is removed (likelihood ratio)
+    variance: np.ndarray | None = None  # the weights' variances on the whole frequency axis (1 outside the band)
 
 
 def frf_variance_from_coherence(H, coherence, n_averages: int):
@@ -190,6 +191,39 @@ class _Problem:
             g += np.einsum("crt,cr->t", Js, (w_[:, :, 0] * rr[:, sl].T))
         psi = p + 1j * q
         return float(np.sum(cost_o)), g, S, (x, scale, psi, L, lam, model_lin)
+
+
+def _significance(prob, theta):
+    """Per mode: the weighted cost increase when its shape is set to zero and the other linear
+    parameters refitted (poles fixed): the Wald / likelihood-ratio statistic of the mode, chi-square
+    with 2 n_outputs degrees of freedom if the mode is absent and the variances are right."""
+    A, scale, _, x, G, _ = prob._fit(theta)
+    M = prob.M
+    Ginv = np.linalg.pinv(G)
+    out = np.zeros(M)
+    for m in range(M):
+        idx = [m, M + m]
+        blk = Ginv[:, idx][:, :, idx]
+        xm = x[:, idx]
+        out[m] = float(np.sum(xm * np.linalg.solve(blk, xm[:, :, None])[:, :, 0]))
+    return out
+
+
+def mode_significance(frfs, modal_set, variance, frequency_band=None) -> np.ndarray:
+    """Likelihood-ratio significance of each mode of modal_set at its pole (not refined), with the
+    given FRF variances (n_freq, n_out, n_in): see `_significance`."""
+    freq, H = (frfs if isinstance(frfs, tuple) else (frfs.frequencies_hz, frfs.H))
+    freq, H, V = np.asarray(freq, float), np.asarray(H), np.asarray(variance, float)
+    lo, hi = frequency_band if frequency_band is not None else (freq[freq > 0].min(), freq.max())
+    keep = (freq >= lo) & (freq <= hi) & (freq > 0)
+    L0 = np.asarray(modal_set.participation)
+    M = len(L0)
+    ref = np.argmax(np.abs(L0), axis=1)
+    L0 = L0 / L0[np.arange(M), ref][:, None]
+    prob = _Problem(2 * np.pi * freq[keep], H[keep], 2.0 / V[keep], M, ref)
+    theta = prob.pack(2 * np.pi * np.asarray(modal_set.frequencies_hz, float),
+                      np.clip(np.asarray(modal_set.damping_ratio, float), 1e-6, 0.9), L0)
+    return _significance(prob, theta)
 
 
 def _variance_from_residual(model, H, iterations: int = 6):
@@ -362,6 +396,8 @@ def refine(frfs, modal_set, variance=None, frequency_band=None, max_iter: int = 
         cost, g, S, extra = prob.normal(theta)
         wn, z, L = prob.unpack(theta)
     x, scale, psi, L, lam, model_lin = extra
+    V_full = np.ones(H.shape)
+    V_full[keep] = 2.0 / prob.u.reshape(n_f, n_i, n_o).transpose(0, 2, 1)
     n_par = len(theta) + x.size
     dof = max(2 * n_f * n_i * n_o - n_par, 1)
     s2 = cost / dof if estimated else 1.0
@@ -375,15 +411,7 @@ def refine(frfs, modal_set, variance=None, frequency_band=None, max_iter: int = 
     z_std = np.sqrt(var_z)
     # Significance of each mode: the cost increase (chi-square units) when its shape is set to zero and
     # the other linear parameters refitted (Wald = likelihood-ratio statistic of the linear part).
-    A, _, _ = prob.design(theta)
-    _, G, _ = prob.linear(A)
-    Ginv = np.linalg.pinv(G)
-    signif = np.zeros(M)
-    for m in range(M):
-        idx = [m, M + m]
-        blk = Ginv[:, idx][:, :, idx]
-        xm = x[:, idx]
-        signif[m] = float(np.sum(xm * np.linalg.solve(blk, xm[:, :, None])[:, :, 0])) / max(s2, 1e-300)
+    signif = _significance(prob, theta) / max(s2, 1e-300)
     R = psi[:, :, None] * L[None, :, :]  # (n_o, M, n_i)
     R = R.transpose(1, 0, 2)
     imax = np.argmax(np.abs(psi), axis=0)
@@ -395,7 +423,7 @@ def refine(frfs, modal_set, variance=None, frequency_band=None, max_iter: int = 
     out = ModalSet(wn / (2 * np.pi), z, shapes, part, R, outputs, inputs, frequency_std_hz=f_std, damping_std=z_std)
     if return_info:
         return out, RefineInfo(float(cost_start), float(cost), int(dof), int(iters), bool(converged), bool(accepted),
-                               source, float(cost / dof), signif)
+                               source, float(cost / dof), signif, V_full)
     return out
 
 
