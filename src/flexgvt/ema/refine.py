@@ -302,7 +302,8 @@ def refine(frfs, modal_set, variance=None, frequency_band=None, max_iter: int = 
     covariance is scaled by chi2/dof). frequency_band: (f_min, f_max) [Hz], default the whole axis.
 
     Returns a ModalSet with frequency_std_hz [Hz] and damping_std (standard deviations from the
-    inverse Fisher information at the optimum). The refined set is accepted only if it lowers the
+    inverse Fisher information at the optimum, scaled by chi2/dof when the variances are estimated,
+    and by max(1, chi2/dof) when given). The refined set is accepted only if it lowers the
     weighted cost and every mode stays sane (damping in (0, 0.95), frequency within the band and
     within three half-power bandwidths of the start); else the start is returned with its standard
     deviations evaluated at the start and a warning. With return_info, returns (ModalSet, RefineInfo).
@@ -400,7 +401,9 @@ def refine(frfs, modal_set, variance=None, frequency_band=None, max_iter: int = 
     V_full[keep] = 2.0 / prob.u.reshape(n_f, n_i, n_o).transpose(0, 2, 1)
     n_par = len(theta) + x.size
     dof = max(2 * n_f * n_i * n_o - n_par, 1)
-    s2 = cost / dof if estimated else 1.0
+    # Estimated noise: scale by chi2/dof. Given variances: scale only when the fit is worse than they
+    # allow (chi2/dof > 1: model error or optimistic variances), never below what the fit supports.
+    s2 = cost / dof if estimated else max(1.0, cost / dof)
     try:
         cov = np.linalg.inv(S) * s2
     except np.linalg.LinAlgError:
@@ -418,8 +421,8 @@ def refine(frfs, modal_set, variance=None, frequency_band=None, max_iter: int = 
     pk = psi[imax, np.arange(M)]
     shapes = (psi / pk[None, :]).T
     part = L * pk[:, None]
-    outputs = getattr(frfs, "outputs", np.zeros((0, 2))) if not isinstance(frfs, tuple) else np.zeros((0, 2))
-    inputs = getattr(frfs, "inputs", np.zeros((0, 2))) if not isinstance(frfs, tuple) else np.zeros((0, 2))
+    outputs = np.zeros((0, 2)) if isinstance(frfs, tuple) else getattr(frfs, "outputs", np.zeros((0, 2)))
+    inputs = np.zeros((0, 2)) if isinstance(frfs, tuple) else getattr(frfs, "inputs", np.zeros((0, 2)))
     out = ModalSet(wn / (2 * np.pi), z, shapes, part, R, outputs, inputs, frequency_std_hz=f_std, damping_std=z_std)
     if return_info:
         return out, RefineInfo(float(cost_start), float(cost), int(dof), int(iters), bool(converged), bool(accepted),
