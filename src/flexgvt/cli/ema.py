@@ -30,8 +30,13 @@ def _identify_one(path, fit_band, max_order, poles, wide, refine):
             modes = ml_refine(frfs, modes, frequency_band=fit_band)
         return frfs, None, modes
     stab = polymax(frfs, max_order=max_order, frequency_band=fit_band)
+    if refine and not poles:
+        from ..ema import select_ml
+
+        modes, info = select_ml(stab, return_info=True)
+        return frfs, (stab, info["kept"]), modes
     modes = stab.select(frequencies_hz=[float(v) for v in poles.split(",")] if poles else None, refine=refine)
-    return frfs, stab, modes
+    return frfs, (stab, None), modes
 
 
 def _fmt_std(v, fmt):
@@ -99,7 +104,7 @@ def identify(paths: list[Path] = typer.Argument(..., help="UFF file(s) with FRFs
         figs = {"cmif.png": plots.cmif_plot(frfs.frequencies_hz, frfs.H, modes),
                 "frf_fit.png": plots.frf_fit(frfs.frequencies_hz, frfs.H, modes, 0)}
         if stab is not None:  # one diagram per sub-band with --wide: not drawn
-            figs["stabilisation.png"] = plots.stabilisation_diagram(stab, modes)
+            figs["stabilisation.png"] = plots.stabilisation_diagram(stab[0], modes, clusters=stab[1])
         for name, fig in figs.items():
             fig.savefig(out / name, dpi=120)
         if json_path is not None:
