@@ -117,8 +117,8 @@ class _Problem:
     def linear(self, A):
         """Per-output normal equations: x (n_o, n_lin) real, Gram G (n_o, n_lin, n_lin), cost (n_o,)."""
         n_lin = A.shape[1]
-        P = (A.conj()[:, :, None] * A[:, None, :]).real.reshape(len(A), n_lin * n_lin)
-        G = (self.u.T @ P).reshape(self.n_o, n_lin, n_lin)
+        P = np.ascontiguousarray((A.conj()[:, :, None] * A[:, None, :]).real.reshape(len(A), n_lin * n_lin))
+        G = (np.ascontiguousarray(self.u.T) @ P).reshape(self.n_o, n_lin, n_lin)  # contiguous: BLAS
         b = (A.conj().T @ (self.u * self.h)).real.T  # (n_o, n_lin)
         d = np.sqrt(np.maximum(np.einsum("oii->oi", G), 1e-300))
         Gs = G / d[:, :, None] / d[:, None, :] + 1e-12 * np.eye(n_lin)
@@ -170,25 +170,43 @@ class _Problem:
         F, K = D + E, 1j * (D - E)
         Fr, Kr = np.vstack([F.real, F.imag]), np.vstack([K.real, K.imag])  # (2R, n_t) real stacking
         Ar = np.vstack([A.real, A.imag])
-        n_t = D.shape[1]
+        n_t, n_lin = D.shape[1], A.shape[1]
         model_lin = A @ x.T  # (R, n_o) model at the LS optimum
         r = self.h - model_lin
-        rr = np.vstack([r.real, r.imag])  # (2R, n_o)
-        su = np.sqrt(np.vstack([self.u, self.u]))  # (2R, n_o)
-        S = np.zeros((n_t, n_t))
-        g = np.zeros(n_t)
-        step = max(1, _CHUNK // max(1, 2 * R * n_t))
-        for o0 in range(0, n_o, step):
-            sl = slice(o0, o0 + step)
-            w_ = su[:, sl].T[:, :, None]  # (c, 2R, 1)
-            Js = np.ascontiguousarray(w_ * (Fr[None] * p[sl][:, owner][:, None, :] + Kr[None] * q[sl][:, owner][:, None, :]))
-            JJ = Js.transpose(0, 2, 1) @ Js
-            C = Ar.T[None] @ (w_ * Js)  # Re(A^H U J): (c, n_lin, n_t)
-            Gi = G[sl]
-            ridge = 1e-12 * np.einsum("cii->ci", Gi).max(axis=1)[:, None, None] * np.eye(A.shape[1])
-            Y = np.linalg.solve(Gi + ridge, C)
-            S += np.sum(JJ - C.transpose(0, 2, 1) @ Y, axis=0)
-            g += np.einsum("crt,cr->t", Js, (w_[:, :, 0] * rr[:, sl].T))
+        u2 = np.ascontiguousarray(np.vstack([self.u, self.u]))  # (2R, n_o)
+        ur = u2 * np.vstack([r.real, r.imag])
+        # J_o = Fr diag(p_o[owner]) + Kr diag(q_o[owner]): every sum over outputs and lines becomes a
+        # few large matrix products (no per-output Jacobian is formed).
+        # sum_o J_o^T U_o J_o: weights summed over outputs per line and mode pair first.
+        pp = (p[:, :, None] * p[:, None, :]).reshape(n_o, M * M)
+        pq = (p[:, :, None] * q[:, None, :]).reshape(n_o, M * M)
+        qq = (q[:, :, None] * q[:, None, :]).reshape(n_o, M * M)
+        Wpp, Wpq, Wqq = [(u2 @ c).reshape(2 * R, M, M) for c in (pp, pq, qq)]
+        # Columns in (type, mode) order: every mode has T columns (w, zeta, participation parts).
+        T = n_t // M
+        typ = np.zeros(n_t, int)
+        for m in range(M):
+            typ[owner == m] = np.arange(T)
+        perm = np.lexsort((owner, typ))
+        F3, K3 = Fr[:, perm].reshape(2 * R, T, M), Kr[:, perm].reshape(2 * R, T, M)
+        JJp = np.empty((T, M, T, M))
+        for i in range(T):
+            for j in range(T):
+                JJp[i, :, j, :] = (np.einsum("rm,rn,rmn->mn", F3[:, i], F3[:, j], Wpp)
+                                   + np.einsum("rm,rn,rmn->mn", F3[:, i], K3[:, j], Wpq)
+                                   + np.einsum("rm,rn,rnm->mn", K3[:, i], F3[:, j], Wpq)
+                                   + np.einsum("rm,rn,rmn->mn", K3[:, i], K3[:, j], Wqq))
+        JJ = np.empty((n_t, n_t))
+        JJ[np.ix_(perm, perm)] = JJp.reshape(n_t, n_t)
+        # C_o = Ar^T U_o J_o = AF_o diag(p_o) + AK_o diag(q_o), AF_o = Ar^T U_o Fr for every output at once.
+        AF = (u2.T @ (Ar[:, :, None] * Fr[:, None, :]).reshape(2 * R, n_lin * n_t)).reshape(n_o, n_lin, n_t)
+        AK = (u2.T @ (Ar[:, :, None] * Kr[:, None, :]).reshape(2 * R, n_lin * n_t)).reshape(n_o, n_lin, n_t)
+        C = AF * p[:, owner][:, None, :] + AK * q[:, owner][:, None, :]
+        ridge = 1e-12 * np.einsum("cii->ci", G).max(axis=1)[:, None, None] * np.eye(n_lin)
+        Y = np.linalg.solve(G + ridge, C)
+        S = JJ - np.einsum("olt,ols->ts", C, Y)
+        S = 0.5 * (S + S.T)
+        g = np.einsum("ra,ra->a", Fr, (ur @ p)[:, owner]) + np.einsum("ra,ra->a", Kr, (ur @ q)[:, owner])
         psi = p + 1j * q
         return float(np.sum(cost_o)), g, S, (x, scale, psi, L, lam, model_lin)
 
