@@ -75,3 +75,17 @@ def test_same_modes_whatever_the_response_window(tau_s):
     np.testing.assert_allclose(modes.frequencies_hz, ref.frequencies_hz, rtol=1e-3)
     strong = [0, 1, 3]  # 810, 900 and 2640 Hz; the 1518 Hz mode is weak in this FRF
     np.testing.assert_allclose(z[strong], z_ref[strong], rtol=0.15)
+
+
+def test_identify_with_the_averaging_variances_gives_the_same_modes_with_uncertainty():
+    """fg.ema.identify on the FRFEstimate (weights from the five hits' variances): the same four
+    modes within 0.1 % of the PolyMAX ones, with standard deviations. The chi2/dof of the fit is far
+    above 1 (model error on 1 Hz lines), so the sigmas are scaled up by it; they describe noise, not
+    the bias of a model that cannot fit these FRFs exactly."""
+    from flexgvt.ema import identify
+
+    e, before, _ = _identify(0.3)
+    modes = identify(e, max_order=30, frequency_band=BAND)
+    assert len(modes.frequencies_hz) == 4
+    np.testing.assert_allclose(modes.frequencies_hz, before.frequencies_hz, rtol=1e-3)
+    assert np.all(modes.frequency_std_hz > 0) and np.all(modes.damping_std > 0)

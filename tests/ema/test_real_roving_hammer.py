@@ -39,3 +39,18 @@ def test_published_frequencies_and_shapes_of_a_real_roving_hammer_test():
         assert mac > 0.98, (k, mac)
     # A steel beam hung free: very light damping, positive and below 0.1 %.
     assert np.all((modes.damping_ratio > 0) & (modes.damping_ratio < 1e-3))
+
+
+def test_refined_modes_carry_uncertainty_and_agree_with_the_published_values():
+    """select(refine=True): the same four modes, now with standard deviations; each frequency agrees
+    with the published one within 2 sigma plus half a unit of the published last digit (0.005 Hz)."""
+    d = np.load(DATA, allow_pickle=False)
+    H = d["H"].astype(complex)[:, :, None]
+    stab = polymax((d["frequencies_hz"], H), max_order=40, frequency_band=(65.0, 1000.0))
+    before = stab.select()
+    modes = stab.select(refine=True)
+    assert len(modes.frequencies_hz) == 4
+    np.testing.assert_allclose(modes.frequencies_hz, before.frequencies_hz, rtol=1e-4)
+    assert np.all(modes.frequency_std_hz > 0) and np.all(modes.damping_std > 0)
+    assert np.all(np.abs(modes.frequencies_hz - PUBLISHED_HZ) <= 2 * modes.frequency_std_hz + 0.005)
+    np.testing.assert_allclose(modes.damping_ratio, before.damping_ratio, rtol=0.1)

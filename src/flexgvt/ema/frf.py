@@ -17,13 +17,17 @@ from ..errors import EMAError
 @dataclass(frozen=True)
 class FRFEstimate:
     """frequencies_hz (n_freq,); H (n_freq, n_out, n_in); coherence (n_freq, n_out) (multiple
-    coherence for several inputs); n_averages; estimator ('H1', 'H2', 'Hv')."""
+    coherence for several inputs); n_averages; estimator ('H1', 'H2', 'Hv'); variance (n_freq,
+    n_out, n_in): E|H_est - H|^2 per line from the averaging [H units squared], the weights of
+    flexgvt.ema.refine (noise on the response, independent blocks: overlapped windowed blocks are
+    correlated and make it somewhat optimistic)."""
 
     frequencies_hz: np.ndarray
     H: np.ndarray
     coherence: np.ndarray
     n_averages: int
     estimator: str
+    variance: np.ndarray | None = None
 
 
 def hann(n: int) -> np.ndarray:
@@ -125,6 +129,15 @@ def estimate_frf(force, response, fs: float, estimator: str = "H1", **kwargs) ->
     # Multiple (or ordinary) coherence: |H1 Gff H1^H| / Gyy per output.
     explained = np.einsum("koi,kij,koj->ko", H1, Gff_safe, H1.conj()).real
     coherence = np.clip(explained / np.where(Gyy > 0, Gyy, 1.0), 0.0, 1.0)
+    # Variance of H1 by regression over the blocks: Var(H_oi) = G_nn,o [Gff^-1]_ii / (n - n_in), with
+    # G_nn,o = Gyy_o (1 - coh_o) the response's uncorrelated (noise) spectrum (Bendat & Piersol).
+    Gnn = np.maximum(Gyy - explained, 0.0)
+    Ginv = np.linalg.inv(Gff_safe)
+    diag = np.einsum("kii->ki", Ginv).real
+    dof = max(nav - n_in, 1)
+    variance = Gnn[:, :, None] * diag[:, None, :] / dof
+    tiny = 1e-12 * np.maximum(np.max(np.abs(H1) ** 2, axis=0, keepdims=True), 1e-300)
+    variance = np.maximum(variance, tiny)
     if estimator == "H1":
         H = H1
     else:
@@ -137,7 +150,7 @@ def estimate_frf(force, response, fs: float, estimator: str = "H1", **kwargs) ->
             d = gff - Gyy
             root = np.sqrt(d * d + 4 * np.abs(gyf) ** 2)
             H = ((Gyy - gff + root) / (2 * np.where(np.abs(gyf.conj()) > 0, gyf.conj(), 1.0)))[:, :, None]
-    return FRFEstimate(freq, H, coherence, nav, estimator)
+    return FRFEstimate(freq, H, coherence, nav, estimator, variance)
 
 
 def stepped_sine_frf(steps) -> tuple[np.ndarray, np.ndarray]:

@@ -16,8 +16,12 @@ def _figure(**kw):
     return plt.figure(**kw)
 
 
-def stabilisation_diagram(stab, modes=None, title: str = "Stabilisation diagram"):
-    """Poles per model order (stable: filled) over the sum of |FRF| in the fitted band."""
+def stabilisation_diagram(stab, modes=None, title: str = "Stabilisation diagram", clusters=None):
+    """Poles per model order (stable: filled) over the sum of |FRF| in the fitted band.
+
+    clusters: the kept candidate clusters (`select_ml(..., return_info=True)[1]["kept"]`): their poles
+    ringed (strong clusters orange, weak ones, stable over a narrow band of orders, purple). modes: the
+    identified modes as dashed lines, with a +-2 sigma band where frequency_std_hz is known."""
     fig = _figure(figsize=(9, 5))
     ax = fig.subplots()
     lo, hi = stab.band
@@ -32,9 +36,22 @@ def stabilisation_diagram(stab, modes=None, title: str = "Stabilisation diagram"
     ax2 = ax.twinx()
     ax2.semilogy(stab.frequencies_hz[band], np.abs(stab.H[band]).sum(axis=(1, 2)), color="tab:blue", lw=1)
     ax2.set_ylabel("sum |FRF|")
+    if clusters:
+        for c in clusters:
+            color = "tab:orange" if c.strong else "tab:purple"
+            orders = np.asarray(stab.orders)[np.asarray(c.orders)]
+            ax.plot(c.frequencies_hz, orders, "o", ms=7, mfc="none", color=color, mew=1.0)
+        from matplotlib.lines import Line2D
+
+        ax.legend(handles=[Line2D([], [], marker="o", ls="", mfc="none", color="tab:orange", label="strong cluster"),
+                           Line2D([], [], marker="o", ls="", mfc="none", color="tab:purple",
+                                  label="weak cluster (narrow band of orders)")], fontsize=8, loc="lower right")
     if modes is not None:
-        for f in modes.frequencies_hz:
+        sd = getattr(modes, "frequency_std_hz", None)
+        for k, f in enumerate(modes.frequencies_hz):
             ax.axvline(f, color="tab:red", lw=0.8, ls="--")
+            if sd is not None and np.isfinite(sd[k]):
+                ax.axvspan(f - 2 * sd[k], f + 2 * sd[k], color="tab:red", alpha=0.15, lw=0)
     ax.set_title(title)
     fig.tight_layout()
     return fig

@@ -22,7 +22,9 @@ from ..errors import EMAError
 class ModalSet:
     """Identified modes: frequencies_hz, damping_ratio (n_modes,); shapes (n_modes, n_outputs)
     complex (normalised to a unit largest component); participation (n_modes, n_inputs);
-    residues (n_modes, n_outputs, n_inputs); outputs/inputs as in the FRFs."""
+    residues (n_modes, n_outputs, n_inputs); outputs/inputs as in the FRFs; frequency_std_hz and
+    damping_std (n_modes,) standard deviations where known (maximum-likelihood refinement, averaging
+    of repeated tests), else None."""
 
     frequencies_hz: np.ndarray
     damping_ratio: np.ndarray
@@ -31,6 +33,8 @@ class ModalSet:
     residues: np.ndarray
     outputs: np.ndarray = field(default_factory=lambda: np.zeros((0, 2)))
     inputs: np.ndarray = field(default_factory=lambda: np.zeros((0, 2)))
+    frequency_std_hz: np.ndarray | None = None  # (n_modes,) standard deviation [Hz], e.g. from refine()
+    damping_std: np.ndarray | None = None  # (n_modes,) standard deviation of the damping ratio
 
 
 @dataclass
@@ -48,10 +52,20 @@ class Stabilisation:
     band: tuple = (0.0, np.inf)
     weighting: str = "unit"  # of the fit; select() weights its LSFD the same way
 
-    def select(self, frequencies_hz=None, min_fraction: float = 0.3, tol_f: float = 0.01) -> ModalSet:
+    def select(self, frequencies_hz=None, min_fraction: float = 0.3, tol_f: float = 0.01, refine: bool = False,
+               variance=None) -> ModalSet:
         """Physical poles: clusters of stable poles (frequency within tol_f relative) present in at
         least min_fraction of the orders; or, with frequencies_hz, the stable pole nearest each
-        given frequency at the highest order (selection by hand)."""
+        given frequency at the highest order (selection by hand).
+
+        refine=True: maximum-likelihood refinement with frequency_std_hz and damping_std
+        (flexgvt.ema.refine); automatic selection then follows flexgvt.ema.selection (weak clusters
+        stable over a narrow band of orders kept if they pass a likelihood-ratio test, edge poles
+        dropped). variance: FRF variances for the refinement (default: estimated from the residual)."""
+        if refine and frequencies_hz is None:
+            from .selection import select_ml
+
+            return select_ml(self, variance=variance, min_fraction=min_fraction, tol_f=tol_f)
         pts = [(s, L, k) for k, (ss, Ls, st) in enumerate(zip(self.poles, self.participations, self.stable))
                for s, L, ok in zip(ss, Ls, st) if ok]
         if not pts:
@@ -101,7 +115,14 @@ class Stabilisation:
         L = np.array([p[1] for p in picks])
         f_lo, f_hi = self.band
         band = (self.frequencies_hz >= f_lo) & (self.frequencies_hz <= f_hi)
-        return lsfd(self.frequencies_hz[band], self.H[band], s, L, self.outputs, self.inputs, weighting=self.weighting)
+        modes = lsfd(self.frequencies_hz[band], self.H[band], s, L, self.outputs, self.inputs, weighting=self.weighting)
+        if refine:
+            from ..io.uff import FRFs
+            from .refine import refine as _refine
+
+            modes = _refine(FRFs(self.frequencies_hz, self.H, self.outputs, self.inputs), modes, variance=variance,
+                            frequency_band=self.band)
+        return modes
 
 
 def _stability(prev_s, prev_L, s, L, df_hz=0.0, tol_f=0.01, tol_z=0.05, tol_mac=0.98):
@@ -197,7 +218,7 @@ def _reduced_normal_matrices(Om, w2, Hk, P):
 def polymax(frfs, max_order: int = 40, frequency_band=None, orders=None, weighting: str = "unit") -> Stabilisation:
     """Stabilisation diagram of pLSCF poles for model orders 1..max_order (or ``orders``).
 
-    frfs: an FRFs container (flexgvt.io.uff) or a tuple (frequencies_hz, H (n_freq, n_out, n_in)).
+    frfs: an FRFs container (flexgvt.io.uff), an FRFEstimate, or a tuple (frequencies_hz, H (n_freq, n_out, n_in)).
     frequency_band: (f_min, f_max) [Hz] to fit (default: the whole axis above 0).
     weighting: "unit", or "inverse" (each output's lines by 1/|H_o|, so every mode counts whatever
     its amplitude: receptances of very flexible structures span decades).
@@ -206,7 +227,9 @@ def polymax(frfs, max_order: int = 40, frequency_band=None, orders=None, weighti
         freq, H = frfs
         outputs, inputs = np.zeros((0, 2)), np.zeros((0, 2))
     else:
-        freq, H, outputs, inputs = frfs.frequencies_hz, frfs.H, frfs.outputs, frfs.inputs
+        freq, H = frfs.frequencies_hz, frfs.H
+        outputs = getattr(frfs, "outputs", np.zeros((0, 2)))  # an FRFEstimate has none
+        inputs = getattr(frfs, "inputs", np.zeros((0, 2)))
     freq = np.asarray(freq, float)
     H = np.asarray(H)
     if H.ndim != 3 or H.shape[0] != len(freq):

@@ -75,12 +75,17 @@ class FRFs:
 
 @dataclass(frozen=True)
 class ModalResults:
-    """Dataset 55 modes: frequencies_hz (n,), damping_ratio (n,), shapes (n, n_points, 3 or 6), point_ids."""
+    """Dataset 55 modes: frequencies_hz (n,), damping_ratio (n,), shapes (n, n_points, 3 or 6), point_ids;
+    frequency_std_hz, damping_std (n,) or None. UFF 55 has no field for standard deviations: flexgvt
+    writes them on the fifth ID line of each dataset as 'STD FREQ_HZ=<f> DAMP=<z>' and reads them back
+    from there (other readers show the line as text)."""
 
     frequencies_hz: np.ndarray
     damping_ratio: np.ndarray
     shapes: np.ndarray
     point_ids: np.ndarray
+    frequency_std_hz: np.ndarray | None = None
+    damping_std: np.ndarray | None = None
 
 
 @dataclass(frozen=True)
@@ -196,7 +201,7 @@ def read_uff(path: str | Path) -> UFFData:
 def _modes(sets, path) -> ModalResults | None:
     if not sets:
         return None
-    freqs, damps, shapes = [], [], []
+    freqs, damps, shapes, fstd, zstd = [], [], [], [], []
     ids = np.asarray(sets[0]["node_nums"], float).astype(int)
     for s in sets:
         if not np.array_equal(np.asarray(s["node_nums"], float).astype(int), ids):
@@ -205,7 +210,21 @@ def _modes(sets, path) -> ModalResults | None:
         damps.append(float(s.get("modal_damp_vis", 0.0)))
         cols = [np.asarray(s[f"r{i}"]) for i in range(1, 7) if f"r{i}" in s]
         shapes.append(np.column_stack(cols))
-    return ModalResults(np.array(freqs), np.array(damps), np.array(shapes), ids)
+        fs = zs = np.nan
+        for key in ("id5", "id4"):
+            text = str(s.get(key, ""))
+            if text.strip().startswith("STD "):
+                try:
+                    parts = dict(p.split("=", 1) for p in text.split()[1:])
+                    fs, zs = float(parts["FREQ_HZ"]), float(parts["DAMP"])
+                except (KeyError, ValueError):
+                    raise FileFormatError(f"{path}: mode {len(freqs)}: unreadable standard deviations '{text.strip()}'; "
+                                          "expected 'STD FREQ_HZ=<f> DAMP=<z>'") from None
+        fstd.append(fs)
+        zstd.append(zs)
+    has_std = np.all(np.isfinite(fstd))
+    return ModalResults(np.array(freqs), np.array(damps), np.array(shapes), ids,
+                        np.array(fstd) if has_std else None, np.array(zstd) if has_std else None)
 
 
 def shapes_at_points(shapes: np.ndarray, outputs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -258,7 +277,10 @@ def write_uff(path: str | Path, *, geometry: TestGeometry | None = None, frfs: F
         for m in range(len(modes.frequencies_hz)):
             shp = modes.shapes[m]
             cols = {f"r{i + 1}": shp[:, i] for i in range(shp.shape[1])}
-            sets.append(pyuff.prepare_55(model_type=1, analysis_type=2, data_ch=2, spec_data_type=8, data_type=2,
+            std = {}
+            if modes.frequency_std_hz is not None and modes.damping_std is not None:
+                std["id5"] = f"STD FREQ_HZ={float(modes.frequency_std_hz[m]):.6g} DAMP={float(modes.damping_std[m]):.6g}"
+            sets.append(pyuff.prepare_55(**std, model_type=1, analysis_type=2, data_ch=2, spec_data_type=8, data_type=2,
                                          n_data_per_node=shp.shape[1], load_case=1, mode_n=m + 1,
                                          freq=float(modes.frequencies_hz[m]), modal_m=1.0,
                                          modal_damp_vis=float(modes.damping_ratio[m]), modal_damp_his=0.0,
