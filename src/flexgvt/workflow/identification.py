@@ -32,6 +32,8 @@ class Identified:
     stabilisation: object | None = None
     frfs: object | None = None
     diagram: dict | None = None
+    frequency_std_hz: np.ndarray | None = None
+    damping_std: np.ndarray | None = None
 
     def measured(self, project: Project):
         """The flexgvt.updating.Measured of this configuration (sensors mapped to the FE nodes)."""
@@ -44,13 +46,18 @@ class Identified:
                 sensors = Sensors.from_outputs(self.outputs, node_map or None, offsets or None)
             except FlexGVTError as exc:
                 raise ProjectError(f"configuration '{self.configuration}' ({self.source}): {exc}") from None
-        return Measured(self.configuration, self.frequencies_hz, self.shapes, sensors, labels=self.labels)
+        return Measured(self.configuration, self.frequencies_hz, self.shapes, sensors, labels=self.labels,
+                        frequency_std_hz=self.frequency_std_hz)
 
     def as_dict(self) -> dict:
         """JSON layout (also read back as test data: modes = 'file.json')."""
         out = {"configuration": self.configuration, "source": self.source,
                "frequencies_hz": self.frequencies_hz.tolist(), "damping_ratio": self.damping_ratio.tolist(),
                "labels": list(self.labels)}
+        if self.frequency_std_hz is not None:
+            out["frequency_std_hz"] = self.frequency_std_hz.tolist()
+        if self.damping_std is not None:
+            out["damping_std"] = self.damping_std.tolist()
         if self.shapes is not None:
             out["outputs"] = np.asarray(self.outputs).astype(int).tolist()
             out["shapes_real"] = np.real(self.shapes).tolist()
@@ -83,9 +90,11 @@ def identify(project: Project, name: str) -> Identified:
     labels = tuple(t.labels) if t.labels is not None else tuple(out.labels[k] for k in keep if k < len(out.labels))
     if t.labels is not None and len(t.labels) != len(keep):
         raise ProjectError(f"{where}.labels: {len(t.labels)} labels for {len(keep)} modes")
+    pick = (lambda v: None if v is None else v[keep])  # noqa: E731
     return Identified(name, out.frequencies_hz[keep], out.damping_ratio[keep],
                       None if out.shapes is None else out.shapes[keep], out.outputs, labels, out.source,
-                      out.stabilisation, out.frfs)
+                      out.stabilisation, out.frfs, frequency_std_hz=pick(out.frequency_std_hz),
+                      damping_std=pick(out.damping_std))
 
 
 def _from_frfs(project: Project, name: str, t) -> Identified:
@@ -104,9 +113,12 @@ def _from_frfs(project: Project, name: str, t) -> Identified:
                                                min_fraction=t.min_fraction)
     else:
         stab = polymax(frfs, max_order=t.max_order, frequency_band=band)
-        modes = stab.select(frequencies_hz=t.select_hz, min_fraction=t.min_fraction)
+        modes = stab.select(frequencies_hz=t.select_hz, min_fraction=t.min_fraction, refine=t.refine)
+    std = getattr(modes, "frequency_std_hz", None)
     return Identified(name, np.asarray(modes.frequencies_hz), np.asarray(modes.damping_ratio),
-                      np.asarray(modes.shapes), np.asarray(modes.outputs), (), ", ".join(files), stab, frfs)
+                      np.asarray(modes.shapes), np.asarray(modes.outputs), (), ", ".join(files), stab, frfs,
+                      frequency_std_hz=None if std is None else np.asarray(std, float),
+                      damping_std=None if getattr(modes, "damping_std", None) is None else np.asarray(modes.damping_std))
 
 
 def read_modes(path: Path, name: str = "", key: str | None = None) -> Identified:
@@ -158,7 +170,14 @@ def _from_json(obj, path: Path, name: str) -> Identified:
     if f.ndim != 1 or z.shape != f.shape or (shapes is not None and shapes.shape != (len(f), len(outputs))):
         raise ProjectError(f"{path}: frequencies, damping, shapes and outputs do not agree in size")
     labels = tuple(str(s) for s in obj.get("labels", ()))
-    return Identified(name, f, z, shapes, outputs, labels, str(path))
+    std = {}
+    for key in ("frequency_std_hz", "damping_std"):
+        if key in obj:
+            v = np.asarray(obj[key], float)
+            if v.shape != f.shape or not np.all(np.isfinite(v)) or np.any(v < 0):
+                raise ProjectError(f"{path}: '{key}' must hold {len(f)} finite values >= 0")
+            std[key] = v
+    return Identified(name, f, z, shapes, outputs, labels, str(path), **std)
 
 
 def _read_csv(path: Path, name: str) -> Identified:

@@ -123,6 +123,7 @@ class TestData(Strict):
     max_order: int = Field(60, ge=4, le=400)
     select_hz: list[Frequency] | None = None
     min_fraction: float = Field(0.3, gt=0, le=1)
+    refine: bool = True
     wide: bool = False
     use_modes: list[int] | None = None
     labels: list[str] | None = None

@@ -65,6 +65,7 @@ points = "case"            # test point -> FE node: "case" (the built-in case's 
                            # "nodes" (point id = node id) or a CSV file point,node,dx,dy,dz [m]
 band_hz = [0.1, 11.5]      # identification band
 max_order = 60             # highest PolyMAX model order of the stabilisation diagram
+# refine = true            # maximum-likelihood refinement with frequency/damping uncertainties
 # select_hz = [0.96, 2.7]  # pick poles near these frequencies instead of the automatic selection
 # use_modes = [2, 3, 4]    # keep only these identified modes (1-based)
 '''
