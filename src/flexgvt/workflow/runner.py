@@ -16,7 +16,6 @@ from typing import Callable
 
 import numpy as np
 
-from ..errors import FlexGVTError
 from ..updating.result import jsonable
 from .identification import Identified, identify, read_modes
 from .project import Project, load_project
@@ -180,10 +179,7 @@ def run(project: Project | str | Path, log: Callable[[str], None] | None = None,
     do_report = project.spec.outputs.report if report is None else report
     if do_report:
         from .report import write_project_report
-        try:
-            res.files["report"] = str(write_project_report(res, out))
-        except FlexGVTError:
-            raise
+        res.files["report"] = str(write_project_report(res, out))
     timings["outputs"] = time.perf_counter() - t0
     timings["total"] = time.perf_counter() - t_all
     (out / "results.json").write_text(json.dumps(res.as_dict(), indent=1))
