@@ -2,6 +2,10 @@
 
 from __future__ import annotations
 
+import re
+
+import numpy as np
+
 BEAM_CARDS = ("CBAR", "CBEAM")
 ROD_CARDS = ("CROD", "CONROD")
 BEAM_PROPERTIES = ("PBAR", "PBARL", "PBEAM", "PBEAML")
@@ -22,6 +26,8 @@ NON_STRUCTURAL = {"AERO", "AEROS", "CAERO1", "CAERO2", "CAERO3", "CAERO4", "CAER
                   "DLOAD", "TLOAD1", "TLOAD2", "RLOAD1", "RLOAD2", "TABLED1", "TABLED2", "TABLED3", "TABLED4",
                   "TABDMP1", "TABRND1", "TABRNDG", "DAREA", "DELAY", "DPHASE", "RANDPS", "NLCNTLG", "MONDSP1", "EPOINT", "AECOMP",
                   "AECOMPL", "PLOTEL", "UXVEC", "AEDW", "AEFORCE", "AEPRESS", "SPLINRB"}
+# Case control selectors of DMIG matrices (direct matrix input).
+DMIG_SELECTORS = ("K2GG", "M2GG", "B2GG", "K42GG", "K2PP", "M2PP", "B2PP")
 # Static (Guyan) reduction sets: flexgvt solves the full model (named in a note).
 REDUCTION_CARDS = {"ASET", "ASET1", "OMIT", "OMIT1"}
 # Bulk cards flexgvt reads (anything else present in the deck is reported as unsupported).
@@ -60,6 +66,38 @@ def _natural(x):
 class CardsMixin:
     """Part of the bulk data reader (see _read._Reader)."""
 
+    def classify_dmig(self) -> None:
+        """DMIG matrices: Nastran adds one to the model only where the case control selects it (K2GG,
+        M2GG, B2GG, K42GG on the structure; K2PP, M2PP, B2PP on the structure plus extra points).
+        A DMIG selected by none, or only by the p-set matrices with every row and column on an
+        EPOINT (extra points carry no structure: e.g. a 1 on a dynamic-load point), leaves the
+        structure's static and modal solution unchanged: noted. Any other use is unsupported."""
+        bdf = self.bdf
+        dmigs = getattr(bdf, "dmig", None) or {}
+        if not dmigs:
+            return
+        epoints = set(int(e) for e in (getattr(bdf, "epoints", None) or {}))
+        selected: dict[str, set[str]] = {}
+        deck = getattr(bdf, "case_control_deck", None)
+        for subcase in (deck.subcases.values() if deck is not None else []):
+            for key, value in subcase.params.items():
+                if key in DMIG_SELECTORS:
+                    text = str(value).upper().split("=", 1)[-1]
+                    for name in re.findall(r"[A-Z][A-Z0-9_]*", text):
+                        selected.setdefault(name, set()).add(key)
+        for name, matrix in sorted(dmigs.items()):
+            uses = selected.get(str(name).upper(), set())
+            points = {int(g) for g, _ in list(np.atleast_2d(matrix.GCj)) + list(np.atleast_2d(matrix.GCi))}
+            if not uses:
+                self.notes.append(f"{self.at('DMIG', name)}: not selected by K2GG/M2GG/B2GG/K2PP/M2PP/B2PP in any "
+                                  "subcase: ignored, as Nastran does")
+            elif uses <= {"K2PP", "M2PP", "B2PP"} and points <= epoints:
+                self.notes.append(f"{self.at('DMIG', name)}: selected by {'/'.join(sorted(uses))} on extra points "
+                                  f"(EPOINT {', '.join(map(str, sorted(points)))}) only: no effect on the structure")
+            else:
+                on = "extra points and grids" if points & epoints else "the structure's grids"
+                self.skip(f"DMIG ({'/'.join(sorted(uses))} on {on}: direct matrix input)", str(name))
+
     # ----------------------------------------------------------------- everything else
     def list_other_cards(self) -> None:
         bdf = self.bdf
@@ -72,12 +110,13 @@ class CardsMixin:
             self.notes.append(f"{'/'.join(reduced)} (Guyan reduction to an analysis set) not applied: flexgvt solves "
                               "the full model, so the higher modes will differ from Nastran's (the reduced model is "
                               "stiffer; the lowest modes agree when the set is well chosen)")
+        self.classify_dmig()
         skipped = sorted(name for name in bdf.card_count if name in NON_STRUCTURAL)
         if skipped:
             self.notes.append(f"non-structural cards ignored: {', '.join(skipped)}")
         for name, count in bdf.card_count.items():
             if name in READ_CARDS or name in IGNORED_CARDS or name in NON_STRUCTURAL or name in REDUCTION_CARDS or \
-                    name in self.unsupported:
+                    name in self.unsupported or name == "DMIG":
                 continue
             ids = sorted({ident for (n, ident) in self.index.places if n == name}, key=_natural)
             if name in PROPERTY_NAMESPACE or name in MATERIAL_NAMESPACE:
