@@ -37,7 +37,7 @@ def test_identify_reports_a_file_without_frfs(tmp_path):
 
     geometry_only = Path(__file__).parents[1] / "data" / "uff" / "mesh_Oros-modal_uff15_uff2412.uff"
     result = runner.invoke(app, ["ema", "identify", str(geometry_only), "--out", str(tmp_path)])
-    assert result.exit_code == 2 and "no FRF" in result.output
+    assert result.exit_code == 2 and "no FRF" in " ".join(result.output.split())  # rich wraps long paths
 
 
 def test_identify_wide_band_from_the_command_line(tmp_path):
