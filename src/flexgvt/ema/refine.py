@@ -102,7 +102,7 @@ class _Problem:
             parts.append(np.stack([free.real, free.imag], axis=-1).ravel())
         return np.concatenate([np.ravel(p) for p in parts])
 
-    def design(self, theta):
+    def design(self, theta, residuals=True):
         """Linear columns A (R, n_lin) complex and their scale; the pole terms 1/(iw - lambda)."""
         wn, z, L = self.unpack(theta)
         lam = _lambda(wn, z)
@@ -111,17 +111,20 @@ class _Problem:
         Lr = L[:, self.ref].T  # (R, M): L_m at each row's reference
         a, b = Lr * Pa, Lr.conj() * Pb
         wr = np.abs(self.iw)
-        cols = [a + b, 1j * (a - b), -self.onehot / wr[:, None] ** 2, self.onehot.astype(complex)]
+        cols = [a + b, 1j * (a - b)]
+        if residuals:
+            cols += [-self.onehot / wr[:, None] ** 2, self.onehot.astype(complex)]
         A = np.hstack(cols)
         scale = 1.0 / np.sqrt(np.mean(np.abs(A) ** 2, axis=0))
         return A * scale, scale, (lam, L, Pa, Pb, Lr)
 
-    def _gram(self, A2):
-        """Re(A^H U_o A) for every output o, upper triangle (n_o, n(n+1)/2), from the real stacking
-        A2 = [Re A; Im A] (2R, n): Re(conj(a) b) = Re a Re b + Im a Im b. The products are formed in
-        blocks of lines and summed over the lines by one BLAS matrix product per block."""
+    def _gram(self, A2, pairs=None):
+        """Re(A^H U_o A) for every output o, upper triangle (n_o, n(n+1)/2) (or the entries (I, J) of
+        pairs), from the real stacking A2 = [Re A; Im A] (2R, n): Re(conj(a) b) = Re a Re b + Im a Im b.
+        The products are formed in blocks of lines and summed over the lines by one BLAS matrix product
+        per block."""
         R, n = self.n_f * self.n_i, A2.shape[1]
-        I, J = np.triu_indices(n)
+        I, J = np.triu_indices(n) if pairs is None else pairs
         out = np.zeros((self.n_o, len(I)))
         step = max(64, _BLOCK // len(I))
         for s in range(0, R, step):
@@ -270,7 +273,8 @@ def _significance(prob, theta):
 
 def mode_significance(frfs, modal_set, variance, frequency_band=None) -> np.ndarray:
     """Likelihood-ratio significance of each mode of modal_set at its pole (not refined), with the
-    given FRF variances (n_freq, n_out, n_in): see `_significance`."""
+    given FRF variances (n_freq, n_out, n_in): see `_significance` (and `SignificanceScreen` for one
+    candidate mode added to a fixed set, many candidates in turn)."""
     freq, H = (frfs if isinstance(frfs, tuple) else (frfs.frequencies_hz, frfs.H))
     freq, H, V = np.asarray(freq, float), np.asarray(H), np.asarray(variance, float)
     lo, hi = frequency_band if frequency_band is not None else (freq[freq > 0].min(), freq.max())
@@ -283,6 +287,58 @@ def mode_significance(frfs, modal_set, variance, frequency_band=None) -> np.ndar
     theta = prob.pack(2 * np.pi * np.asarray(modal_set.frequencies_hz, float),
                       np.clip(np.asarray(modal_set.damping_ratio, float), 1e-6, 0.9), L0)
     return _significance(prob, theta)
+
+
+class SignificanceScreen:
+    """`mode_significance` of one candidate mode added to a fixed set of modes, for many candidates in
+    turn (the screening of weak clusters): the fixed set's weighted Gram is formed and inverted once per
+    output; a candidate adds two columns, whose statistic is (b_c - G_cb y)^T S_c^-1 (b_c - G_cb y)
+    summed over outputs, S_c = G_cc - G_cb G_bb^-1 G_bc the Schur complement (= the inverse of the
+    candidate's block of the full inverse Gram), y = G_bb^-1 b_b. Poles s [rad/s], participations L."""
+
+    def __init__(self, frfs, poles, participation, variance, frequency_band=None):
+        freq, H = (frfs if isinstance(frfs, tuple) else (frfs.frequencies_hz, frfs.H))
+        freq, H, V = np.asarray(freq, float), np.asarray(H), np.asarray(variance, float)
+        lo, hi = frequency_band if frequency_band is not None else (freq[freq > 0].min(), freq.max())
+        keep = (freq >= lo) & (freq <= hi) & (freq > 0)
+        self.prob = _Problem(2 * np.pi * freq[keep], H[keep], 2.0 / V[keep], len(poles), np.zeros(len(poles), int))
+        A, _, _ = self.prob.design(self._theta(self.prob, poles, participation))
+        self.A2 = np.vstack([A.real, A.imag])
+        _, G, _, _ = self.prob.linear(A)
+        n = G.shape[1]
+        d = np.sqrt(np.maximum(np.einsum("oii->oi", G), 1e-300))
+        Gs = G / d[:, :, None] / d[:, None, :] + 1e-12 * np.eye(n)
+        self.Ginv = np.linalg.inv(Gs) / d[:, :, None] / d[:, None, :]
+        self.bb = self.prob.uh2.T @ self.A2
+        self.y = np.einsum("oij,oj->oi", self.Ginv, self.bb)
+
+    @staticmethod
+    def _theta(prob, poles, participation):
+        s, L = np.atleast_1d(poles), np.atleast_2d(participation)
+        ref = np.argmax(np.abs(L), axis=1)
+        prob.ref_fixed = ref
+        L = L / L[np.arange(len(L)), ref][:, None]
+        wn, z = np.abs(s), np.clip(-s.real / np.abs(s), 1e-6, 0.9)
+        return prob.pack(wn, z, L)
+
+    def __call__(self, pole, participation) -> float:
+        prob, n = self.prob, self.A2.shape[1]
+        M = prob.M
+        prob.M = 1
+        try:
+            ac, _, _ = prob.design(self._theta(prob, pole, participation), residuals=False)  # (R, 2)
+        finally:
+            prob.M = M
+        X2 = np.hstack([self.A2, np.vstack([ac.real, ac.imag])])
+        I = np.r_[np.repeat(np.arange(n), 2), n, n, n + 1]
+        J = np.r_[np.tile([n, n + 1], n), n, n + 1, n + 1]
+        prods = prob._gram(X2, (I, J))
+        Gbc = prods[:, :2 * n].reshape(-1, n, 2)
+        Gcc = prods[:, 2 * n:][:, [0, 1, 1, 2]].reshape(-1, 2, 2)
+        bc = prob.uh2.T @ X2[:, n:]
+        Sc = Gcc - np.einsum("oic,oij,ojd->ocd", Gbc, self.Ginv, Gbc)
+        e = bc - np.einsum("oic,oi->oc", Gbc, self.y)
+        return float(np.sum(e * np.linalg.solve(Sc, e[:, :, None])[:, :, 0]))
 
 
 def _variance_from_residual(model, H, iterations: int = 6):
