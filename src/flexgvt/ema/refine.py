@@ -336,7 +336,7 @@ class SignificanceScreen:
         Gbc = prods[:, :2 * n].reshape(-1, n, 2)
         Gcc = prods[:, 2 * n:][:, [0, 1, 1, 2]].reshape(-1, 2, 2)
         bc = prob.uh2.T @ X2[:, n:]
-        Sc = Gcc - np.einsum("oic,oij,ojd->ocd", Gbc, self.Ginv, Gbc)
+        Sc = Gcc - Gbc.transpose(0, 2, 1) @ (self.Ginv @ Gbc)
         e = bc - np.einsum("oic,oi->oc", Gbc, self.y)
         return float(np.sum(e * np.linalg.solve(Sc, e[:, :, None])[:, :, 0]))
 
@@ -352,8 +352,9 @@ def _variance_from_residual(model, H, iterations: int = 6):
     var = np.broadcast_to(np.mean(e2, axis=0, keepdims=True), e2.shape)
     for _ in range(iterations):
         q = 1.0 / np.maximum(var, 1e-300) ** 2
-        s_mm, s_m, s_1 = np.sum(q * m2 * m2, axis=0), np.sum(q * m2, axis=0), np.sum(q, axis=0)
-        s_em, s_e = np.sum(q * e2 * m2, axis=0), np.sum(q * e2, axis=0)
+        qm, qe = q * m2, q * e2
+        s_mm, s_m, s_1 = np.sum(qm * m2, axis=0), np.sum(qm, axis=0), np.sum(q, axis=0)
+        s_em, s_e = np.sum(qe * m2, axis=0), np.sum(qe, axis=0)
         det = s_mm * s_1 - s_m ** 2
         ok = det > 1e-12 * s_mm * s_1
         a = np.where(ok, (s_em * s_1 - s_m * s_e) / np.where(ok, det, 1.0), 0.0)
