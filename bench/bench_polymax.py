@@ -147,6 +147,8 @@ def main() -> int:
     if not args.no_write:
         worst = lambda s: (np.nanmax(np.abs(s[:, 0])), np.nanmax(np.abs(s[:, 1])), np.nanmin(s[:, 2]))  # noqa: E731
         wf, ws, wm = worst(s_fg), worst(s_sd), worst(s_ml)
+        ml_verdict = ("met" if np.median(ml_times) < 1 else "met by the best run only, not by the median (shared "
+                      "machine: the same code takes 0.9-1.2 s from one minute to the next)" if t_ml < 1 else "NOT met")
         text = "\n".join([
             SECTION, "",
             "`python bench/bench_polymax.py` (about a minute). " + __doc__.split("\n\n")[1].replace("\n", " "), "",
@@ -165,7 +167,8 @@ def main() -> int:
             f"with equal or better accuracy -> {'met' if t_fg < 2 and t_sd / t_fg >= 5 and wf[2] >= ws[2] else 'NOT met'}. "
             f"With two references (200 FRFs, poly-reference) flexgvt takes {t_fg2:.2f} s. "
             f"DESIGN.md target for PolyMAX + maximum-likelihood refinement + LSFD: under 1 s -> "
-            f"{'met' if t_ml < 1 else 'NOT met'} ({t_ml:.2f} s; sdypy-EMA / flexgvt-ML {t_sd / t_ml:.1f}x).", "",
+            f"{ml_verdict} (best {t_ml:.2f} s, median {np.median(ml_times):.2f} s of {len(ml_times)}; "
+            f"sdypy-EMA / flexgvt-ML {t_sd / t_ml:.1f}x).", "",
             "Per mode (errors of the identified mode nearest each true one):", ""] + rows + [
             "",
             "How: every entry of PolyMAX's normal matrices depends only on the lag between basis powers, so they are "

@@ -204,7 +204,7 @@ class _Problem:
         alpha_ot = psi_om c_t (m = owner[t], k = basis[t]): every pair of parameters of one mode and kind
         (w and zeta; Re and Im of a participation) shares one basis function.
         Returns beta, gamma (R, n_b) complex, c (n_t,) complex, basis (n_t,), owner (n_t,)."""
-        lam, L, Pa, Pb, Lr = terms
+        lam, _, Pa, Pb, Lr = terms
         wn, z, _ = self.unpack(theta)
         M = self.M
         beta, gamma = [Lr * Pa ** 2], [Lr.conj() * Pb ** 2]
