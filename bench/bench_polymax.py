@@ -147,6 +147,8 @@ def main() -> int:
     if not args.no_write:
         worst = lambda s: (np.nanmax(np.abs(s[:, 0])), np.nanmax(np.abs(s[:, 1])), np.nanmin(s[:, 2]))  # noqa: E731
         wf, ws, wm = worst(s_fg), worst(s_sd), worst(s_ml)
+        ml_verdict = ("met" if np.median(ml_times) < 1 else "met by the best run only, not by the median (shared "
+                      "machine: the same code takes 0.9-1.2 s from one minute to the next)" if t_ml < 1 else "NOT met")
         text = "\n".join([
             SECTION, "",
             "`python bench/bench_polymax.py` (about a minute). " + __doc__.split("\n\n")[1].replace("\n", " "), "",
@@ -165,13 +167,23 @@ def main() -> int:
             f"with equal or better accuracy -> {'met' if t_fg < 2 and t_sd / t_fg >= 5 and wf[2] >= ws[2] else 'NOT met'}. "
             f"With two references (200 FRFs, poly-reference) flexgvt takes {t_fg2:.2f} s. "
             f"DESIGN.md target for PolyMAX + maximum-likelihood refinement + LSFD: under 1 s -> "
-            f"{'met' if t_ml < 1 else 'NOT met'} ({t_ml:.2f} s; sdypy-EMA / flexgvt-ML {t_sd / t_ml:.1f}x).", "",
+            f"{ml_verdict} (best {t_ml:.2f} s, median {np.median(ml_times):.2f} s of {len(ml_times)}; "
+            f"sdypy-EMA / flexgvt-ML {t_sd / t_ml:.1f}x).", "",
             "Per mode (errors of the identified mode nearest each true one):", ""] + rows + [
             "",
             "How: every entry of PolyMAX's normal matrices depends only on the lag between basis powers, so they are "
             "built from 2P + 1 lag sums (BLAS products over the lines); the reduced normal matrices of all orders come "
             "from one Cholesky factor and one triangular solve at the highest order and a running sum of rank updates "
-            "(src/flexgvt/ema/polymax.py). What remains is mostly the companion eigenproblems (one per order).",
+            "(src/flexgvt/ema/polymax.py). What remains is mostly the companion eigenproblems (one per order).", "",
+            "ML refinement (src/flexgvt/ema/refine.py): every output shares the pole basis, so the per-output weighted "
+            "Grams Re(A^H U_o A) (upper triangle) and, for the Gauss-Newton step, A^H U_o Phi and Phi^H U_o Phi (Phi: "
+            "one derivative basis column per mode shared by its frequency and damping, or by the real and imaginary "
+            "parts of a participation) are formed for all outputs at once by blocked BLAS products over the lines; the "
+            "Schur complement over the shapes is batched over outputs; no per-output Jacobian is formed. The cost is "
+            "taken from the residual (the former hh - b.x cancelled to ~1e-11 and its noise decided the last steps). "
+            "Weak clusters are screened by a Schur-complement update of the kept set's Gram (no LSFD per candidate). "
+            "Left: 7 Gauss-Newton normal matrices and 12 weighted linear solves over two noise-estimation passes, "
+            "about 0.3 s; PolyMAX itself about 0.35 s.",
         ])
         write_section(SECTION, text)
         print("wrote docs/benchmarks.md")

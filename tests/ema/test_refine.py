@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 import gvt_case as G
-from flexgvt.ema import average_tests, identify, polymax, refine, synthesize_frfs
+from flexgvt.ema import average_tests, identify, mode_significance, polymax, refine, synthesize_frfs
 from flexgvt.errors import EMAError
 
 SEEDS = range(6)
@@ -143,3 +143,24 @@ def test_bad_input_and_fallback():
         kept = refine(frfs, start, max_iter=1, tol=0.0)
     np.testing.assert_allclose(kept.frequencies_hz, start.frequencies_hz, rtol=1e-12)
     assert kept.frequency_std_hz is not None and np.all(np.isfinite(kept.frequency_std_hz))
+
+
+def test_significance_screen_matches_the_full_statistic():
+    """SignificanceScreen (the kept set's Gram shared by every candidate) gives mode_significance's
+    statistic of the added mode, two references, to round-off."""
+    from types import SimpleNamespace
+
+    from flexgvt.ema.refine import SignificanceScreen
+
+    frfs = G.frfs(1, 30)
+    start = polymax(frfs, max_order=G.MAX_ORDER).select()
+    s = -start.damping_ratio * 2 * np.pi * start.frequencies_hz + 1j * 2 * np.pi * start.frequencies_hz * \
+        np.sqrt(1 - start.damping_ratio ** 2)
+    L = start.participation
+    var = np.abs(frfs.H) ** 2 * 1e-3 + 1e-12
+    for drop in (0, 5, len(s) - 1):
+        keep = [k for k in range(len(s)) if k != drop]
+        screen = SignificanceScreen(frfs, s[keep], L[keep], var)
+        full = mode_significance(frfs, SimpleNamespace(frequencies_hz=start.frequencies_hz,
+                                                       damping_ratio=start.damping_ratio, participation=L), var)
+        assert screen(s[drop], L[drop]) == pytest.approx(full[drop], rel=1e-8)

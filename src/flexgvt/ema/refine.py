@@ -30,7 +30,7 @@ import numpy as np
 
 from ..errors import EMAError
 
-_CHUNK = 1 << 22  # complex entries per block of outputs in the Jacobian products
+_BLOCK = 1 << 19  # entries (lines x products) of one block of the weighted products over the lines
 
 
 @dataclass(frozen=True)
@@ -73,7 +73,9 @@ class _Problem:
         self.n_f, self.n_o, self.n_i, self.M = n_f, n_o, n_i, n_modes
         self.h = H.transpose(0, 2, 1).reshape(n_f * n_i, n_o)  # rows (k, i)
         self.u = u.transpose(0, 2, 1).reshape(n_f * n_i, n_o)
-        self.hh = np.einsum("ro,ro->o", self.u, np.abs(self.h) ** 2)
+        self.uT = np.ascontiguousarray(self.u.T)  # (n_o, R): the weights as the left factor of BLAS products
+        self.h2 = np.vstack([self.h.real, self.h.imag])  # (2R, n_o) real stacking
+        self.uh2 = self.h2 * np.vstack([self.u, self.u])
         self.ref_fixed = np.asarray(ref_fixed)
         self.iw = np.repeat(1j * w, n_i)  # (R,)
         self.ref = np.tile(np.arange(n_i), n_f)  # reference of each row
@@ -100,7 +102,7 @@ class _Problem:
             parts.append(np.stack([free.real, free.imag], axis=-1).ravel())
         return np.concatenate([np.ravel(p) for p in parts])
 
-    def design(self, theta):
+    def design(self, theta, residuals=True):
         """Linear columns A (R, n_lin) complex and their scale; the pole terms 1/(iw - lambda)."""
         wn, z, L = self.unpack(theta)
         lam = _lambda(wn, z)
@@ -109,17 +111,66 @@ class _Problem:
         Lr = L[:, self.ref].T  # (R, M): L_m at each row's reference
         a, b = Lr * Pa, Lr.conj() * Pb
         wr = np.abs(self.iw)
-        cols = [a + b, 1j * (a - b), -self.onehot / wr[:, None] ** 2, self.onehot.astype(complex)]
+        cols = [a + b, 1j * (a - b)]
+        if residuals:
+            cols += [-self.onehot / wr[:, None] ** 2, self.onehot.astype(complex)]
         A = np.hstack(cols)
         scale = 1.0 / np.sqrt(np.mean(np.abs(A) ** 2, axis=0))
         return A * scale, scale, (lam, L, Pa, Pb, Lr)
 
+    def _gram(self, A2, pairs=None):
+        """Re(A^H U_o A) for every output o, upper triangle (n_o, n(n+1)/2) (or the entries (I, J) of
+        pairs), from the real stacking A2 = [Re A; Im A] (2R, n): Re(conj(a) b) = Re a Re b + Im a Im b.
+        The products are formed in blocks of lines and summed over the lines by one BLAS matrix product
+        per block."""
+        R, n = self.n_f * self.n_i, A2.shape[1]
+        I, J = np.triu_indices(n) if pairs is None else pairs
+        out = np.zeros((self.n_o, len(I)))
+        step = max(64, _BLOCK // len(I))
+        for s in range(0, R, step):
+            e = min(s + step, R)
+            a, b = A2[s:e], A2[R + s:R + e]
+            P = a[:, I] * a[:, J]
+            P += b[:, I] * b[:, J]
+            out += self.uT[:, s:e] @ P
+        return out
+
+    def _cross_grams(self, A, Phi):
+        """A^H U_o Phi (n_o, n_lin, n_phi) and Phi^H U_o Phi (n_o, n_phi, n_phi) for every output o
+        (complex; weights real), formed as _gram does (complex products viewed as pairs of reals)."""
+        R, n_lin, n_phi = len(A), A.shape[1], Phi.shape[1]
+        n1 = n_lin * n_phi
+        N = n1 + n_phi * (n_phi + 1) // 2
+        step = max(64, _BLOCK // (2 * N))
+        out = np.zeros((self.n_o, 2 * N))
+        P = np.empty((step, N), complex)
+        for s in range(0, R, step):
+            e = min(s + step, R)
+            m, f = e - s, Phi[s:e]
+            np.multiply(A[s:e].conj()[:, :, None], f[:, None, :], out=P[:m, :n1].reshape(m, n_lin, n_phi))
+            fc, off = f.conj(), n1
+            for i in range(n_phi):  # upper triangle, row by row
+                np.multiply(fc[:, i:i + 1], f[:, i:], out=P[:m, off:off + n_phi - i])
+                off += n_phi - i
+            out += self.uT[:, s:e] @ P[:m].view(float)
+        out = out.view(complex)
+        I, J = np.triu_indices(n_phi)
+        B = np.empty((self.n_o, n_phi, n_phi), complex)
+        B[:, I, J] = out[:, n1:]
+        B[:, J, I] = out[:, n1:].conj()
+        return out[:, :n1].reshape(self.n_o, n_lin, n_phi), B
+
     def linear(self, A):
-        """Per-output normal equations: x (n_o, n_lin) real, Gram G (n_o, n_lin, n_lin), cost (n_o,)."""
+        """Per-output normal equations: x (n_o, n_lin) real, Gram G (n_o, n_lin, n_lin), cost (n_o,) and
+        the model at x as the real stacking [Re; Im] (2R, n_o)."""
         n_lin = A.shape[1]
-        P = np.ascontiguousarray((A.conj()[:, :, None] * A[:, None, :]).real.reshape(len(A), n_lin * n_lin))
-        G = (np.ascontiguousarray(self.u.T) @ P).reshape(self.n_o, n_lin, n_lin)  # contiguous: BLAS
-        b = (A.conj().T @ (self.u * self.h)).real.T  # (n_o, n_lin)
+        A2 = np.vstack([A.real, A.imag])  # (2R, n_lin): real BLAS products only
+        I, J = np.triu_indices(n_lin)
+        Gt = self._gram(A2)  # Re(A^H U_o A), upper triangle
+        G = np.empty((self.n_o, n_lin, n_lin))
+        G[:, I, J] = Gt
+        G[:, J, I] = Gt
+        b = (self.uh2.T @ A2)  # (n_o, n_lin) = Re(A^H U_o h_o)
         d = np.sqrt(np.maximum(np.einsum("oii->oi", G), 1e-300))
         Gs = G / d[:, :, None] / d[:, None, :] + 1e-12 * np.eye(n_lin)
         try:
@@ -127,8 +178,13 @@ class _Problem:
         except np.linalg.LinAlgError:
             raise EMAError("refinement: the modal model's linear least squares is singular (two identical poles?); "
                            "remove duplicate modes before refining") from None
-        cost = self.hh - np.einsum("oi,oi->o", b, x)
-        return x, G, cost
+        # The cost from the residual itself (not hh - b.x, whose cancellation leaves round-off noise of
+        # ~1e-11 of the cost that would decide the last Gauss-Newton steps).
+        model = A2 @ x.T  # (2R, n_o)
+        r = self.h2 - model
+        r *= r
+        cost = np.einsum("ro,ro->o", self.u, r[:len(A)] + r[len(A):])
+        return x, G, cost, model
 
     def _fit(self, theta):
         """Design, scale and linear solution at theta (the last one cached: a trial step's cost
@@ -136,86 +192,74 @@ class _Problem:
         key = theta.tobytes()
         if getattr(self, "_key", None) != key:
             A, scale, terms = self.design(theta)
-            x, G, cost_o = self.linear(A)
-            self._key, self._cache = key, (A, scale, terms, x, G, cost_o)
+            x, G, cost_o, model = self.linear(A)
+            self._key, self._cache = key, (A, scale, terms, x, G, cost_o, model)
         return self._cache
 
     def cost(self, theta):
         return float(np.sum(self._fit(theta)[5]))
 
+    def _derivative_basis(self, theta, terms):
+        """The model's derivative along parameter t for output o is alpha_ot beta_k + conj(alpha_ot) gamma_k,
+        alpha_ot = psi_om c_t (m = owner[t], k = basis[t]): every pair of parameters of one mode and kind
+        (w and zeta; Re and Im of a participation) shares one basis function.
+        Returns beta, gamma (R, n_b) complex, c (n_t,) complex, basis (n_t,), owner (n_t,)."""
+        lam, _, Pa, Pb, Lr = terms
+        wn, z, _ = self.unpack(theta)
+        M = self.M
+        beta, gamma = [Lr * Pa ** 2], [Lr.conj() * Pb ** 2]
+        c = [lam / wn, wn * (-1 - 1j * z / np.sqrt(1 - z ** 2))]  # d(lambda)/d(wn), d(lambda)/d(zeta)
+        basis, owner = [np.arange(M)] * 2, [np.arange(M)] * 2
+        n_b = M
+        for m in range(M):
+            for j in range(self.n_i):
+                if j != self.ref_fixed[m]:
+                    sel = self.onehot[:, j]
+                    beta.append((sel * Pa[:, m])[:, None])
+                    gamma.append((sel * Pb[:, m])[:, None])
+                    c.append(np.array([1.0, 1j]))
+                    basis.append(np.array([n_b, n_b]))
+                    owner.append(np.array([m, m]))
+                    n_b += 1
+        return np.hstack(beta), np.hstack(gamma), np.concatenate(c), np.concatenate(basis), np.concatenate(owner)
+
     def normal(self, theta):
-        """Cost, gradient g = J^T r and reduced (Schur complement) normal matrix S over theta."""
-        A, scale, (lam, L, Pa, Pb, Lr), x, G, cost_o = self._fit(theta)
+        """Cost, gradient g = J^T r and reduced (Schur complement) normal matrix S over theta.
+
+        With Phi = [beta, gamma] and V_o (2 n_b, n_t) holding alpha_ot in row basis[t] and its conjugate
+        in row n_b + basis[t], the Jacobian of output o is J_o = Phi V_o, so every sum over lines is one
+        of the weighted products Phi^H U_o Phi and A^H U_o Phi, formed for all outputs at once; the
+        per-output Jacobians are never formed. Real parameters: J^T U J = Re(J^H U J)."""
+        A, scale, terms, x, G, cost_o, model_lin = self._fit(theta)
         M, n_o, R = self.M, self.n_o, len(A)
         p, q = x[:, :M] * scale[:M], x[:, M:2 * M] * scale[M:2 * M]  # psi = p + i q, (n_o, M)
-        wn, z, _ = self.unpack(theta)
-        dlam_dw = lam / wn
-        dlam_dz = wn * (-1 - 1j * z / np.sqrt(1 - z ** 2))
-        # Columns of d(model)/d(theta) = psi_om D + conj(psi_om) E = p F + q K, each column one mode.
-        Da, Eb = Lr * Pa ** 2, Lr.conj() * Pb ** 2
-        D = [Da * dlam_dw, Da * dlam_dz]
-        E = [Eb * dlam_dw.conj(), Eb * dlam_dz.conj()]
-        owner = [np.arange(M), np.arange(M)]
-        if self.n_i > 1:
-            for m in range(M):
-                for j in range(self.n_i):
-                    if j == self.ref_fixed[m]:
-                        continue
-                    sel = self.onehot[:, j]
-                    D += [(sel * Pa[:, m])[:, None], (1j * sel * Pa[:, m])[:, None]]
-                    E += [(sel * Pb[:, m])[:, None], (-1j * sel * Pb[:, m])[:, None]]
-                    owner += [np.array([m]), np.array([m])]
-        # theta's layout: [wn (M), zeta (M), per mode (Re, Im) per free reference].
-        D, E, owner = np.hstack(D), np.hstack(E), np.concatenate(owner)
-        F, K = D + E, 1j * (D - E)
-        Fr, Kr = np.vstack([F.real, F.imag]), np.vstack([K.real, K.imag])  # (2R, n_t) real stacking
-        Ar = np.vstack([A.real, A.imag])
-        n_t, n_lin = D.shape[1], A.shape[1]
-        model_lin = A @ x.T  # (R, n_o) model at the LS optimum
-        r = self.h - model_lin
-        u2 = np.ascontiguousarray(np.vstack([self.u, self.u]))  # (2R, n_o)
-        ur = u2 * np.vstack([r.real, r.imag])
-        # J_o = Fr diag(p_o[owner]) + Kr diag(q_o[owner]): every sum over outputs and lines becomes a
-        # few large matrix products (no per-output Jacobian is formed).
-        # sum_o J_o^T U_o J_o: weights summed over outputs per line and mode pair first.
-        pp = (p[:, :, None] * p[:, None, :]).reshape(n_o, M * M)
-        pq = (p[:, :, None] * q[:, None, :]).reshape(n_o, M * M)
-        qq = (q[:, :, None] * q[:, None, :]).reshape(n_o, M * M)
-        Wpp, Wpq, Wqq = [(u2 @ c).reshape(2 * R, M, M) for c in (pp, pq, qq)]
-        # Columns in (type, mode) order: every mode has T columns (w, zeta, participation parts).
-        T = n_t // M
-        typ = np.zeros(n_t, int)
-        for m in range(M):
-            typ[owner == m] = np.arange(T)
-        perm = np.lexsort((owner, typ))
-        F3, K3 = Fr[:, perm].reshape(2 * R, T, M), Kr[:, perm].reshape(2 * R, T, M)
-        JJp = np.empty((T, M, T, M))
-        for i in range(T):
-            for j in range(T):
-                JJp[i, :, j, :] = (np.einsum("rm,rn,rmn->mn", F3[:, i], F3[:, j], Wpp)
-                                   + np.einsum("rm,rn,rmn->mn", F3[:, i], K3[:, j], Wpq)
-                                   + np.einsum("rm,rn,rnm->mn", K3[:, i], F3[:, j], Wpq)
-                                   + np.einsum("rm,rn,rmn->mn", K3[:, i], K3[:, j], Wqq))
-        JJ = np.empty((n_t, n_t))
-        JJ[np.ix_(perm, perm)] = JJp.reshape(n_t, n_t)
-        # C_o = Ar^T U_o J_o = AF_o diag(p_o) + AK_o diag(q_o), AF_o = Ar^T U_o Fr for every output at once.
-        AF = (u2.T @ (Ar[:, :, None] * Fr[:, None, :]).reshape(2 * R, n_lin * n_t)).reshape(n_o, n_lin, n_t)
-        AK = (u2.T @ (Ar[:, :, None] * Kr[:, None, :]).reshape(2 * R, n_lin * n_t)).reshape(n_o, n_lin, n_t)
-        C = AF * p[:, owner][:, None, :] + AK * q[:, owner][:, None, :]
+        psi = p + 1j * q
+        beta, gamma, c, basis, owner = self._derivative_basis(theta, terms)
+        n_b, n_t, n_lin = beta.shape[1], len(c), A.shape[1]
+        Phi = np.hstack([beta, gamma])
+        AP, B = self._cross_grams(A, Phi)  # one pass over the lines
+        alpha = psi[:, owner] * c  # (n_o, n_t)
+        V = np.zeros((n_o, 2 * n_b, n_t), complex)
+        V[:, basis, np.arange(n_t)] = alpha
+        V[:, n_b + basis, np.arange(n_t)] = alpha.conj()
+        JJ = (V.conj().reshape(-1, n_t).T @ (B @ V).reshape(-1, n_t)).real  # sum_o J_o^T U_o J_o
+        C = (AP @ V).real  # C_o = A_o^T U_o J_o (n_o, n_lin, n_t)
         ridge = 1e-12 * np.einsum("cii->ci", G).max(axis=1)[:, None, None] * np.eye(n_lin)
         Y = np.linalg.solve(G + ridge, C)
         S = JJ - np.einsum("olt,ols->ts", C, Y)
         S = 0.5 * (S + S.T)
-        g = np.einsum("ra,ra->a", Fr, (ur @ p)[:, owner]) + np.einsum("ra,ra->a", Kr, (ur @ q)[:, owner])
-        psi = p + 1j * q
-        return float(np.sum(cost_o)), g, S, (x, scale, psi, L, lam, model_lin)
+        # Gradient: sum_o J_o^T U_o r_o, the residual at the linear optimum.
+        r = self.h2 - model_lin
+        ur = self.u * (r[:R] + 1j * r[R:])
+        g = np.einsum("ost,so->t", V.conj(), Phi.conj().T @ ur).real
+        return float(np.sum(cost_o)), g, S, (x, scale, psi, terms[1], terms[0])
 
 
 def _significance(prob, theta):
     """Per mode: the weighted cost increase when its shape is set to zero and the other linear
     parameters refitted (poles fixed): the Wald / likelihood-ratio statistic of the mode, chi-square
     with 2 n_outputs degrees of freedom if the mode is absent and the variances are right."""
-    A, scale, _, x, G, _ = prob._fit(theta)
+    A, scale, _, x, G, _, _ = prob._fit(theta)
     M = prob.M
     Ginv = np.linalg.pinv(G)
     out = np.zeros(M)
@@ -229,7 +273,8 @@ def _significance(prob, theta):
 
 def mode_significance(frfs, modal_set, variance, frequency_band=None) -> np.ndarray:
     """Likelihood-ratio significance of each mode of modal_set at its pole (not refined), with the
-    given FRF variances (n_freq, n_out, n_in): see `_significance`."""
+    given FRF variances (n_freq, n_out, n_in): see `_significance` (and `SignificanceScreen` for one
+    candidate mode added to a fixed set, many candidates in turn)."""
     freq, H = (frfs if isinstance(frfs, tuple) else (frfs.frequencies_hz, frfs.H))
     freq, H, V = np.asarray(freq, float), np.asarray(H), np.asarray(variance, float)
     lo, hi = frequency_band if frequency_band is not None else (freq[freq > 0].min(), freq.max())
@@ -244,6 +289,58 @@ def mode_significance(frfs, modal_set, variance, frequency_band=None) -> np.ndar
     return _significance(prob, theta)
 
 
+class SignificanceScreen:
+    """`mode_significance` of one candidate mode added to a fixed set of modes, for many candidates in
+    turn (the screening of weak clusters): the fixed set's weighted Gram is formed and inverted once per
+    output; a candidate adds two columns, whose statistic is (b_c - G_cb y)^T S_c^-1 (b_c - G_cb y)
+    summed over outputs, S_c = G_cc - G_cb G_bb^-1 G_bc the Schur complement (= the inverse of the
+    candidate's block of the full inverse Gram), y = G_bb^-1 b_b. Poles s [rad/s], participations L."""
+
+    def __init__(self, frfs, poles, participation, variance, frequency_band=None):
+        freq, H = (frfs if isinstance(frfs, tuple) else (frfs.frequencies_hz, frfs.H))
+        freq, H, V = np.asarray(freq, float), np.asarray(H), np.asarray(variance, float)
+        lo, hi = frequency_band if frequency_band is not None else (freq[freq > 0].min(), freq.max())
+        keep = (freq >= lo) & (freq <= hi) & (freq > 0)
+        self.prob = _Problem(2 * np.pi * freq[keep], H[keep], 2.0 / V[keep], len(poles), np.zeros(len(poles), int))
+        A, _, _ = self.prob.design(self._theta(self.prob, poles, participation))
+        self.A2 = np.vstack([A.real, A.imag])
+        _, G, _, _ = self.prob.linear(A)
+        n = G.shape[1]
+        d = np.sqrt(np.maximum(np.einsum("oii->oi", G), 1e-300))
+        Gs = G / d[:, :, None] / d[:, None, :] + 1e-12 * np.eye(n)
+        self.Ginv = np.linalg.inv(Gs) / d[:, :, None] / d[:, None, :]
+        self.bb = self.prob.uh2.T @ self.A2
+        self.y = np.einsum("oij,oj->oi", self.Ginv, self.bb)
+
+    @staticmethod
+    def _theta(prob, poles, participation):
+        s, L = np.atleast_1d(poles), np.atleast_2d(participation)
+        ref = np.argmax(np.abs(L), axis=1)
+        prob.ref_fixed = ref
+        L = L / L[np.arange(len(L)), ref][:, None]
+        wn, z = np.abs(s), np.clip(-s.real / np.abs(s), 1e-6, 0.9)
+        return prob.pack(wn, z, L)
+
+    def __call__(self, pole, participation) -> float:
+        prob, n = self.prob, self.A2.shape[1]
+        M = prob.M
+        prob.M = 1
+        try:
+            ac, _, _ = prob.design(self._theta(prob, pole, participation), residuals=False)  # (R, 2)
+        finally:
+            prob.M = M
+        X2 = np.hstack([self.A2, np.vstack([ac.real, ac.imag])])
+        I = np.r_[np.repeat(np.arange(n), 2), n, n, n + 1]
+        J = np.r_[np.tile([n, n + 1], n), n, n + 1, n + 1]
+        prods = prob._gram(X2, (I, J))
+        Gbc = prods[:, :2 * n].reshape(-1, n, 2)
+        Gcc = prods[:, 2 * n:][:, [0, 1, 1, 2]].reshape(-1, 2, 2)
+        bc = prob.uh2.T @ X2[:, n:]
+        Sc = Gcc - Gbc.transpose(0, 2, 1) @ (self.Ginv @ Gbc)
+        e = bc - np.einsum("oic,oi->oc", Gbc, self.y)
+        return float(np.sum(e * np.linalg.solve(Sc, e[:, :, None])[:, :, 0]))
+
+
 def _variance_from_residual(model, H, iterations: int = 6):
     """Per FRF, var = a |model|^2 + b (a, b >= 0: noise proportional to the signal plus a floor) fitted
     to e^2 = |H - model|^2 over the lines by iteratively reweighted least squares with weights 1/var^2
@@ -255,8 +352,9 @@ def _variance_from_residual(model, H, iterations: int = 6):
     var = np.broadcast_to(np.mean(e2, axis=0, keepdims=True), e2.shape)
     for _ in range(iterations):
         q = 1.0 / np.maximum(var, 1e-300) ** 2
-        s_mm, s_m, s_1 = np.sum(q * m2 * m2, axis=0), np.sum(q * m2, axis=0), np.sum(q, axis=0)
-        s_em, s_e = np.sum(q * e2 * m2, axis=0), np.sum(q * e2, axis=0)
+        qm, qe = q * m2, q * e2
+        s_mm, s_m, s_1 = np.sum(qm * m2, axis=0), np.sum(qm, axis=0), np.sum(q, axis=0)
+        s_em, s_e = np.sum(qe * m2, axis=0), np.sum(qe, axis=0)
         det = s_mm * s_1 - s_m ** 2
         ok = det > 1e-12 * s_mm * s_1
         a = np.where(ok, (s_em * s_1 - s_m * s_e) / np.where(ok, det, 1.0), 0.0)
@@ -386,8 +484,8 @@ def refine(frfs, modal_set, variance=None, frequency_band=None, max_iter: int = 
             if start_theta is None:
                 start_theta = tmp.pack(wn0, z0, L0)
             A, _, _ = tmp.design(start_theta)
-            x, _, _ = tmp.linear(A)
-            model = (A @ x.T).reshape(n_f, n_i, n_o).transpose(0, 2, 1)
+            model = tmp.linear(A)[3]
+            model = (model[:len(A)] + 1j * model[len(A):]).reshape(n_f, n_i, n_o).transpose(0, 2, 1)
             V = _variance_from_residual(model, Hk)
         prob = problem(V)
         if theta0 is None:
@@ -414,7 +512,7 @@ def refine(frfs, modal_set, variance=None, frequency_band=None, max_iter: int = 
         theta = theta0
         cost, g, S, extra = prob.normal(theta)
         wn, z, L = prob.unpack(theta)
-    x, scale, psi, L, lam, model_lin = extra
+    x, scale, psi, L, lam = extra
     V_full = np.ones(H.shape)
     V_full[keep] = 2.0 / prob.u.reshape(n_f, n_i, n_o).transpose(0, 2, 1)
     n_par = len(theta) + x.size

@@ -32,7 +32,7 @@ from scipy.stats import chi2
 
 from ..errors import EMAError
 from .polymax import ModalSet, Stabilisation, lsfd, polymax
-from .refine import mode_significance, refine
+from .refine import SignificanceScreen, refine
 
 
 @dataclass(frozen=True)
@@ -186,6 +186,7 @@ def select_ml(stab: Stabilisation, variance=None, alpha: float = 1e-6, min_fract
     base_var = info.variance
     added = False
     tried = 0
+    screen = None
     for c in weak:
         if c in kept or tried >= max_trials:
             continue
@@ -198,9 +199,10 @@ def select_ml(stab: Stabilisation, variance=None, alpha: float = 1e-6, min_fract
         trial_L = np.vstack([ms.participation / np.linalg.norm(ms.participation, axis=1, keepdims=True), c.L])
         # Screen at the candidate's PolyMAX pole (one linear solve): a pole that does not pass the test
         # there is not tried (a real mode's statistic is orders of magnitude above the threshold).
-        start = _start(stab, trial_s, trial_L, band)
-        if mode_significance(frfs, start, base_var, band)[int(np.argmin(np.abs(np.sort(np.abs(trial_s)) - abs(c.s))))] \
-                < threshold:
+        # (The kept set's weighted Gram is shared by every candidate: SignificanceScreen.)
+        if screen is None:
+            screen = SignificanceScreen(frfs, trial_s[:-1], trial_L[:-1], base_var, band)
+        if screen(c.s, c.L) < threshold:
             continue
         tried += 1
         try:
@@ -220,6 +222,7 @@ def select_ml(stab: Stabilisation, variance=None, alpha: float = 1e-6, min_fract
         if dup:
             continue
         ms, info, notes, kept = ms_t, info_t, notes_t, kept + [c]
+        screen = None
         added = True
     if added and variance is None:  # final fit with the noise re-estimated from the final model
         ms, info, notes = fit(_pole(ms), ms.participation, None)
