@@ -80,37 +80,13 @@ class Stabilisation:
                 chosen.append(max(near, key=lambda i: (pts[i][2], -abs(f[i] - target))))
             picks = [pts[i] for i in chosen]
         else:
-            order = np.argsort(f)
-            clusters, current = [], [order[0]]
-            for i in order[1:]:
-                if f[i] - f[current[-1]] <= tol_f * f[current[-1]]:
-                    current.append(i)
-                else:
-                    clusters.append(current)
-                    current = [i]
-            clusters.append(current)
+            from .clustering import group_by_gap, representative, split_by_order
             need = max(2, int(np.ceil(min_fraction * len(self.orders))))
             picks = []
-            for c in clusters:
-                c = sorted(c, key=lambda i: f[i])
-                # A cluster holding k poles of one order is k modes: split it at its k - 1 largest gaps.
-                per_order = {}
-                for i in c:
-                    per_order[pts[i][2]] = per_order.get(pts[i][2], 0) + 1
-                k = max(per_order.values())
-                cuts = sorted(np.argsort(np.diff(f[c]))[::-1][:k - 1] + 1) if k > 1 else []
-                for sub in np.split(np.array(c), cuts):
-                    if len({pts[i][2] for i in sub}) < need:
-                        continue
-                    # Representative: among the poles of the upper half of the cluster's orders (the
-                    # better fits), the one nearest their median frequency and damping (outliers
-                    # out; damping, which scatters more, measured on its own scale).
-                    top = [i for i in sub if pts[i][2] >= np.median([pts[j][2] for j in sub])]
-                    z_top = {i: -pts[i][0].real / abs(pts[i][0]) for i in top}
-                    f_med, z_med = np.median(f[top]), max(np.median(list(z_top.values())), 1e-12)
-                    best = min(top, key=lambda i: (abs(f[i] / f_med - 1) / tol_f + abs(z_top[i] / z_med - 1),
-                                                   -pts[i][2]))
-                    picks.append(pts[best])
+            for c in group_by_gap(np.argsort(f), f, lambda fi: tol_f * fi):
+                for sub in split_by_order(c, pts, f):
+                    if len({pts[i][2] for i in sub}) >= need:
+                        picks.append(pts[representative(pts, list(sub), f, tol_f)])
         s = np.array([p[0] for p in picks])
         L = np.array([p[1] for p in picks])
         f_lo, f_hi = self.band

@@ -31,6 +31,7 @@ import numpy as np
 from scipy.stats import chi2
 
 from ..errors import EMAError
+from .clustering import group_by_gap, representative, split_by_order
 from .polymax import ModalSet, Stabilisation, lsfd, polymax
 from .refine import SignificanceScreen, refine
 
@@ -46,13 +47,6 @@ class Cluster:
     frequencies_hz: np.ndarray
     strong: bool
     mac: float  # median participation MAC with the representative
-
-
-def _representative(pts, idx, f, tol_f):
-    top = [i for i in idx if pts[i][2] >= np.median([pts[j][2] for j in idx])]
-    z_top = {i: -pts[i][0].real / abs(pts[i][0]) for i in top}
-    f_med, z_med = np.median(f[top]), max(np.median(list(z_top.values())), 1e-12)
-    return min(top, key=lambda i: (abs(f[i] / f_med - 1) / tol_f + abs(z_top[i] / z_med - 1), -pts[i][2]))
 
 
 def _mac(a, b):
@@ -76,25 +70,11 @@ def clusters(stab: Stabilisation, min_fraction: float = 0.3, tol_f: float = 0.01
     need = max(2, int(np.ceil(min_fraction * len(stab.orders))))
     out, used = [], np.zeros(len(pts), bool)
     order = np.argsort(f)
-    groups, current = [], [order[0]]
-    for i in order[1:]:
-        if f[i] - f[current[-1]] <= tol_f * f[current[-1]]:
-            current.append(i)
-        else:
-            groups.append(current)
-            current = [i]
-    groups.append(current)
-    for c in groups:
-        c = sorted(c, key=lambda i: f[i])
-        per_order = {}
-        for i in c:
-            per_order[pts[i][2]] = per_order.get(pts[i][2], 0) + 1
-        k = max(per_order.values())
-        cuts = sorted(np.argsort(np.diff(f[c]))[::-1][:k - 1] + 1) if k > 1 else []
-        for sub in np.split(np.array(c), cuts):
+    for c in group_by_gap(order, f, lambda fi: tol_f * fi):
+        for sub in split_by_order(c, pts, f):
             if len({pts[i][2] for i in sub}) < need:
                 continue
-            best = _representative(pts, list(sub), f, tol_f)
+            best = representative(pts, list(sub), f, tol_f)
             used[sub] = True
             if f_lo <= f[best] <= f_hi:
                 macs = [_mac(pts[i][1], pts[best][1]) for i in sub]
@@ -103,18 +83,11 @@ def clusters(stab: Stabilisation, min_fraction: float = 0.3, tol_f: float = 0.01
     # Weak clusters from the poles left: looser grouping (a weak pole wanders by a fraction of a line).
     rest = [i for i in order if not used[i]]
     if rest:
-        groups, current = [], [rest[0]]
-        for i in rest[1:]:
-            if f[i] - f[current[-1]] <= max(tol_f * f[current[-1]], 0.5 * df):
-                current.append(i)
-            else:
-                groups.append(current)
-                current = [i]
-        groups.append(current)
+        groups = group_by_gap(rest, f, lambda fi: max(tol_f * fi, 0.5 * df))
         for c in groups:
             if len({pts[i][2] for i in c}) < min_orders:
                 continue
-            best = _representative(pts, c, f, 5 * tol_f)
+            best = representative(pts, c, f, 5 * tol_f)
             macs = [_mac(pts[i][1], pts[best][1]) for i in c]
             z = -pts[best][0].real / abs(pts[best][0])
             if np.median(macs) >= min_mac and z <= max_damping and f_lo <= f[best] <= f_hi:

@@ -3,13 +3,13 @@ and the prediction tables as CSV."""
 
 from __future__ import annotations
 
-import csv
 import warnings
 from pathlib import Path
 
 import numpy as np
 
 from ..model import Configuration
+from ..report.html import write_csv
 
 
 def write_outputs(res, out: Path) -> dict[str, str]:
@@ -27,7 +27,7 @@ def write_outputs(res, out: Path) -> dict[str, str]:
             files[f"prediction {key}"] = str(write_modes_uff(pred.free, out / f"predicted-free-free-{key}.uff"))
     for key, pred in res.predictions.items():
         path = out / f"prediction-{key}.csv"
-        write_csv(pred.rows, path)
+        write_csv(pred.rows, path)  # flexgvt.report's: None as an empty cell, floats in full
         files[f"prediction table {key}"] = str(path)
     return files
 
@@ -71,15 +71,3 @@ def write_modes_uff(modes, path: Path) -> Path:
     return write_uff(path, geometry=TestGeometry(ids, np.asarray(modes.state.positions)),
                      modes=ModalResults(np.asarray(modes.frequencies_hz), np.zeros(len(modes.frequencies_hz)),
                                         np.asarray(modes.shapes)[:, :, :3], ids))
-
-
-def write_csv(rows: list[dict], path: Path) -> Path:
-    keys: list[str] = []
-    for r in rows:
-        keys += [k for k in r if k not in keys]
-    with path.open("w", newline="") as fh:
-        w = csv.DictWriter(fh, fieldnames=keys)
-        w.writeheader()
-        for r in rows:
-            w.writerow({k: ("" if v is None else v) for k, v in r.items()})
-    return path
