@@ -181,10 +181,10 @@ def demo(out: Path = typer.Option(Path("demo-output"), help="folder for the proj
     suspension layouts, PolyMAX, updating on both at once (30 variables), suspension removed,
     free-free and 20 m bungee predictions scored against the as-built truth, report."""
     from ..workflow.demo import SCORED_MODES, run_demo
-    from .workflow import prediction_table
+    from .workflow import prediction_table, run_with_progress
     try:
         console.rule("[bold]flexgvt demo: X-HALE-like aircraft, GVT on two suspension layouts[/]")
-        result = run_demo(out, seed=seed, log=console.print, report=report)
+        result = run_with_progress(console, lambda log: run_demo(out, seed=seed, log=log, report=report))
         for name, c in result["configurations"].items():
             console.print(f"configuration '{name}': rms frequency error {c['initial_rms_error_percent']:.2f} % "
                           f"(initial model) -> {c['updated_rms_error_percent']:.2f} % (updated), {c['modes']} modes")

@@ -34,6 +34,21 @@ def prediction_table(title: str, rows: list[dict]) -> Table:
     return table
 
 
+def run_with_progress(console: Console, job):
+    """Run ``job(log)`` under a live status line (spinner, current step, elapsed time); every log
+    line is also printed above it, so the record stays in the terminal and in logs."""
+    from rich.progress import Progress, SpinnerColumn, TextColumn, TimeElapsedColumn
+
+    with Progress(SpinnerColumn(), TextColumn("{task.description}"), TimeElapsedColumn(), console=console,
+                  transient=True) as bar:
+        task = bar.add_task("starting", total=None)
+
+        def log(line: str) -> None:
+            console.print(line)
+            bar.update(task, description=str(line).strip().splitlines()[0][:90])
+        return job(log)
+
+
 def register(app: typer.Typer, console: Console) -> None:
     @app.command()
     def run(project: Path = typer.Argument(..., help="project file (TOML); `flexgvt init` writes an example"),
@@ -51,7 +66,7 @@ def register(app: typer.Typer, console: Console) -> None:
                 p.spec = p.spec.model_copy(update={"outputs": p.spec.outputs.model_copy(
                     update={"directory": str(out.resolve())})})
             console.rule(f"[bold]{p.spec.project.name}[/]")
-            res = run_project(p, log=console.print, report=report)
+            res = run_with_progress(console, lambda log: run_project(p, log=log, report=report))
             for key, pred in res.predictions.items():
                 console.print(prediction_table(f"free-flying prediction, {key} model", pred.rows))
             console.print(f"outputs in {p.output}/: " + ", ".join(Path(f).name for f in res.files.values()))
