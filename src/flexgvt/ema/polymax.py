@@ -191,6 +191,21 @@ def _reduced_normal_matrices(Om, w2, Hk, P):
             yield p, 2 * (T[:m, :m] - N[:m, :m])
 
 
+def checked_frfs(freq, H, frequency_band=None, where: str = ""):
+    """(frequencies_hz, H, in-band mask, (f_lo, f_hi)) of FRF arrays, checked: H (n_freq, n_out, n_in) on the
+    frequency axis, finite; the band (default: the whole axis above 0) keeps lines above 0 Hz."""
+    prefix = f"{where}: " if where else ""
+    freq = np.asarray(freq, float)
+    H = np.asarray(H)
+    if H.ndim != 3 or H.shape[0] != len(freq):
+        raise EMAError(f"{prefix}H must have shape (n_freq, n_outputs, n_inputs) matching {len(freq)} frequencies, "
+                       f"got {H.shape}")
+    if not np.all(np.isfinite(H)):
+        raise EMAError(f"{prefix}the FRFs contain NaN or infinite values; remove the bad channels first")
+    lo, hi = frequency_band if frequency_band is not None else (freq[freq > 0].min(), freq.max())
+    return freq, H, (freq >= lo) & (freq <= hi) & (freq > 0), (lo, hi)
+
+
 def polymax(frfs, max_order: int = 40, frequency_band=None, orders=None, weighting: str = "unit") -> Stabilisation:
     """Stabilisation diagram of pLSCF poles for model orders 1..max_order (or ``orders``).
 
@@ -206,14 +221,7 @@ def polymax(frfs, max_order: int = 40, frequency_band=None, orders=None, weighti
         freq, H = frfs.frequencies_hz, frfs.H
         outputs = getattr(frfs, "outputs", np.zeros((0, 2)))  # an FRFEstimate has none
         inputs = getattr(frfs, "inputs", np.zeros((0, 2)))
-    freq = np.asarray(freq, float)
-    H = np.asarray(H)
-    if H.ndim != 3 or H.shape[0] != len(freq):
-        raise EMAError(f"H must have shape (n_freq, n_outputs, n_inputs) matching {len(freq)} frequencies, got {H.shape}")
-    if not np.all(np.isfinite(H)):
-        raise EMAError("the FRFs contain NaN or infinite values; remove the bad channels first")
-    lo, hi = frequency_band if frequency_band is not None else (freq[freq > 0].min(), freq.max())
-    keep = (freq >= lo) & (freq <= hi) & (freq > 0)
+    freq, H, keep, (lo, hi) = checked_frfs(freq, H, frequency_band)
     fk, Hk = freq[keep], H[keep]
     n_i = Hk.shape[2]
     dt = 1.0 / (2 * fk.max())

@@ -29,6 +29,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from ..errors import EMAError
+from .polymax import checked_frfs
 
 _BLOCK = 1 << 19  # entries (lines x products) of one block of the weighted products over the lines
 
@@ -276,9 +277,8 @@ def mode_significance(frfs, modal_set, variance, frequency_band=None) -> np.ndar
     given FRF variances (n_freq, n_out, n_in): see `_significance` (and `SignificanceScreen` for one
     candidate mode added to a fixed set, many candidates in turn)."""
     freq, H = (frfs if isinstance(frfs, tuple) else (frfs.frequencies_hz, frfs.H))
-    freq, H, V = np.asarray(freq, float), np.asarray(H), np.asarray(variance, float)
-    lo, hi = frequency_band if frequency_band is not None else (freq[freq > 0].min(), freq.max())
-    keep = (freq >= lo) & (freq <= hi) & (freq > 0)
+    freq, H, keep, _ = checked_frfs(freq, H, frequency_band, "mode_significance")
+    V = np.asarray(variance, float)
     L0 = np.asarray(modal_set.participation)
     M = len(L0)
     ref = np.argmax(np.abs(L0), axis=1)
@@ -298,9 +298,8 @@ class SignificanceScreen:
 
     def __init__(self, frfs, poles, participation, variance, frequency_band=None):
         freq, H = (frfs if isinstance(frfs, tuple) else (frfs.frequencies_hz, frfs.H))
-        freq, H, V = np.asarray(freq, float), np.asarray(H), np.asarray(variance, float)
-        lo, hi = frequency_band if frequency_band is not None else (freq[freq > 0].min(), freq.max())
-        keep = (freq >= lo) & (freq <= hi) & (freq > 0)
+        freq, H, keep, _ = checked_frfs(freq, H, frequency_band, "significance screen")
+        V = np.asarray(variance, float)
         self.prob = _Problem(2 * np.pi * freq[keep], H[keep], 2.0 / V[keep], len(poles), np.zeros(len(poles), int))
         A, _, _ = self.prob.design(self._theta(self.prob, poles, participation))
         self.A2 = np.vstack([A.real, A.imag])
@@ -432,14 +431,7 @@ def refine(frfs, modal_set, variance=None, frequency_band=None, max_iter: int = 
     else:
         freq, H = frfs.frequencies_hz, frfs.H
         var_given = variance if variance is not None else getattr(frfs, "variance", None)
-    freq = np.asarray(freq, float)
-    H = np.asarray(H)
-    if H.ndim != 3 or H.shape[0] != len(freq):
-        raise EMAError(f"refine: H must have shape (n_freq, n_out, n_in) matching {len(freq)} frequencies, got {H.shape}")
-    if not np.all(np.isfinite(H)):
-        raise EMAError("refine: the FRFs contain NaN or infinite values; remove the bad channels first")
-    lo, hi = frequency_band if frequency_band is not None else (freq[freq > 0].min(), freq.max())
-    keep = (freq >= lo) & (freq <= hi) & (freq > 0)
+    freq, H, keep, (lo, hi) = checked_frfs(freq, H, frequency_band, "refine")
     w, Hk = 2 * np.pi * freq[keep], H[keep]
     n_f, n_o, n_i = Hk.shape
     M = len(modal_set.frequencies_hz)

@@ -17,7 +17,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..errors import ModelError
-from ..model import ConcentratedMass, Configuration, Model, RodSection, parse_dofs
+from ..model import Configuration, Model, RodSection, parse_dofs
 from .assembly import Pattern
 from .beam import (BeamData, beam_forces, beam_mass_matrices, element_frames, kernel_coefficients,
                    local_mass_matrices)
@@ -170,20 +170,20 @@ def _masses(model: Model, items) -> PointMasses:
                        np.array([m.inertia for m in items]))
 
 
-def _cord_masses(model: Model, cords) -> PointMasses:
-    """A third of each heavy cord's mass at its attachment (split between node and node_b)."""
-    items = []
-    for c in cords:
+def _cord_masses(cords, a: np.ndarray, b: np.ndarray, w: np.ndarray) -> PointMasses:
+    """A third of each heavy cord's mass at its attachment (split between its nodes a and b, storage
+    indices, by the attachment fraction w)."""
+    nodes, mass, offset = [], [], []
+    for k, c in enumerate(cords):
         if c.mass <= 0:
             continue
-        if c.node_b is None or c.along == 0.0:
-            items.append(ConcentratedMass(c.node, c.mass / 3, np.asarray(c.offset, float), np.zeros((3, 3))))
-            continue
-        idx = model.index_of([c.node, c.node_b], "cord")
-        w = c.along / float(np.linalg.norm(model.xyz[idx[1]] - model.xyz[idx[0]]))
-        for node, share in ((c.node, 1 - w), (c.node_b, w)):
-            items.append(ConcentratedMass(node, share * c.mass / 3, np.asarray(c.offset, float), np.zeros((3, 3))))
-    return _masses(model, items)
+        for node, share in ((a[k], 1 - w[k]), (b[k], w[k])) if w[k] > 0 else ((a[k], 1.0),):
+            nodes.append(node)
+            mass.append(share * c.mass / 3)
+            offset.append(np.asarray(c.offset, float))
+    n = len(nodes)
+    return PointMasses(np.array(nodes, int), np.array(mass, float), np.array(offset, float).reshape(n, 3),
+                       np.zeros((n, 3, 3)))
 
 
 def _springs(model: Model, items) -> Springs:
@@ -277,8 +277,6 @@ class System:
         self._revision = model.revision
         n = len(cm.xyz)
         self.n_nodes = n
-        self.masses = _merge_masses(_merge_masses(cm.masses, _masses(model, config.masses)),
-                                    _cord_masses(model, config.suspension))
         self.springs = _merge_springs(cm.springs, _springs(model, config.springs))
         where = f"configuration '{config.name}'"
         cords = list(config.suspension)
@@ -299,6 +297,8 @@ class System:
                              f"{cords[k].node_b}, beyond the {span[k]:.6g} m between them: the attachment point "
                              "is off the structure; give 0 <= along <= that distance")
         self.cord_w = np.where(span > 0, along / np.where(span > 0, span, 1.0), 0.0)
+        self.masses = _merge_masses(_merge_masses(cm.masses, _masses(model, config.masses)),
+                                    _cord_masses(cords, self.cord_nodes, self.cord_nodes_b, self.cord_w))
         attach = (1 - self.cord_w)[:, None] * cm.xyz[self.cord_nodes] + self.cord_w[:, None] * cm.xyz[
             self.cord_nodes_b] + self.cord_offset
         self.cord_lgeom = np.linalg.norm(attach - self.cord_anchor, axis=1)

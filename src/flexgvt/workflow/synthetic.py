@@ -13,6 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import ModelError
+from ..fem.points import cord_damping
 from ..io.uff import FRFs
 
 
@@ -70,17 +71,12 @@ def synthetic_gvt(model, configuration, sensors: dict, references: list[str], *,
     C = np.diag(2 * zeta * w_n)
     ids = list(modes.node_ids)
     system = state.system
-    for j, cord in enumerate(configuration.suspension):
-        # The dashpot acts along the cord at its attachment (between two nodes: interpolated).
-        ka, kb, w = system.cord_nodes[j], system.cord_nodes_b[j], system.cord_w[j]
-        ra = state.rotations[ka] @ np.asarray(cord.offset, float)
-        rb = state.rotations[kb] @ np.asarray(cord.offset, float)
-        attach = (1 - w) * (state.positions[ka] + ra) + w * (state.positions[kb] + rb)
-        e = np.asarray(cord.anchor, float) - attach
-        e /= np.linalg.norm(e)
-        b = sum(f * (modes.shapes[:, k, :3] @ e + np.cross(r, e) @ modes.shapes[:, k, 3:].T)
-                for f, k, r in ((1 - w, ka, ra), (w, kb, rb)))
-        C += cord.damping * np.outer(b, b)
+    if len(system.cord_nodes):  # the cords' dashpots along their lines, projected on the modes
+        Ce = cord_damping(*system.cord_state(state.positions, state.rotations), system.cord_offset,
+                          system.cord_anchor, system.cord_c, system.cord_w)  # (n_cords, 12, 12)
+        Pe = modes.shapes[:, np.column_stack([system.cord_nodes, system.cord_nodes_b]), :]  # (m, n_cords, 2, 6)
+        Pe = Pe.reshape(len(w_n), len(system.cord_nodes), 12)
+        C += np.einsum("mci,cij,ncj->mn", Pe, Ce, Pe)
     f = np.arange(df_hz, f_max_hz + 0.5 * df_hz, df_hz)
     w = 2 * np.pi * f
     ref = [names.index(r) for r in references]
