@@ -80,12 +80,13 @@ def jl_inv_dT_apply(theta, c, e, dth, m, out):
 def local_energy(u, t1, t2, L0, st, arch_on, f, ge, hc):
     """Gradient f (7) of the local strain energy in [u, theta1, theta2] and its Hessian as six
     rank-one terms, H = sum_t hc[t] h_t h_t^T with h_0 = ge (the axial strain gradient, written
-    here), h_1 = e1 - e4 (torsion), h_2,3 = e2 +- e5 and h_4,5 = e3 +- e6 (bending per plane);
-    returns N.
+    here), h_1 = e1 - e4 (torsion), h_2,3 = e2 +- e5 and h_4,5 = e3 +- e6 (bending per plane),
+    plus, for a tapered element, hc[6 + p] (h_+ h_-^T + h_- h_+^T) per plane p; returns N.
 
-    st = (EA, GJ, kd_y, ko_y, kd_z, ko_z): the energy is linear in these coefficients (bending
-    energy 1/2 (kd (a^2 + b^2) + 2 ko a b) per plane), so derivatives with respect to any
-    material or section parameter are this same kernel evaluated with d st / d p.
+    st = (EA, GJ, kd_y, ko_y, kd_z, ko_z, dd_y, dd_z): the energy is linear in these coefficients
+    (bending energy 1/2 ((kd + dd) a^2 + 2 ko a b + (kd - dd) b^2) per plane, dd = 0 for a uniform
+    element), so derivatives with respect to any material or section parameter are this same
+    kernel evaluated with d st / d p.
     arch_on: 1 for beams (shallow-arch term in the axial strain), 0 for rods (chord strain only).
     """
     EA, GJ = st[0], st[1]
@@ -111,17 +112,19 @@ def local_energy(u, t1, t2, L0, st, arch_on, f, ge, hc):
     # Per bending plane the 2x2 block [[p, o], [o, p]] (bending plus the arch term's stress part)
     # is (p + o)/2 (e_i + e_j)(e_i + e_j)^T + (p - o)/2 (e_i - e_j)(e_i - e_j)^T.
     stress = arch_on * N * L0 / 30.0
+    # A tapered element's block [[p + dd, o], [o, p - dd]] adds dd/2 (h_+ h_-^T + h_- h_+^T).
     for axis in range(2):
         if axis == 0:
-            i, j, kd, ko, ti, tj = 2, 5, st[2], st[3], t1[1], t2[1]
+            i, j, kd, ko, dd, ti, tj = 2, 5, st[2], st[3], st[6], t1[1], t2[1]
         else:
-            i, j, kd, ko, ti, tj = 3, 6, st[4], st[5], t1[2], t2[2]
-        f[i] += kd * ti + ko * tj
-        f[j] += ko * ti + kd * tj
+            i, j, kd, ko, dd, ti, tj = 3, 6, st[4], st[5], st[7], t1[2], t2[2]
+        f[i] += (kd + dd) * ti + ko * tj
+        f[j] += ko * ti + (kd - dd) * tj
         p = kd + 4.0 * stress
         o = ko - stress
         hc[2 + 2 * axis] = 0.5 * (p + o)
         hc[3 + 2 * axis] = 0.5 * (p - o)
+        hc[6 + axis] = 0.5 * dd
     return N
 
 
@@ -230,7 +233,7 @@ def _beam_chunk(x, R, nodes, E0s, L0s, stiff, arch, want_tangent, f_ref, g_out, 
     t2 = np.empty(3)
     f = np.empty(7)
     ge = np.empty(7)
-    hc = np.empty(6)
+    hc = np.empty(8)
     w = np.empty((6, 9))
     hw = np.empty((6, 9))
     om = np.zeros((9, 3))
@@ -339,6 +342,15 @@ def _beam_chunk(x, R, nodes, E0s, L0s, stiff, arch, want_tangent, f_ref, g_out, 
                        + hw[4, a] * w[4, b] + hw[5, a] * w[5, b])
                 K9[a, b] = acc
                 K9[b, a] = acc
+        if hc[6] != 0.0 or hc[7] != 0.0:  # tapered: the cross terms of the two bending blocks
+            cy, cz = hc[6], hc[7]
+            for a in range(9):
+                for b in range(a, 9):
+                    acc = (cy * (w[2, a] * w[3, b] + w[3, a] * w[2, b])
+                           + cz * (w[4, a] * w[5, b] + w[5, a] * w[4, b]))
+                    K9[a, b] += acc
+                    if b != a:
+                        K9[b, a] += acc
         # (d Jinv[dth])^T m is linear in dth: its 3x3 matrix G (columns from unit vectors), per node.
         for i in range(3):
             for m in range(3):

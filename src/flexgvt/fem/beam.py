@@ -28,12 +28,17 @@ class BeamData:
     nodes: np.ndarray  # (n, 2) node storage indices
     E0: np.ndarray  # (n, 3, 3) undeformed frames, columns = local x, y, z
     L0: np.ndarray  # (n,) undeformed lengths [m]
-    stiffness: np.ndarray  # (n, 6) kernel coefficients EA, GJ, kd_y, ko_y, kd_z, ko_z (see bending_coefficients)
-    mass_per_length: np.ndarray  # (n,) rho*A [kg/m]
-    inertia_per_length: np.ndarray  # (n, 3) rho*Ip, rho*Iy, rho*Iz (bending terms zero if no rotary inertia)
+    stiffness: np.ndarray  # (n, 8) kernel coefficients EA, GJ, kd_y, ko_y, kd_z, ko_z, dd_y, dd_z (element_coefficients)
+    mass_per_length: np.ndarray  # (n, 2) rho*A at the first and second node [kg/m]
+    inertia_per_length: np.ndarray  # (n, 2, 3) rho*Ip, rho*Iy, rho*Iz at each node [kg m] (bending zero without rotary inertia)
     lumped: np.ndarray  # (n,) bool
-    section_stiffness: np.ndarray  # (n, 6) EA, GJ, EIy, EIz, Phi_y, Phi_z
     arch: np.ndarray  # (n,) 1.0 for beams (shallow-arch axial strain), 0.0 for rods (chord strain only)
+
+
+# 3-point Gauss rule on [0, 1]: Nastran's CBEAM integrates a tapered element's flexibility with it
+# (the glider deck fmondsp.dat's modes to 3e-7, tests/io/test_nastran_f06_decks.py).
+GAUSS3_POINTS = np.array([0.5 - np.sqrt(15.0) / 10.0, 0.5, 0.5 + np.sqrt(15.0) / 10.0])
+GAUSS3_WEIGHTS = np.array([5.0, 8.0, 5.0]) / 18.0
 
 
 def bending_coefficients(EI: np.ndarray, phi: np.ndarray, L: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -42,12 +47,50 @@ def bending_coefficients(EI: np.ndarray, phi: np.ndarray, L: np.ndarray) -> tupl
     return k * (4 + phi), k * (2 - phi)
 
 
-def kernel_coefficients(section_stiffness: np.ndarray, L: np.ndarray) -> np.ndarray:
-    """(n, 6) kernel coefficients from (EA, GJ, EIy, EIz, Phi_y, Phi_z)."""
-    EA, GJ, EIy, EIz, phy, phz = section_stiffness.T
-    kdy, koy = bending_coefficients(EIy, phy, L)
-    kdz, koz = bending_coefficients(EIz, phz, L)
-    return np.ascontiguousarray(np.column_stack([EA, GJ, kdy, koy, kdz, koz]))
+def element_coefficients(E, G, pa: dict, pb: dict, L: np.ndarray) -> np.ndarray:
+    """(n, 8) kernel coefficients of elements of lengths L [m] with section properties pa at the
+    first node and pb at the second (dicts as GeneralSection.properties(); pb is pa: uniform).
+
+    Per bending plane the coefficients give the 2 x 2 stiffness [[kd + dd, ko], [ko, kd - dd]] on
+    the local end rotations (relative to the chord). Uniform: the exact Timoshenko element (dd = 0).
+    Tapered (A, I, J, shear areas linear between the ends): the inverse of the element's
+    flexibility, int (1 - s)^2 / EI, int s^2 / EI, -int s (1 - s) / EI [s = x / L] plus the shear
+    term int 1 / (G As) / L^2 on all four, and EA, GJ as 1 / int (1 / EA) dx / L, integrated by
+    3-point Gauss (Nastran CBEAM's rule; it equals the uniform element when the ends agree).
+    Complex-safe (complex-step derivatives)."""
+    L = np.asarray(L)
+    n = len(L)
+    out = np.zeros((n, 8), dtype=np.result_type(E, G, *pa.values(), *pb.values(), L, float))
+    if pb is pa:
+        out[:, 0] = E * pa["A"]
+        out[:, 1] = G * pa["J"]
+        for col, (I, As) in ((2, ("Iy", "Az")), (4, ("Iz", "Ay"))):
+            phi = 12 * E * pa[I] / (G * pa[As] * L**2) if pa[As] != 0 else np.zeros(n)
+            out[:, col], out[:, col + 1] = bending_coefficients(E * pa[I], phi, L)
+        return out
+    s, w = GAUSS3_POINTS, GAUSS3_WEIGHTS
+
+    def at_points(key):
+        return pa[key] * (1 - s) + pb[key] * s
+
+    out[:, 0] = 1.0 / np.sum(w / (E * at_points("A")))
+    if pa["J"] != 0 or pb["J"] != 0:
+        out[:, 1] = 1.0 / np.sum(w / (G * at_points("J")))
+    for col, dd, I, As in ((2, 6, "Iy", "Az"), (4, 7, "Iz", "Ay")):
+        if pa[I] == 0 and pb[I] == 0:
+            continue  # no stiffness in this plane (held by constraints)
+        inv = w / (E * at_points(I))
+        c0, c1, c2 = np.sum(inv), np.sum(inv * s), np.sum(inv * s * s)
+        shear = np.sum(w / (G * at_points(As))) / L if pa[As] != 0 else 0.0
+        f11 = L * (c0 - 2 * c1 + c2) + shear
+        f22 = L * c2 + shear
+        f12 = -L * (c1 - c2) + shear
+        det = f11 * f22 - f12 * f12
+        k11, k22, k12 = f22 / det, f11 / det, -f12 / det
+        out[:, col] = 0.5 * (k11 + k22)
+        out[:, col + 1] = k12
+        out[:, dd] = 0.5 * (k11 - k22)
+    return out
 
 
 def element_frames(xyz: np.ndarray, nodes: np.ndarray, orientation: np.ndarray) -> np.ndarray:
@@ -90,40 +133,50 @@ def beam_forces(x: np.ndarray, R: np.ndarray, data: BeamData, tangent: bool = Tr
     return g, (K if tangent else None), local
 
 
+_TRANS = np.array([[156, 22, 54, -13], [22, 4, 13, -3], [54, 13, 156, -22], [-13, -3, -22, 4]], float)  # x m L / 420
+_TRANS_TAPER = np.array([[-84, -8, 0, 1], [-8, -1, 1, 0], [0, 1, 84, -8], [1, 0, -8, 1]], float)  # x D L / 840
+_ROT = np.array([[36, 3, -36, 3], [3, 4, -3, -1], [-36, -3, 36, -3], [3, -1, -3, 4]], float)  # x rI / (30 L)
+_ROT_TAPER = np.array([[0, 3, 0, -3], [3, -2, -3, 0], [0, -3, 0, 3], [-3, 0, 3, 2]], float)  # x D / (60 L)
+
+
 def local_mass_matrices(data: BeamData) -> np.ndarray:
     """(n, 12, 12) element mass matrices in local axes [u v w rx ry rz] x 2.
 
-    Consistent: Hermitian cubic bending, linear axial and torsion, plus bending rotary inertia
-    where ``inertia_per_length`` has it. Lumped: half the element at each node (translations,
-    torsion and rotary inertia). Torsional inertia is rho*Ip (rotates with the section). Rods
-    (arch == 0): linear shape functions in all three directions (consistent) or half at each node.
+    Per-length values vary linearly from the first node to the second, m(s) = M + D (s - 1/2)
+    (M the mean, D the difference; D = 0 for a uniform element), and each matrix is their exact
+    integral. Consistent: Hermitian cubic bending, linear axial and torsion, plus bending rotary
+    inertia where ``inertia_per_length`` has it. Lumped: each node takes int m N_i dx (N_i linear):
+    L (M/2 -+ D/12), half the element when uniform (translations, torsion and rotary inertia).
+    Torsional inertia is rho*Ip (rotates with the section). Rods (arch == 0): linear shape
+    functions in all three directions (consistent) or half at each node.
     """
     L = data.L0
-    m = data.mass_per_length * L
-    rIp, rIy, rIz = data.inertia_per_length.T
+    mA, mB = data.mass_per_length.T
+    m, dm = 0.5 * (mA + mB) * L, (mB - mA) * L  # total mass and its difference term [kg]
+    rI = 0.5 * (data.inertia_per_length[:, 0] + data.inertia_per_length[:, 1])  # (n, 3) mean rho Ip, rho Iy, rho Iz
+    dI = data.inertia_per_length[:, 1] - data.inertia_per_length[:, 0]
     n = len(L)
     M = np.zeros((n, 12, 12))
     cons = ~data.lumped
-    # axial and torsion
-    for dof, total in ((0, m), (3, rIp * L)):
-        M[:, dof, dof] = M[:, dof + 6, dof + 6] = np.where(cons, total / 3, total / 2)
+    # axial and torsion (linear shape functions)
+    for dof, total, diff in ((0, m, dm), (3, rI[:, 0] * L, dI[:, 0] * L)):
+        M[:, dof, dof] = np.where(cons, total / 3 - diff / 12, total / 2 - diff / 12)
+        M[:, dof + 6, dof + 6] = np.where(cons, total / 3 + diff / 12, total / 2 + diff / 12)
         M[:, dof, dof + 6] = M[:, dof + 6, dof] = np.where(cons, total / 6, 0.0)
     # bending: (v, rz) in x-y plane with sign +1, (w, ry) in x-z plane with sign -1
-    for (t, r, s, rI) in ((1, 5, 1.0, rIz), (2, 4, -1.0, rIy)):
+    for (t, r, s, k) in ((1, 5, 1.0, 2), (2, 4, -1.0, 1)):
         idx = [t, r, t + 6, r + 6]
-        Lc = L[:, None, None]
-        trans = (m / 420)[:, None, None] * np.array([[156, 22, 54, -13], [22, 4, 13, -3],
-                                                     [54, 13, 156, -22], [-13, -3, -22, 4]])[None]
-        rot = (rI / (30 * L))[:, None, None] * np.array([[36, 3, -36, 3], [3, 4, -3, -1],
-                                                         [-36, -3, 36, -3], [3, -1, -3, 4]])[None]
         scale = np.ones((n, 4, 4))
         for a, pa in enumerate((0, 1, 0, 1)):
             for b, pb in enumerate((0, 1, 0, 1)):
-                scale[:, a, b] = (s * Lc[:, 0, 0]) ** (pa + pb)
-        block = (trans + rot) * scale
+                scale[:, a, b] = (s * L) ** (pa + pb)
+        block = ((m / 420)[:, None, None] * _TRANS + (dm / 840)[:, None, None] * _TRANS_TAPER
+                 + (rI[:, k] / (30 * L))[:, None, None] * _ROT + (dI[:, k] / (60 * L))[:, None, None] * _ROT_TAPER)
+        block = block * scale
         lumped = np.zeros((n, 4, 4))
-        lumped[:, 0, 0] = lumped[:, 2, 2] = m / 2
-        lumped[:, 1, 1] = lumped[:, 3, 3] = rI * L / 2
+        lumped[:, 0, 0], lumped[:, 2, 2] = m / 2 - dm / 12, m / 2 + dm / 12
+        lumped[:, 1, 1] = (rI[:, k] / 2 - dI[:, k] / 12) * L
+        lumped[:, 3, 3] = (rI[:, k] / 2 + dI[:, k] / 12) * L
         block = np.where(cons[:, None, None], block, lumped)
         M[:, np.array(idx)[:, None], np.array(idx)[None, :]] = block
     rods = data.arch == 0
@@ -135,6 +188,13 @@ def local_mass_matrices(data: BeamData) -> np.ndarray:
             r[:, dof, dof + 6] = r[:, dof + 6, dof] = np.where(c_r, m_r / 6, 0.0)
         M[rods] = r
     return M
+
+
+def nodal_weights(data: BeamData) -> tuple[np.ndarray, np.ndarray]:
+    """Each element's mass at its first and second node, int rho A N_i dx [kg]: half each when uniform."""
+    mA, mB = data.mass_per_length.T
+    m, dm = 0.5 * (mA + mB) * data.L0, (mB - mA) * data.L0
+    return m / 2 - dm / 12, m / 2 + dm / 12
 
 
 def beam_mass_matrices(x: np.ndarray, R: np.ndarray, data: BeamData, local: np.ndarray) -> np.ndarray:

@@ -17,18 +17,18 @@ _RIGID = ("fore-aft", "lateral", "plunge", "roll", "pitch", "yaw")
 
 
 @numba.njit(cache=True, inline="always")
-def _bending_energy(EI, phi, L, d1, r1, d2, r2, sign):  # pragma: no cover - compiled
-    """Energy of a Timoshenko bending block; sign=+1 for (v, rz), -1 for (w, ry)."""
-    k = EI / (L**3 * (1 + phi))
-    s = sign * L
-    a = (12 * (d1 - d2) ** 2 + 12 * s * (d1 - d2) * (r1 + r2)
-         + (4 + phi) * L**2 * (r1**2 + r2**2) + 2 * (2 - phi) * L**2 * r1 * r2)
-    return 0.5 * k * a
+def _bending_energy(kd, ko, dd, L, d1, r1, d2, r2, sign):  # pragma: no cover - compiled
+    """Energy of a bending block 1/2 ((kd + dd) a^2 + 2 ko a b + (kd - dd) b^2), a and b the end
+    rotations relative to the chord; sign=+1 for (v, rz), -1 for (w, ry)."""
+    chord = sign * (d2 - d1) / L
+    a, b = r1 - chord, r2 - chord
+    return 0.5 * ((kd + dd) * a * a + 2 * ko * a * b + (kd - dd) * b * b)
 
 
 @numba.njit(cache=True)
 def _beam_energies(shapes, nodes, Rr, stiffness, L, vertical, out):  # pragma: no cover - compiled
-    """out[m] += (OOP, IP, torsion, extension) strain energies of mode m summed over the beams."""
+    """out[m] += (OOP, IP, torsion, extension) strain energies of mode m summed over the beams
+    (stiffness: the kernel coefficients, beam.element_coefficients)."""
     loc = np.empty((4, 3))  # local u1, t1, u2, t2
     for m in range(shapes.shape[0]):
         for e in range(nodes.shape[0]):
@@ -38,12 +38,12 @@ def _beam_energies(shapes, nodes, Rr, stiffness, L, vertical, out):  # pragma: n
                 for j in range(3):
                     loc[blk, j] = (shapes[m, node, off] * Rr[e, 0, j] + shapes[m, node, off + 1] * Rr[e, 1, j]
                                    + shapes[m, node, off + 2] * Rr[e, 2, j])
-            EA, GJ, EIy, EIz, phy, phz = stiffness[e]
+            EA, GJ, kdy, koy, kdz, koz, ddy, ddz = stiffness[e]
             Le = L[e]
             ext = 0.5 * EA / Le * (loc[2, 0] - loc[0, 0]) ** 2
             tor = 0.5 * GJ / Le * (loc[3, 0] - loc[1, 0]) ** 2
-            by = _bending_energy(EIy, phy, Le, loc[0, 2], loc[1, 1], loc[2, 2], loc[3, 1], -1.0)
-            bz = _bending_energy(EIz, phz, Le, loc[0, 1], loc[1, 2], loc[2, 1], loc[3, 2], 1.0)
+            by = _bending_energy(kdy, koy, ddy, Le, loc[0, 2], loc[1, 1], loc[2, 2], loc[3, 1], -1.0)
+            bz = _bending_energy(kdz, koz, ddz, Le, loc[0, 1], loc[1, 2], loc[2, 1], loc[3, 2], 1.0)
             out[m, 0] += by if vertical[e] else bz
             out[m, 1] += bz if vertical[e] else by
             out[m, 2] += tor
@@ -66,7 +66,7 @@ def energy_fractions(modes, state) -> np.ndarray:
         Rr = current_frames(state.positions, state.rotations, b)
         vertical = np.abs(Rr[:, 2, 2]) >= np.abs(Rr[:, 2, 1])  # local z closer to global z: bending about y is OOP
         _beam_energies(np.ascontiguousarray(shapes, dtype=float), b.nodes, np.ascontiguousarray(Rr),
-                       np.ascontiguousarray(b.section_stiffness, dtype=float), b.L0, vertical, out)
+                       np.ascontiguousarray(b.stiffness, dtype=float), b.L0, vertical, out)
     total_pe = 0.5 * np.abs(modes.eigenvalues.real if modes.eigenvalues is not None else 0.0)
     if modes.complex_shapes is not None:
         total_pe = 0.5 * (2 * np.pi * modes.frequencies_hz) ** 2

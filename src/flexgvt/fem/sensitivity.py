@@ -1,8 +1,8 @@
 """Derivatives of the residual, tangent and mass matrix with respect to material and section
 parameters of a beam group, and spring rates: the foundation of gradient-based updating.
 
-The beam kernel is linear in its coefficients s = (EA, GJ, kd_y, ko_y, kd_z, ko_z) and the
-mass matrix in (rho A, rho Ip, rho Iy, rho Iz), so d(residual, K)/dp is the same kernel
+The beam kernel is linear in its coefficients s = (EA, GJ, kd_y, ko_y, kd_z, ko_z, dd_y, dd_z),
+and the mass matrix in the end values of (rho A, rho Ip, rho Iy, rho Iz), so d(residual, K)/dp is the same kernel
 evaluated with ds/dp, and dM/dp the same mass assembly with the derivative mass terms: one
 element pass per parameter, exact, at any (deformed) state.
 """
@@ -15,8 +15,8 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..errors import ModelError
-from ..model import RectangularSection
-from .beam import beam_forces, beam_mass_matrices, local_mass_matrices
+from ..model import RectangularSection, end_properties
+from .beam import beam_forces, beam_mass_matrices, element_coefficients, local_mass_matrices, nodal_weights
 from .points import cord_forces, mass_gravity, mass_matrix, spring_forces
 from .rotations import spin
 from .static import State
@@ -35,11 +35,14 @@ class ParameterDerivative:
     mass: sp.csc_matrix
 
 
-def _section_props_derivative(section, parameter: str) -> dict[str, float]:
-    """d(A, Iy, Iz, J, Ip, Ay, Az)/d(width or height) of a rectangular section (complex step, exact)."""
+def _section_props_complex(section, parameter: str, h: float) -> dict:
+    """(A, Iy, Iz, J, Ip, Ay, Az) of a rectangular section with ``parameter`` (width or height) stepped
+    by i h (complex step)."""
     if not isinstance(section, RectangularSection):
-        raise ModelError(f"derivative with respect to '{parameter}' needs a RectangularSection")
-    h = 1e-30
+        kind = type(section).__name__
+        raise ModelError(f"derivative with respect to '{parameter}' needs a RectangularSection, not a {kind}"
+                         + ("; a tapered group's section dimensions are not design variables (use E, G or rho, "
+                            "or give the group a uniform RectangularSection)" if kind == "TaperedSection" else ""))
     b, t = section.width, section.height
     db, dt = (1j * h, 0.0) if parameter == "width" else (0.0, 1j * h)
     bc, tc = b + db, t + dt
@@ -50,62 +53,35 @@ def _section_props_derivative(section, parameter: str) -> dict[str, float]:
     else:
         J = tc * bc**3 / 3 * (1 - 192 / np.pi**5 * bc / tc * np.sum(np.tanh(n * np.pi * tc / (2 * bc)) / n**5))
     shear = 5 / 6 * A if section.shear else 0.0 * A
-    props = {"A": A, "Iy": bc * tc**3 / 12, "Iz": tc * bc**3 / 12, "J": J, "Ip": A * (bc * bc + tc * tc) / 12,
-             "Ay": shear, "Az": shear}
-    return {k: float(np.imag(v) / h) for k, v in props.items()}
+    return {"A": A, "Iy": bc * tc**3 / 12, "Iz": tc * bc**3 / 12, "J": J, "Ip": A * (bc * bc + tc * tc) / 12,
+            "Ay": shear, "Az": shear}
 
 
-def _group_derivatives(model, group, parameter, L):
-    """d(section stiffness (EA, GJ, EIy, EIz, Phi_y, Phi_z))/dp and d(rhoA, rhoIp, rhoIy, rhoIz)/dp, per element."""
+def _group_derivatives(group, parameter, L):
+    """Exact (complex-step) derivatives with respect to ``parameter`` of a beam group's kernel
+    coefficients (k, 8), mass per length (k, 2) and inertia per length (k, 2, 3) (see group_values)."""
     mat, sec = group.material, group.section
-    p = sec.properties()
-    E, G, rho = mat.E, mat.shear_modulus, mat.rho
-    rot = 1.0 if group.rotary_inertia else 0.0
-    n = len(L)
-    dp = {k: 0.0 for k in p}
-    dE = dG = drho = 0.0
+    h = 1e-30
+    E, G, rho = complex(mat.E), complex(mat.shear_modulus), complex(mat.rho)
+    pa, pb = end_properties(sec)
     if parameter == "E":
-        dE = 1.0
-        dG = 0.0 if mat.G is not None else 1.0 / (2 * (1 + mat.nu))
+        E += 1j * h
+        if mat.G is None:  # G = E / (2 (1 + nu)) follows E
+            G += 1j * h / (2 * (1 + mat.nu))
     elif parameter == "G":
-        dG = 1.0
+        G += 1j * h
     elif parameter == "rho":
-        drho = 1.0
+        rho += 1j * h
     elif parameter in ("width", "height"):
-        dp = _section_props_derivative(sec, parameter)
+        pa = pb = _section_props_complex(sec, parameter, h)
     else:
         raise ModelError(f"unknown beam parameter '{parameter}'; choose one of {BEAM_PARAMETERS}")
-
-    def phi_and_derivative(I, dI, As, dAs):
-        if As <= 0:
-            return np.zeros(n), np.zeros(n)
-        phi = 12 * E * I / (G * As * L**2)
-        dphi = phi * ((dE / E if dE else 0.0) + dI / I - (dG / G if dG else 0.0) - dAs / As)
-        return phi, dphi
-
-    phy, dphy = phi_and_derivative(p["Iy"], dp["Iy"], p["Az"], dp["Az"])
-    phz, dphz = phi_and_derivative(p["Iz"], dp["Iz"], p["Ay"], dp["Ay"])
-    dsec = np.column_stack([np.full(n, dE * p["A"] + E * dp["A"]), np.full(n, dG * p["J"] + G * dp["J"]),
-                            np.full(n, dE * p["Iy"] + E * dp["Iy"]), np.full(n, dE * p["Iz"] + E * dp["Iz"]),
-                            dphy, dphz])
-    section = np.column_stack([np.full(n, E * p["A"]), np.full(n, G * p["J"]), np.full(n, E * p["Iy"]),
-                               np.full(n, E * p["Iz"]), phy, phz])
-    dmass = np.column_stack([np.full(n, drho * p["A"] + rho * dp["A"]), np.full(n, drho * p["Ip"] + rho * dp["Ip"]),
-                             np.full(n, rot * (drho * p["Iy"] + rho * dp["Iy"])),
-                             np.full(n, rot * (drho * p["Iz"] + rho * dp["Iz"]))])
-    return section, dsec, dmass
-
-
-def _coefficient_derivative(section: np.ndarray, dsec: np.ndarray, L: np.ndarray) -> np.ndarray:
-    """d(EA, GJ, kd_y, ko_y, kd_z, ko_z) from d(EA, GJ, EIy, EIz, Phi_y, Phi_z)."""
-    out = np.zeros((len(L), 6))
-    out[:, 0], out[:, 1] = dsec[:, 0], dsec[:, 1]
-    for col, (i_ei, i_phi) in ((2, (2, 4)), (4, (3, 5))):
-        EI, phi = section[:, i_ei], section[:, i_phi]
-        dEI, dphi = dsec[:, i_ei], dsec[:, i_phi]
-        out[:, col] = (4 + phi) / (L * (1 + phi)) * dEI - 3 * EI / (L * (1 + phi) ** 2) * dphi
-        out[:, col + 1] = (2 - phi) / (L * (1 + phi)) * dEI - 3 * EI / (L * (1 + phi) ** 2) * dphi
-    return out
+    coefficients = element_coefficients(E, G, pa, pb, L)
+    rot = 1.0 if group.rotary_inertia else 0.0
+    n = len(L)
+    mass = np.tile([rho * pa["A"], rho * pb["A"]], (n, 1))
+    inertia = np.tile([[rho * p["Ip"], rot * rho * p["Iy"], rot * rho * p["Iz"]] for p in (pa, pb)], (n, 1, 1))
+    return coefficients.imag / h, mass.imag / h, inertia.imag / h
 
 
 def beam_parameter_derivative(state: State, group: str, parameter: str) -> ParameterDerivative:
@@ -123,9 +99,9 @@ def beam_parameter_derivative(state: State, group: str, parameter: str) -> Param
                          f"{sorted(set(cm.beam_group_names.tolist()))}")
     grp = next(g for g in model.beams if g.name == group)
     rows = np.flatnonzero(mask)
-    _, dsec, dmass = _group_derivatives(model, grp, parameter, cm.beams.L0[rows])
+    dcoeff, dmass, dinertia = _group_derivatives(grp, parameter, cm.beams.L0[rows])
     d_res, dK, dM = value_derivative(system, state.positions, state.rotations, state.load_factor,
-                                     ValueChange(beams=(rows, dsec, dmass[:, 0], dmass[:, 1:])))
+                                     ValueChange(beams=(rows, dcoeff, dmass, dinertia)))
     return ParameterDerivative(parameter, group, d_res, dK, dM)
 
 
@@ -147,8 +123,8 @@ def frequency_derivatives(modes, derivative: ParameterDerivative) -> np.ndarray:
 class ValueChange:
     """d(compiled values)/dp of one parameter, per item (items not listed do not change).
 
-    beams: (element indices (k,), d section stiffness (k, 6) as (EA, GJ, EIy, EIz, Phi_y, Phi_z),
-    d rho A (k,), d inertia per length (k, 3)); masses: (indices into the system's point masses,
+    beams: (element indices (k,), d kernel coefficients (k, 8) (see beam.element_coefficients),
+    d rho A (k, 2), d inertia per length (k, 2, 3) at the elements' two nodes); masses: (indices into the system's point masses,
     (mass, offset) at p + h, (mass, offset) at p - h, 1 / (2 h)): masses enter linearly and
     offsets quadratically, so this central difference is exact; springs: (indices, d stiffness
     (k, 6)); cords: (indices, d stiffness (k,)); cord_offsets: (indices, samples) with samples
@@ -171,14 +147,11 @@ def _add_cords(g_full: np.ndarray, system, rows: np.ndarray, g: np.ndarray) -> N
     np.add.at(g_full, system.cord_nodes_b[rows], g[:, 6:])
 
 
-def _beam_subset(b, rows, dsection):
+def _beam_subset(b, rows, dcoefficients):
     """BeamData of elements ``rows`` carrying the derivative of the kernel coefficients."""
-    sec = b.section_stiffness[rows]
-    L = b.L0[rows]
-    coeff = _coefficient_derivative(sec, dsection, L)
-    return replace(b, nodes=b.nodes[rows], E0=b.E0[rows], L0=L, stiffness=np.ascontiguousarray(coeff),
+    return replace(b, nodes=b.nodes[rows], E0=b.E0[rows], L0=b.L0[rows], stiffness=np.ascontiguousarray(dcoefficients),
                    mass_per_length=b.mass_per_length[rows], inertia_per_length=b.inertia_per_length[rows],
-                   lumped=b.lumped[rows], section_stiffness=sec, arch=b.arch[rows])
+                   lumped=b.lumped[rows], arch=b.arch[rows])
 
 
 def value_derivative(system, x: np.ndarray, R: np.ndarray, lam: float, change: ValueChange,
@@ -195,18 +168,18 @@ def value_derivative(system, x: np.ndarray, R: np.ndarray, lam: float, change: V
     f_full = np.zeros((n, 6))
     gvec = system.config.gravity_vector
     if change.beams is not None:
-        rows, dsec, drhoA, drhoI = change.beams
+        rows, dcoeff, drhoA, drhoI = change.beams
         rows = np.asarray(rows, int)
-        sub = _beam_subset(system.cm.beams, rows, np.asarray(dsec, float))
+        sub = _beam_subset(system.cm.beams, rows, np.asarray(dcoeff, float))
         g, K, _ = beam_forces(x, R, sub, True)
         p.data_subset(0, rows, K, K_data)
         np.add.at(g_full, sub.nodes[:, 0], g[:, :6])
         np.add.at(g_full, sub.nodes[:, 1], g[:, 6:])
-        dw = 0.5 * (np.asarray(drhoA) * sub.L0)[:, None] * gvec[None, :]
-        np.add.at(f_full, (sub.nodes[:, 0], slice(0, 3)), lam * dw)
-        np.add.at(f_full, (sub.nodes[:, 1], slice(0, 3)), lam * dw)
-        local = local_mass_matrices(replace(sub, mass_per_length=np.asarray(drhoA, float),
-                                            inertia_per_length=np.asarray(drhoI, float)))
+        dsub = replace(sub, mass_per_length=np.asarray(drhoA, float), inertia_per_length=np.asarray(drhoI, float))
+        dw1, dw2 = nodal_weights(dsub)
+        np.add.at(f_full, (sub.nodes[:, 0], slice(0, 3)), lam * dw1[:, None] * gvec[None, :])
+        np.add.at(f_full, (sub.nodes[:, 1], slice(0, 3)), lam * dw2[:, None] * gvec[None, :])
+        local = local_mass_matrices(dsub)
         mass_pattern.data_subset(0, rows, beam_mass_matrices(x, R, sub, local), M_data)
     if change.masses is not None:
         rows, (m_p, off_p), (m_m, off_m), inv2h = change.masses

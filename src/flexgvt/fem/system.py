@@ -17,10 +17,10 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..errors import ModelError
-from ..model import Configuration, Model, RodSection, parse_dofs
+from ..model import Configuration, Model, RodSection, end_properties, parse_dofs
 from .assembly import Pattern
-from .beam import (BeamData, beam_forces, beam_mass_matrices, element_frames, kernel_coefficients,
-                   local_mass_matrices)
+from .beam import (BeamData, beam_forces, beam_mass_matrices, element_coefficients, element_frames,
+                   local_mass_matrices, nodal_weights)
 from .interpolation import InterpolationData, compile_interpolations, fit, geometric_block, jacobian
 from .linsolve import CholmodCache
 from .points import cord_damping, cord_forces, mass_gravity, mass_matrix, spring_damping, spring_forces
@@ -87,8 +87,9 @@ def compile_model(model: Model) -> CompiledModel:
         frames = element_frames(xyz, idx, group.orientation)
         length = np.linalg.norm(xyz[idx[:, 1]] - xyz[idx[:, 0]], axis=1)
         n = len(idx)
-        section, mass_per_length, inertia = group_values(group.material, group.section, group.rotary_inertia, length)
-        stiff.append(section)
+        coefficients, mass_per_length, inertia = group_values(group.material, group.section, group.rotary_inertia,
+                                                              length)
+        stiff.append(coefficients)
         rhoI.append(inertia)
         rhoA.append(mass_per_length)
         lumped.append(np.full(n, group.mass == "lumped"))
@@ -99,11 +100,9 @@ def compile_model(model: Model) -> CompiledModel:
         eids.append(group.ids)
         names.append(np.full(n, group.name, dtype=object))
     cat = (lambda parts, shape: np.concatenate(parts) if parts else np.zeros(shape))
-    section = cat(stiff, (0, 6))
-    lengths = cat(L0, (0,))
-    beams = BeamData(cat(nodes, (0, 2)).astype(np.int64), np.ascontiguousarray(cat(E0, (0, 3, 3))), lengths,
-                     kernel_coefficients(section, lengths), cat(rhoA, (0,)), cat(rhoI, (0, 3)),
-                     cat(lumped, (0,)).astype(bool), section, cat(arch, (0,)))
+    beams = BeamData(cat(nodes, (0, 2)).astype(np.int64), np.ascontiguousarray(cat(E0, (0, 3, 3))), cat(L0, (0,)),
+                     np.ascontiguousarray(cat(stiff, (0, 8))), cat(rhoA, (0, 2)), cat(rhoI, (0, 2, 3)),
+                     cat(lumped, (0,)).astype(bool), cat(arch, (0,)))
     links = np.full(model.n_nodes, -1)
     link_dofs = np.zeros((model.n_nodes, 6), bool)
     for link in model.rigid_links:
@@ -146,19 +145,17 @@ def compile_model(model: Model) -> CompiledModel:
 
 
 def group_values(material, section, rotary_inertia: bool, length: np.ndarray):
-    """Per-element values of a beam group of lengths ``length`` [m]: section stiffness (n, 6) (EA, GJ,
-    EIy, EIz, Phi_y, Phi_z), mass per length rho A (n,) [kg/m] and inertia per length (n, 3)
-    (rho Ip, rho Iy, rho Iz; the bending terms zero without rotary inertia) [kg m]."""
-    p = section.properties()
+    """Per-element values of a beam group of lengths ``length`` [m]: kernel coefficients (n, 8) (see
+    beam.element_coefficients), mass per length rho A at the first and second node (n, 2) [kg/m]
+    and inertia per length (n, 2, 3) (rho Ip, rho Iy, rho Iz at each node; the bending terms zero
+    without rotary inertia) [kg m]."""
+    pa, pb = end_properties(section)
     E, G, rho = material.E, material.shear_modulus, material.rho
     n = len(length)
-    phi_y = 12 * E * p["Iy"] / (G * p["Az"] * length**2) if p["Az"] > 0 else np.zeros(n)
-    phi_z = 12 * E * p["Iz"] / (G * p["Ay"] * length**2) if p["Ay"] > 0 else np.zeros(n)
-    stiffness = np.column_stack([np.full(n, E * p["A"]), np.full(n, G * p["J"]), np.full(n, E * p["Iy"]),
-                                 np.full(n, E * p["Iz"]), phi_y, phi_z])
+    coefficients = element_coefficients(E, G, pa, pb, length)
     rot = 1.0 if rotary_inertia else 0.0
-    inertia = np.tile([rho * p["Ip"], rot * rho * p["Iy"], rot * rho * p["Iz"]], (n, 1))
-    return stiffness, np.full(n, rho * p["A"]), inertia
+    inertia = np.array([[rho * p["Ip"], rot * rho * p["Iy"], rot * rho * p["Iz"]] for p in (pa, pb)])
+    return coefficients, np.tile([rho * pa["A"], rho * pb["A"]], (n, 1)), np.tile(inertia, (n, 1, 1))
 
 
 def _masses(model: Model, items) -> PointMasses:
@@ -315,9 +312,9 @@ class System:
         gvec = config.gravity_vector
         f = np.zeros((n, 6))
         b = cm.beams
-        half_w = 0.5 * (b.mass_per_length * b.L0)[:, None] * gvec[None, :]
-        np.add.at(f, (b.nodes[:, 0], slice(0, 3)), half_w)
-        np.add.at(f, (b.nodes[:, 1], slice(0, 3)), half_w)
+        w1, w2 = nodal_weights(b)
+        np.add.at(f, (b.nodes[:, 0], slice(0, 3)), w1[:, None] * gvec[None, :])
+        np.add.at(f, (b.nodes[:, 1], slice(0, 3)), w2[:, None] * gvec[None, :])
         for load in config.forces:
             i = model.index_of([load.node], f"{where}: load")[0]
             f[i, :3] += load.force

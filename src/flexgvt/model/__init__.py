@@ -5,8 +5,9 @@ from .components import (ConcentratedMass, Cord, DistributedLoad, InterpolationL
 from .configuration import STANDARD_GRAVITY, Configuration, parse_dofs
 from .material import Material
 from .model import BeamGroup, Model
-from .section import CircularTubeSection, GeneralSection, RectangularSection, RodSection, rectangle_torsion_constant
+from .section import (CircularTubeSection, GeneralSection, RectangularSection, RodSection, TaperedSection,
+                      end_properties, rectangle_torsion_constant)
 
 __all__ = ["BeamGroup", "CircularTubeSection", "ConcentratedMass", "Configuration", "Cord", "DistributedLoad",
            "GeneralSection", "InterpolationLink", "LinearConstraint", "Material", "Model", "NodalLoad", "RectangularSection", "RodSection", "RigidLink", "Spring",
-           "STANDARD_GRAVITY", "parse_dofs", "rectangle_torsion_constant"]
+           "STANDARD_GRAVITY", "TaperedSection", "end_properties", "parse_dofs", "rectangle_torsion_constant"]

@@ -133,4 +133,53 @@ class RodSection:
         return {"A": self.A, "Iy": 0.0, "Iz": 0.0, "J": self.J, "Ip": 0.0, "Ay": 0.0, "Az": 0.0}
 
 
-Section = GeneralSection | RectangularSection | CircularTubeSection | RodSection
+UniformSection = GeneralSection | RectangularSection | CircularTubeSection
+
+
+@dataclass(frozen=True)
+class TaperedSection:
+    """Section that varies along each element, from ``end_a`` at its first node to ``end_b`` at its
+    second (Nastran's tapered PBEAM/PBEAML on a CBEAM, end A at GA).
+
+    A, Iy, Iz, J, Ip and the shear areas vary linearly between the end values. Stiffness: the
+    element's flexibility (bending with shear, axial, torsion) integrated by 3-point Gauss, as
+    Nastran's CBEAM; mass: the linear distributions of rho A, rho Ip (and rho I with rotary
+    inertia), lumped by their centroids (each node takes int m N_i dx, N_i linear) or consistent.
+    Ends: GeneralSection, RectangularSection or CircularTubeSection, both with shear areas in a
+    plane or both without (Euler-Bernoulli).
+    """
+
+    end_a: UniformSection
+    end_b: UniformSection
+
+    def __post_init__(self) -> None:
+        for name in ("end_a", "end_b"):
+            sec = getattr(self, name)
+            if not isinstance(sec, (GeneralSection, RectangularSection, CircularTubeSection)):
+                raise ModelError(f"TaperedSection: {name} is a {type(sec).__name__}; give a GeneralSection, "
+                                 "RectangularSection or CircularTubeSection at each end (rods do not taper)")
+        pa, pb = self.end_a.properties(), self.end_b.properties()
+        for area, plane in (("Ay", "x-y"), ("Az", "x-z")):
+            if (pa[area] > 0) != (pb[area] > 0):
+                raise ModelError(f"TaperedSection: shear area {area} is given at one end only ({pa[area]!r} at A, "
+                                 f"{pb[area]!r} at B); give it at both ends (Timoshenko in the {plane} plane) or "
+                                 "at neither (Euler-Bernoulli)")
+
+    def end_properties(self) -> tuple[dict[str, float], dict[str, float]]:
+        """Properties (see GeneralSection.properties) at end A and end B."""
+        return self.end_a.properties(), self.end_b.properties()
+
+    def properties(self) -> dict[str, float]:
+        raise ModelError("a TaperedSection has properties at each end: use end_properties() (or "
+                         "end_a.properties(), end_b.properties())")
+
+
+Section = GeneralSection | RectangularSection | CircularTubeSection | RodSection | TaperedSection
+
+
+def end_properties(section) -> tuple[dict[str, float], dict[str, float]]:
+    """Properties at the first and second node of an element: the same dict twice for a uniform section."""
+    if isinstance(section, TaperedSection):
+        return section.end_properties()
+    p = section.properties()
+    return p, p

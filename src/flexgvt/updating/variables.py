@@ -18,7 +18,7 @@ from typing import Iterable, Sequence
 import numpy as np
 
 from ..errors import ModelError
-from ..model import Configuration, Model
+from ..model import Configuration, Model, TaperedSection
 
 KINDS = ("beam", "mass", "spring", "cord")
 MATERIAL_ATTRIBUTES = ("E", "G", "rho")
@@ -199,6 +199,10 @@ class Parametrisation:
     def _beam_value(group, v: Variable, where: str) -> float:
         if v.attribute in MATERIAL_ATTRIBUTES:
             value = group.material.shear_modulus if v.attribute == "G" else getattr(group.material, v.attribute)
+        elif isinstance(group.section, TaperedSection):
+            raise ModelError(f"{where}: beam group '{group.name}' has a TaperedSection (its values differ between the "
+                             f"element ends), whose section values cannot be design variables; use its material's "
+                             f"{MATERIAL_ATTRIBUTES} (they scale the whole element), or give the group a uniform section")
         else:
             known = [f.name for f in fields(group.section)]
             if v.attribute not in known:

@@ -8,7 +8,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from ...errors import ModelError
-from ...model import GeneralSection, Material, RodSection
+from ...model import GeneralSection, Material, RodSection, TaperedSection
 from ._cards import BEAM_CARDS, BEAM_PROPERTIES, _supported_shapes
 from ._common import coord_axes
 from ._sections import SectionData, from_properties, library_section
@@ -40,6 +40,8 @@ def _scale_section(section, L: float):
         return replace(section, width=section.width * L, height=section.height * L)
     if isinstance(section, CircularTubeSection):
         return replace(section, outer_radius=section.outer_radius * L, inner_radius=section.inner_radius * L)
+    if isinstance(section, TaperedSection):
+        return TaperedSection(_scale_section(section.end_a, L), _scale_section(section.end_b, L))
     assert isinstance(section, GeneralSection)
     s2, s4 = L**2, L**4
     return GeneralSection(A=section.A * s2, Iy=section.Iy * s4, Iz=section.Iz * s4, J=section.J * s4,
@@ -91,53 +93,82 @@ class BeamsMixin:
                 raise ModelError(f"{where}: {exc}") from None
 
     # ----------------------------------------------------------------- beams
-    def beam_section(self, prop) -> tuple[SectionData, float] | None:
-        """(section, nsm per length in deck units) of a beam property, or None if unsupported (recorded)."""
+    def beam_section(self, prop) -> tuple[SectionData, tuple[float, float]] | None:
+        """(section, NSM per length at end A and end B in deck units) of a beam property, or None if
+        unsupported (recorded). A PBEAM/PBEAML whose end B differs from end A gives a TaperedSection."""
         where = self.at(prop.type, prop.pid)
         if prop.type == "PBAR":
-            return from_properties(where, prop.A, prop.i1, prop.i2, prop.i12, prop.j, prop.k1, prop.k2), prop.nsm or 0.0
+            sdata = from_properties(where, prop.A, prop.i1, prop.i2, prop.i12, prop.j, prop.k1, prop.k2)
+            return sdata, (prop.nsm or 0.0,) * 2
         if prop.type == "PBARL":
             if prop.Type not in _supported_shapes():
                 self.skip(f"PBARL TYPE {prop.Type}", prop.pid)
                 return None
-            return library_section(where, prop.Type, prop.dim), prop.nsm or 0.0
+            return library_section(where, prop.Type, prop.dim), (prop.nsm or 0.0,) * 2
         if prop.type == "PBEAM":
-            for name in ("A", "i1", "i2", "i12", "j", "nsm"):
-                vals = np.atleast_1d(np.asarray(getattr(prop, name), float))
-                if not np.allclose(vals, vals[0], rtol=1e-9, atol=0.0):
-                    self.skip("PBEAM (tapered: stations differ)", prop.pid)
-                    return None
             offsets = [getattr(prop, n, None) for n in ("m1a", "m2a", "m1b", "m2b", "n1a", "n2a", "n1b", "n2b")]
             if any(np.any(np.asarray(o, float) != 0) for o in offsets if o is not None):
                 self.skip("PBEAM (neutral-axis/NSM offsets)", prop.pid)
                 return None
-            first = (lambda v: float(np.atleast_1d(v)[0]))
-            sdata = from_properties(where, first(prop.A), first(prop.i1), first(prop.i2), first(prop.i12),
-                                    first(prop.j), prop.k1, prop.k2)
-            nsi = [float(v) for v in (prop.nsia, prop.nsib) if v is not None]
-            if nsi and any(nsi):
-                if not np.allclose(nsi, nsi[0], rtol=1e-9, atol=0.0):
-                    self.skip("PBEAM (NSIA != NSIB: tapered torsional inertia)", prop.pid)
-                    return None
+            names = ("A", "i1", "i2", "i12", "j", "nsm")
+            stations = self._stations(prop, [np.atleast_1d(np.asarray(getattr(prop, n), float)) for n in names])
+            if stations is None:
+                return None
+            (A, I1, I2, I12, J, nsm) = zip(*stations)
+            ends = [from_properties(where, A[e], I1[e], I2[e], I12[e], J[e], prop.k1, prop.k2) for e in (0, 1)]
+            nsi = [float(v or 0.0) for v in (prop.nsia, prop.nsib)]
+            if any(nsi):
                 rho = self.bdf.materials[prop.mid].rho or 0.0
                 if not rho:
                     self.skip("PBEAM (NSI on a massless material)", prop.pid)
                     return None
                 # NSI: extra mass moment of inertia per length; flexgvt keeps it in rho * Ip.
-                sec = sdata.section
-                sdata = replace(sdata, section=replace(sec, Ip=sec.polar + nsi[0] / rho))
-            return sdata, first(prop.nsm)
+                ends = [replace(d, section=replace(d.section, Ip=d.section.polar + v / rho)) for d, v in zip(ends, nsi)]
+            sdata = self._tapered(prop, *ends)
+            return None if sdata is None else (sdata, (nsm[0], nsm[1]))
         if prop.type == "PBEAML":
-            dims = [list(map(float, d)) for d in prop.dim]
-            if any(not np.allclose(d, dims[0]) for d in dims):
-                self.skip("PBEAML (tapered: stations differ)", prop.pid)
-                return None
             if prop.beam_type not in _supported_shapes():
                 self.skip(f"PBEAML TYPE {prop.beam_type}", prop.pid)
                 return None
-            nsm = float(np.atleast_1d(prop.nsm)[0]) if prop.nsm is not None else 0.0
-            return library_section(where, prop.beam_type, dims[0]), nsm
+            dims = np.atleast_2d(np.asarray(prop.dim, float))
+            nsm = np.zeros(len(dims)) if prop.nsm is None else np.atleast_1d(np.asarray(prop.nsm, float))
+            sections = [library_section(where, prop.beam_type, d) for d in dims]
+            values = [np.array([sd.section.properties()[k] for sd in sections]) for k in ("A", "Iy", "Iz", "J")]
+            stations = self._stations(prop, values + [nsm])
+            if stations is None:
+                return None
+            first, last = int(np.argmin(prop.xxb)), int(np.argmax(prop.xxb))
+            sdata = self._tapered(prop, sections[first], sections[last])
+            return None if sdata is None else (sdata, (float(nsm[first]), float(nsm[last])))
         return None
+
+    def _stations(self, prop, values: list[np.ndarray]) -> list[tuple] | None:
+        """The end A and end B values of a PBEAM/PBEAML's per-station ``values``; intermediate stations
+        (0 < X/XB < 1) must lie on the linear taper between the ends (what flexgvt models), else
+        the property is recorded as unsupported and None returned."""
+        x = np.atleast_1d(np.asarray(prop.xxb, float))
+        a, b = int(np.argmin(x)), int(np.argmax(x))
+        for v in values:
+            if len(v) != len(x):  # pyNastran keeps one value per station; anything else is malformed
+                raise ModelError(f"{self.at(prop.type, prop.pid)}: {len(v)} values for {len(x)} stations")
+            line = v[a] + (v[b] - v[a]) * (x - x[a]) / (x[b] - x[a]) if x[b] > x[a] else np.full_like(v, v[a])
+            if not np.allclose(v, line, rtol=1e-6, atol=1e-12 * max(np.abs(v).max(), 1e-300)):
+                self.skip(f"{prop.type} (intermediate stations off the linear taper between the ends)", prop.pid)
+                return None
+        return [tuple(float(v[k]) for v in values) for k in (a, b)]
+
+    def _tapered(self, prop, a: SectionData, b: SectionData) -> SectionData | None:
+        """SectionData of end A, or a TaperedSection when end B differs."""
+        pa, pb = a.section.properties(), b.section.properties()
+        if all(math.isclose(pa[k], pb[k], rel_tol=1e-12, abs_tol=0.0) for k in pa) and a.principal == b.principal:
+            return a
+        if not np.allclose(a.principal, b.principal, rtol=0.0, atol=1e-9):
+            self.skip(f"{prop.type} (tapered, principal axes turning between end A and end B)", prop.pid)
+            return None
+        try:
+            return SectionData(TaperedSection(a.section, b.section), a.principal)
+        except ModelError as exc:
+            raise ModelError(f"{self.at(prop.type, prop.pid)}: {exc}") from None
 
     def orientation_vector(self, elem) -> np.ndarray:
         """Nastran v vector of a CBAR/CBEAM/CBUSH in basic axes (deck length units)."""
@@ -234,7 +265,7 @@ class BeamsMixin:
             self.deck.element_ids.update(dict(zip(eids, (int(i) for i in ids))))
             self.deck.beams[name] = BeamSource(name, elems[0].type, prop.type, int(pid), int(prop.mid), eids,
                                                sdata.principal)
-            if nsm:  # Nastran's lumped mass puts NSM*L/2 on each end (translations only): exact for lumped mass
+            if any(nsm):  # Nastran's lumped mass: int NSM N_i dx at each end (translations only)
                 self._lumped_nsm(pairs, nsm, prop.type, pid)
 
     def _beam_end(self, elem, end: int) -> int:
@@ -340,20 +371,21 @@ class BeamsMixin:
             self.deck.element_ids.update(dict(zip(eids, (int(i) for i in ids))))
             self.deck.beams[name] = BeamSource(name, elems[0].type, ptype, int(pid), int(mid), eids, (0.0, 1.0))
             if nsm:
-                self._lumped_nsm(pairs, float(nsm), ptype, pid)
+                self._lumped_nsm(pairs, (float(nsm),) * 2, ptype, pid)
 
-    def _lumped_nsm(self, pairs: np.ndarray, nsm: float, card: str, ident) -> None:
-        """Non-structural mass per length NSM (deck units) as point masses NSM L / 2 at the element ends."""
+    def _lumped_nsm(self, pairs: np.ndarray, nsm: tuple[float, float], card: str, ident) -> None:
+        """Non-structural mass per length NSM (deck units) at end A and end B, linear between them, as
+        point masses int NSM N_i dx at the element ends (NSM L / 2 each when uniform)."""
         u = self.units
-        nsm_si = nsm * u.mass / u.length * self.wtmass
+        na, nb = (v * u.mass / u.length * self.wtmass for v in nsm)
         ends: dict[int, float] = {}
         for p in pairs:
             L = float(np.linalg.norm(self.xyz[p[1]] - self.xyz[p[0]]))
-            for n in p:
-                ends[int(n)] = ends.get(int(n), 0.0) + 0.5 * nsm_si * L
+            for n, m in zip(p, (L * (na / 3 + nb / 6), L * (na / 6 + nb / 3)) if na != nb else (0.5 * na * L,) * 2):
+                ends[int(n)] = ends.get(int(n), 0.0) + m
         for n, m in ends.items():
             self.model.add_mass(n, m)
             self.deck.mass_sources.append((f"NSM:{card}", int(ident)))
         if self.mass == "consistent":
-            self.notes.append(f"{self.at(card, ident)}: NSM={nsm} lumped at the element ends (Nastran distributes "
-                              "it consistently under COUPMASS)")
+            self.notes.append(f"{self.at(card, ident)}: NSM={nsm[0] if nsm[0] == nsm[1] else list(nsm)} lumped at the "
+                              "element ends (Nastran distributes it consistently under COUPMASS)")
