@@ -34,6 +34,7 @@ class BeamData:
     lumped: np.ndarray  # (n,) bool
     section_stiffness: np.ndarray  # (n, 6) EA, GJ, EIy, EIz, Phi_y, Phi_z
     arch: np.ndarray  # (n,) 1.0 for beams (shallow-arch axial strain), 0.0 for rods (chord strain only)
+    lumped_axial: np.ndarray | None = None  # (n,) bool: axial and torsional mass lumped (None: as ``lumped``)
 
 
 def bending_coefficients(EI: np.ndarray, phi: np.ndarray, L: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -95,7 +96,8 @@ def local_mass_matrices(data: BeamData) -> np.ndarray:
 
     Consistent: Hermitian cubic bending, linear axial and torsion, plus bending rotary inertia
     where ``inertia_per_length`` has it. Lumped: half the element at each node (translations,
-    torsion and rotary inertia). Torsional inertia is rho*Ip (rotates with the section). Rods
+    torsion and rotary inertia). ``lumped_axial`` lumps the axial and torsional terms of an element
+    whose bending is consistent. Torsional inertia is rho*Ip (rotates with the section). Rods
     (arch == 0): linear shape functions in all three directions (consistent) or half at each node.
     """
     L = data.L0
@@ -104,10 +106,11 @@ def local_mass_matrices(data: BeamData) -> np.ndarray:
     n = len(L)
     M = np.zeros((n, 12, 12))
     cons = ~data.lumped
+    cons_axial = cons if data.lumped_axial is None else cons & ~data.lumped_axial
     # axial and torsion
     for dof, total in ((0, m), (3, rIp * L)):
-        M[:, dof, dof] = M[:, dof + 6, dof + 6] = np.where(cons, total / 3, total / 2)
-        M[:, dof, dof + 6] = M[:, dof + 6, dof] = np.where(cons, total / 6, 0.0)
+        M[:, dof, dof] = M[:, dof + 6, dof + 6] = np.where(cons_axial, total / 3, total / 2)
+        M[:, dof, dof + 6] = M[:, dof + 6, dof] = np.where(cons_axial, total / 6, 0.0)
     # bending: (v, rz) in x-y plane with sign +1, (w, ry) in x-z plane with sign -1
     for (t, r, s, rI) in ((1, 5, 1.0, rIz), (2, 4, -1.0, rIy)):
         idx = [t, r, t + 6, r + 6]

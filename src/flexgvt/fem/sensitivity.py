@@ -178,7 +178,8 @@ def _beam_subset(b, rows, dsection):
     coeff = _coefficient_derivative(sec, dsection, L)
     return replace(b, nodes=b.nodes[rows], E0=b.E0[rows], L0=L, stiffness=np.ascontiguousarray(coeff),
                    mass_per_length=b.mass_per_length[rows], inertia_per_length=b.inertia_per_length[rows],
-                   lumped=b.lumped[rows], section_stiffness=sec, arch=b.arch[rows])
+                   lumped=b.lumped[rows], section_stiffness=sec, arch=b.arch[rows],
+                   lumped_axial=None if b.lumped_axial is None else b.lumped_axial[rows])
 
 
 def value_derivative(system, x: np.ndarray, R: np.ndarray, lam: float, change: ValueChange,
