@@ -30,17 +30,21 @@ DATA = Path(__file__).resolve().parents[2] / "shared" / "data" / "strip_366_gvt.
 def variables() -> list:
     le, te = range(0, 26, 2), range(1, 26, 2)  # the case adds LE, TE masses per station
     return [up.beam("E", "strip", "E", bounds=(0.95, 1.05)),
-            up.beam("thickness", "strip", "thickness", bounds=(0.97, 1.03)),
+            up.beam("thickness", "strip", "thickness", bounds=(0.99, 1.01)),
             up.beam("width", "strip", "width", bounds=(0.99, 1.01)),
             up.mass("accelerometer_mass", range(26), "mass", bounds=(0.5, 2.5)),
             # LE sensors at x = -0.02 m, TE at +0.02 m: cables pull the effective mass outward.
             up.mass("accelerometer_LE_x", le, "offset_x", bounds=(-1.0, 1.5), scale=0.01),
             up.mass("accelerometer_TE_x", te, "offset_x", bounds=(0.5, 3.0), scale=0.01),
             up.cord("suspension_k", None, "stiffness", bounds=(0.8, 1.2)),
+            # The hook and clip at each attachment (present only where the cords hang in each test).
+            up.mass("attachment_hardware", [0, 1], configurations=["outboard", "inboard"], bounds=(0.25, 2.5)),
+            up.mass("attachment_height", [0, 1], "offset_z", configurations=["outboard", "inboard"],
+                    bounds=(-1.0, 3.0), scale=0.01),
             up.cord("attach_outboard_L", 0, "offset_y", bounds=(-4.0, 6.0), configurations=["outboard"]),
             up.cord("attach_outboard_R", 1, "offset_y", bounds=(-4.0, 6.0), configurations=["outboard"]),
-            up.cord("attach_inboard_L", 0, "offset_y", bounds=(-9.0, 11.0), configurations=["inboard"]),
-            up.cord("attach_inboard_R", 1, "offset_y", bounds=(-9.0, 11.0), configurations=["inboard"])]
+            up.cord("attach_inboard_L", 0, "offset_y", bounds=(-25.0, 25.0), configurations=["inboard"]),
+            up.cord("attach_inboard_R", 1, "offset_y", bounds=(-25.0, 25.0), configurations=["inboard"])]
 
 
 def hung_at(case, name: str, distance: float) -> fg.Configuration:
@@ -56,6 +60,17 @@ def hung_at(case, name: str, distance: float) -> fg.Configuration:
         cords.append(fg.Cord(node=int(ids[k]), anchor=(0.0, float(xyz[k, 1]), float(xyz[k, 2] + height)),
                              stiffness=cord.stiffness, damping=cord.damping, unstretched_length=cord.unstretched_length))
     return base.with_(suspension=tuple(cords))
+
+
+HARDWARE_KG, HARDWARE_HEIGHT_M = 0.020, 0.010
+
+
+def with_hardware(config: fg.Configuration) -> fg.Configuration:
+    """``config`` with the attachment hardware (hook and clip, assumed 20 g 10 mm above the strip's
+    axis) at each cord's node: a mass of that test only (Configuration.masses)."""
+    hardware = tuple(fg.model.ConcentratedMass(c.node, HARDWARE_KG, np.array([0.0, 0.0, HARDWARE_HEIGHT_M]),
+                                               np.zeros((3, 3))) for c in config.suspension)
+    return config.with_(masses=config.masses + hardware)
 
 
 def scan_attachment(case, name: str, measured_hz, sensors, distances) -> tuple[float, list]:
@@ -93,7 +108,7 @@ def main(argv=None) -> dict:
                                       np.arange(1.0, 1.76, 0.05))
     print("inboard attachment scan (distance from the ends [m], rms error [%]): "
           + ", ".join(f"{d:.2f} {e:.2f}" for d, e in scan) + f" -> {inboard_d:.2f} m")
-    configs = [case.configurations["outboard"], hung_at(case, "inboard", inboard_d)]
+    configs = [with_hardware(c) for c in (case.configurations["outboard"], hung_at(case, "inboard", inboard_d))]
     data = [up.Measured(c.name, gvt[c.name]["undamped_hz"], observed_by=sensors) for c in configs]
     result = up.update(model, configs, data, variables(), max_iterations=args.max_iterations)
     print(result.summary())

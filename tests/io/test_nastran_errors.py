@@ -109,6 +109,24 @@ def test_bad_section_and_material_values(tmp_path):
         fg.io.read_bdf(deck(tmp_path, BEAM.replace("PBAR,1,1,1.e-4,1.e-8,2.e-8,1.e-8", "PBARL,1,1,,BOX\n,0.1,0.1,0.01")))
 
 
+def test_negative_or_nan_shear_factor_names_the_property(tmp_path):
+    """PBAR K1 = -1 or nan (fuzzed ha144ds) raised a ModelError from the section without the deck's name."""
+    for k in ("-1.", "nan"):
+        path = deck(tmp_path, BEAM.replace("PBAR,1,1,1.e-4,1.e-8,2.e-8,1.e-8", f"PBAR,1,1,1.e-4,1.e-8,2.e-8,1.e-8\n"
+                                           f",,,,,,,,\n,{k},0."))
+        with pytest.raises(ModelError, match=f"deck.bdf:8: PBAR 1: K1={k.rstrip('.')}.*shear factors must be >= 0"):
+            fg.io.read_bdf(path)
+
+
+def test_repeated_begin_bulk_is_ignored_with_a_note(tmp_path):
+    """A deck pasted together with BEGIN BULK twice (pyNastran's ha144ds.bdf): pyNastran refused it
+    ('expected BEGIN SUPER=1'); the second one is ignored and named in the notes."""
+    path = deck(tmp_path, "\nBEGIN BULK\n" + BEAM)
+    with pytest.warns(UserWarning, match="deck.bdf:6: BEGIN BULK repeated inside the bulk data: ignored"):
+        got = fg.io.read_bdf(path)
+    assert got.model.n_beams == 1 and got.configurations["deck"].fixed == {1: "123456"}
+
+
 def test_empty_and_missing_files(tmp_path):
     with pytest.raises(FileFormatError, match="no such file"):
         fg.io.read_bdf(tmp_path / "nope.bdf")

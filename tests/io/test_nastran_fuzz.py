@@ -12,7 +12,8 @@ from flexgvt.errors import FlexGVTError
 
 DATA = Path(__file__).parents[1] / "data" / "bdf"
 SOURCES = [DATA / "pynastran" / "pt145.bdf", DATA / "all_cards.bdf", DATA / "rods.bdf",
-           DATA / "pynastran" / "sdof_crod.bdf", DATA / "pynastran" / "euler_column_linear_buckling.bdf"]
+           DATA / "pynastran" / "sdof_crod.bdf", DATA / "pynastran" / "euler_column_linear_buckling.bdf",
+           DATA / "pynastran" / "ha144" / "ha144ds.bdf", DATA / "pynastran" / "strut_wing" / "buckled.bdf"]
 BAH = DATA / "pynastran" / "bah_plane" / "structure_bah.inc"
 VALUES = ["0.", "-1.", "1.e30", "nan", "abc", "", "99999", "1", "-7", "1.5", "YES", "+", "*"]
 
@@ -60,7 +61,7 @@ def test_mutated_real_decks_raise_only_flexgvt_errors(tmp_path):
     rng = np.random.default_rng(18)
     (tmp_path / "aero_bah.inc").write_text("")
     outcomes = {"read": 0, "error": 0}
-    for n in range(150):
+    for n in range(210):
         src = SOURCES[n % len(SOURCES)]
         text = mutate(src.read_text(), rng, n % 5)
         path = tmp_path / f"fuzz{n}{src.suffix}"

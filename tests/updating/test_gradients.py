@@ -15,6 +15,7 @@ import pytest
 
 import flexgvt as fg
 from flexgvt import updating as up
+from flexgvt.errors import ModelError
 
 TIGHT = fg.StaticSettings(tolerance=1e-13)
 
@@ -89,6 +90,50 @@ def test_cord_and_mass_variables_on_the_hung_strip():
     cond = max(np.linalg.cond(p.tangent.toarray()) for p in point.configurations.values())
     assert 1e9 < cond < 1e12
     _check(problem, x0, floor=max(3e-6, np.finfo(float).eps * cond * 1e5))
+
+
+def test_configuration_masses_attachment_hardware_on_the_hung_strip():
+    """Masses present only in one test (hardware at each configuration's own attachments): one mass
+    and one height variable shared by both layouts, each moving only its configuration's items."""
+    case = fg.cases.strip_366(n_elements=61)
+    cfgs = []
+    for name in ("outboard", "inboard"):
+        c = case.configurations[name]
+        hardware = tuple(fg.model.ConcentratedMass(cord.node, 0.02, np.array([0.0, 0.0, 0.01]),
+                                                   np.diag([2e-6, 2e-6, 2e-6])) for cord in c.suspension)
+        cfgs.append(c.with_(masses=hardware))
+    variables = [up.mass("hardware", [0, 1], configurations=["outboard", "inboard"], bounds=(0.2, 3.0)),
+                 up.mass("hardware_height", [0, 1], "offset_z", configurations=["outboard", "inboard"],
+                         bounds=(-2, 4), scale=0.01),
+                 up.mass("outboard_left_y", 0, "offset_y", configurations=["outboard"], bounds=(-2, 4), scale=0.01),
+                 up.beam("E", "*", "E")]
+    data = []
+    for c in cfgs:
+        f = fg.solve_modes(fg.solve_static(case.model, c), 12, damped=False, label=False).frequencies_hz
+        data.append(up.Measured(c.name, f[(f > 0.9)][:5] * 0.98))
+    problem = up.UpdatingProblem(case.model, cfgs, data, variables, static_settings=TIGHT)
+    x0 = np.array([1.3, 1.5, 1.5, 1.01])
+    point = problem.evaluate(x0)
+    cond = max(np.linalg.cond(p.tangent.toarray()) for p in point.configurations.values())
+    J, fd, scale = _check(problem, x0, floor=max(3e-6, np.finfo(float).eps * cond * 1e5))
+    # Each configuration's rows move only with the variables that reach its items.
+    n_out = len(data[0].frequencies_hz)
+    assert np.abs(J[:n_out, 2]).max() > 1e-5 and np.abs(J[n_out:, 2]).max() == 0.0
+    # The input configurations are untouched; the design point's hardware is 1.3 x 20 g.
+    assert cfgs[0].masses[0].mass == 0.02
+    applied = problem.par.apply(problem.work, x0)
+    assert applied["inboard"].masses[1].mass == pytest.approx(0.026)
+    assert applied["outboard"].masses[0].offset == pytest.approx([0.0, 0.005, 0.015])
+    assert applied["inboard"].masses[0].offset == pytest.approx([0.0, 0.0, 0.015])
+
+
+def test_configuration_mass_variable_errors():
+    case = fg.cases.strip_366(n_elements=30)
+    cfg = case.configurations["outboard"]
+    with pytest.raises(ModelError, match="configuration .outboard. has no mass 0"):
+        up.Parametrisation(case.model, [cfg], [up.mass("m", 0, configurations=["outboard"])])
+    with pytest.raises(ModelError, match="unknown configuration"):
+        up.Parametrisation(case.model, [cfg], [up.mass("m", 0, configurations=["nowhere"])])
 
 
 def test_objective_gradient_of_the_scalar_methods_is_twice_jt_r():

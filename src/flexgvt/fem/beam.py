@@ -33,6 +33,7 @@ class BeamData:
     inertia_per_length: np.ndarray  # (n, 2, 3) rho*Ip, rho*Iy, rho*Iz at each node [kg m] (bending zero without rotary inertia)
     lumped: np.ndarray  # (n,) bool
     arch: np.ndarray  # (n,) 1.0 for beams (shallow-arch axial strain), 0.0 for rods (chord strain only)
+    lumped_axial: np.ndarray | None = None  # (n,) bool: axial and torsional mass lumped (None: as ``lumped``)
 
 
 # 3-point Gauss rule on [0, 1]: Nastran's CBEAM integrates a tapered element's flexibility with it
@@ -147,6 +148,7 @@ def local_mass_matrices(data: BeamData) -> np.ndarray:
     integral. Consistent: Hermitian cubic bending, linear axial and torsion, plus bending rotary
     inertia where ``inertia_per_length`` has it. Lumped: each node takes int m N_i dx (N_i linear):
     L (M/2 -+ D/12), half the element when uniform (translations, torsion and rotary inertia).
+    ``lumped_axial`` lumps the axial and torsional terms of an element whose bending is consistent.
     Torsional inertia is rho*Ip (rotates with the section). Rods (arch == 0): linear shape
     functions in all three directions (consistent) or half at each node.
     """
@@ -158,11 +160,12 @@ def local_mass_matrices(data: BeamData) -> np.ndarray:
     n = len(L)
     M = np.zeros((n, 12, 12))
     cons = ~data.lumped
+    cons_axial = cons if data.lumped_axial is None else cons & ~data.lumped_axial
     # axial and torsion (linear shape functions)
     for dof, total, diff in ((0, m, dm), (3, rI[:, 0] * L, dI[:, 0] * L)):
-        M[:, dof, dof] = np.where(cons, total / 3 - diff / 12, total / 2 - diff / 12)
-        M[:, dof + 6, dof + 6] = np.where(cons, total / 3 + diff / 12, total / 2 + diff / 12)
-        M[:, dof, dof + 6] = M[:, dof + 6, dof] = np.where(cons, total / 6, 0.0)
+        M[:, dof, dof] = np.where(cons_axial, total / 3 - diff / 12, total / 2 - diff / 12)
+        M[:, dof + 6, dof + 6] = np.where(cons_axial, total / 3 + diff / 12, total / 2 + diff / 12)
+        M[:, dof, dof + 6] = M[:, dof + 6, dof] = np.where(cons_axial, total / 6, 0.0)
     # bending: (v, rz) in x-y plane with sign +1, (w, ry) in x-z plane with sign -1
     for (t, r, s, k) in ((1, 5, 1.0, 2), (2, 4, -1.0, 1)):
         idx = [t, r, t + 6, r + 6]

@@ -151,7 +151,8 @@ def _beam_subset(b, rows, dcoefficients):
     """BeamData of elements ``rows`` carrying the derivative of the kernel coefficients."""
     return replace(b, nodes=b.nodes[rows], E0=b.E0[rows], L0=b.L0[rows], stiffness=np.ascontiguousarray(dcoefficients),
                    mass_per_length=b.mass_per_length[rows], inertia_per_length=b.inertia_per_length[rows],
-                   lumped=b.lumped[rows], arch=b.arch[rows])
+                   lumped=b.lumped[rows], arch=b.arch[rows],
+                   lumped_axial=None if b.lumped_axial is None else b.lumped_axial[rows])
 
 
 def value_derivative(system, x: np.ndarray, R: np.ndarray, lam: float, change: ValueChange,

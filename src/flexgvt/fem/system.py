@@ -82,6 +82,7 @@ def compile_model(model: Model) -> CompiledModel:
         raise ModelError(f"model '{model.name}' has no nodes; add nodes and elements first")
     xyz = model.xyz
     nodes, E0, L0, stiff, rhoA, rhoI, lumped, eids, names, arch = [], [], [], [], [], [], [], [], [], []
+    lumped_axial = []
     for group in model.beams:
         idx = model.index_of(group.nodes, f"beam group '{group.name}'")
         frames = element_frames(xyz, idx, group.orientation)
@@ -93,6 +94,7 @@ def compile_model(model: Model) -> CompiledModel:
         rhoI.append(inertia)
         rhoA.append(mass_per_length)
         lumped.append(np.full(n, group.mass == "lumped"))
+        lumped_axial.append(np.full(n, group.mass != "consistent"))
         arch.append(np.full(n, 0.0 if isinstance(group.section, RodSection) else 1.0))
         nodes.append(idx)
         E0.append(frames)
@@ -102,7 +104,7 @@ def compile_model(model: Model) -> CompiledModel:
     cat = (lambda parts, shape: np.concatenate(parts) if parts else np.zeros(shape))
     beams = BeamData(cat(nodes, (0, 2)).astype(np.int64), np.ascontiguousarray(cat(E0, (0, 3, 3))), cat(L0, (0,)),
                      np.ascontiguousarray(cat(stiff, (0, 8))), cat(rhoA, (0, 2)), cat(rhoI, (0, 2, 3)),
-                     cat(lumped, (0,)).astype(bool), cat(arch, (0,)))
+                     cat(lumped, (0,)).astype(bool), cat(arch, (0,)), cat(lumped_axial, (0,)).astype(bool))
     links = np.full(model.n_nodes, -1)
     link_dofs = np.zeros((model.n_nodes, 6), bool)
     for link in model.rigid_links:

@@ -13,7 +13,9 @@ from .components import ConcentratedMass, InterpolationLink, LinearConstraint, R
 from .material import Material
 from .section import RodSection, Section
 
-MASS_FORMULATIONS = ("consistent", "lumped")
+# consistent: cubic bending, linear axial and torsion; lumped: half of everything at each node;
+# consistent-bending: cubic bending, axial and torsional mass lumped (MSC Nastran's CBEAM under COUPMASS).
+MASS_FORMULATIONS = ("consistent", "lumped", "consistent-bending")
 
 
 @dataclass(frozen=True)
@@ -22,7 +24,7 @@ class BeamGroup:
 
     nodes: (n, 2) node ids; orientation: (n, 3) vectors giving the local z axis (the part
     perpendicular to the beam axis); rotary_inertia: include bending rotary inertia
-    rho*I (torsional inertia rho*Ip is always kept); mass: 'consistent' or 'lumped'.
+    rho*I (torsional inertia rho*Ip is always kept); mass: one of MASS_FORMULATIONS.
     """
 
     ids: np.ndarray
@@ -120,7 +122,9 @@ class Model:
 
         orientation: one vector or (n, 3) vectors fixing local z (see class docstring).
         rotary_inertia: False drops bending rotary inertia (thin-strip reference solutions do);
-        torsional inertia rho*Ip is always kept. mass: 'consistent' or 'lumped'.
+        torsional inertia rho*Ip is always kept. mass: 'consistent' (cubic bending, linear axial and
+        torsion), 'lumped' (half at each node) or 'consistent-bending' (cubic bending, axial and
+        torsional mass lumped: MSC Nastran's CBEAM under PARAM,COUPMASS).
         name: a region tag that design variables and reports can refer to.
         """
         if material is None:
@@ -294,15 +298,19 @@ class Model:
         return item
 
     # ------------------------------------------------------------------ values (design variables)
-    def set_beam_group(self, index: int, material: Material | None = None, section: Section | None = None) -> None:
+    def set_beam_group(self, index: int, material: Material | None = None, section: Section | None = None,
+                       mass: str | None = None) -> None:
         """Give beam group ``index`` (position in ``beams``) another material and/or section of the
-        same kind (the elements and their connectivity stay)."""
+        same kind, and/or another mass formulation (the elements and their connectivity stay)."""
         group = self._beams[index]
         if section is not None and type(section) is not type(group.section):
             raise ModelError(f"beam group '{group.name}': a {type(group.section).__name__} cannot become a "
                              f"{type(section).__name__}")
+        if mass is not None and mass not in MASS_FORMULATIONS:
+            raise ModelError(f"beam group '{group.name}': mass='{mass}' must be one of {MASS_FORMULATIONS}")
         self._beams[index] = replace(group, material=group.material if material is None else material,
-                                     section=group.section if section is None else section)
+                                     section=group.section if section is None else section,
+                                     mass=group.mass if mass is None else mass)
         self.revision += 1
 
     def set_mass(self, index: int, mass: float | None = None, offset=None) -> None:

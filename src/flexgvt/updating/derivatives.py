@@ -81,6 +81,14 @@ def value_change(par: Parametrisation, model, x: np.ndarray, k: int, configurati
             drhoA.append(acc[1])
             drhoI.append(acc[2])
         return ValueChange(beams=(np.concatenate(rows), np.vstack(dsec), np.concatenate(drhoA), np.vstack(drhoI)))
+    if v.kind == "mass" and v.per_configuration:
+        mine = [i for c, i in b.indices if c == configuration]
+        if not mine:
+            return ValueChange()
+        h = _EXACT_STEP
+        values = [par.mass_entities(model, b, x[k] + off, configuration) for off in (h, -h)]
+        # The system stores the model's masses first, then the configuration's own.
+        return ValueChange(masses=(len(model.masses) + np.asarray(mine, int), values[0], values[1], 1 / (2 * h)))
     if v.kind == "mass":
         h = _EXACT_STEP
         values = [par.mass_entities(model, b, x[k] + off) for off in (h, -h)]
@@ -132,8 +140,9 @@ def partial_derivatives(par: Parametrisation, model, x: np.ndarray, state, k: in
 
 
 def shared_changes(par: Parametrisation, model, x: np.ndarray) -> list:
-    """Every variable's ValueChange that does not depend on the configuration (None for cords)."""
-    return [None if b.variable.kind == "cord" else value_change(par, model, x, k, "") for k, b in enumerate(par.bindings)]
+    """Every variable's ValueChange that does not depend on the configuration (None for those on
+    configuration items)."""
+    return [None if b.variable.per_configuration else value_change(par, model, x, k, "") for k, b in enumerate(par.bindings)]
 
 
 def state_direction(system, state, v: np.ndarray):

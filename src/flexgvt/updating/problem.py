@@ -157,7 +157,9 @@ class UpdatingProblem:
         self.follow_sensors = follow_sensors
         self.work = model.copy(f"{model.name} (updating)")
         self.states: dict[str, object] = {}
-        self._tracking: dict[str, np.ndarray] = {}  # last analytical paired full shapes (no measured shapes)
+        # Pairing reference without measured shapes: per configuration, the paired analytical shapes
+        # at the point where its frequencies fitted best so far, and that fit.
+        self._tracking: dict[str, tuple[float, np.ndarray]] = {}
         self._mass_system = System(self.work, Configuration("mass properties"))
         self._cache: dict[bytes, Point] = {}
         self.workers: list | None = None  # Dask actors evaluating the configurations (updating.parallel)
@@ -267,9 +269,12 @@ class UpdatingProblem:
 
     def _pair(self, name, meas: Measured, f, phi, shapes_s, M, seen=None):
         """Measured -> analytical pairing: by MAC with the measured shapes (frequency as tie-break,
-        a floor below which a measured mode stays unpaired); without shapes, by MAC with the paired
-        analytical shapes of the previous design point (so modes that cross stay paired), and at the
-        first point by frequency (among the modes the sensors see, when ``seen`` is given)."""
+        a floor below which a measured mode stays unpaired); without shapes, by MAC with a reference
+        (so modes that cross stay paired), and at the first point by frequency (least squares on log
+        frequency among the modes the sensors see, when ``seen`` is given). The reference is the
+        paired analytical shapes of the design point where this configuration's frequencies fitted
+        best so far: an optimiser's rejected trial steps do not move it, so the pairing at a point
+        does not depend on the order in which points were tried."""
         elastic = f > 0
         fm = meas.frequencies_hz
         closeness = np.abs(np.log(np.where(f[None, :] > 0, f[None, :], 1e-300) / fm[:, None]))
@@ -285,7 +290,7 @@ class UpdatingProblem:
             mac = np.full(len(fm), np.nan)
             mac[got.measured] = got.mac
             return paired, mac, got.mac_matrix
-        previous = self._tracking.get(name)
+        best, previous = self._tracking.get(name, (np.inf, None))
         if previous is not None and previous.shape[0] == phi.shape[0]:
             weighted = M @ phi
             num = (previous.T @ weighted) ** 2
@@ -297,11 +302,16 @@ class UpdatingProblem:
             paired[rows] = cols
         else:
             usable = elastic if seen is None else elastic & seen
-            cost = np.where(usable[None, :], closeness, 1e6)
+            # Squared: the sum of |log| is the same for every assignment of a cluster lying on one
+            # side of the measured frequencies, so the order would be left to round-off.
+            cost = np.where(usable[None, :], closeness ** 2, 1e6)
             rows, cols = linear_sum_assignment(cost)
             paired = np.full(len(fm), -1)
             paired[rows] = cols
-        self._tracking[name] = phi[:, np.maximum(paired, 0)]
+        ok = paired >= 0
+        fit = float(np.mean(closeness[np.flatnonzero(ok), paired[ok]] ** 2)) if ok.all() else np.inf
+        if previous is None or fit < best:
+            self._tracking[name] = (fit, phi[:, np.maximum(paired, 0)])
         return paired, np.full(len(fm), np.nan), None
 
     def _mass_props(self):

@@ -19,6 +19,7 @@ import numpy as np
 
 from ..errors import ModelError
 from ..model import Configuration, Model, TaperedSection
+from ..model.components import ConcentratedMass
 
 KINDS = ("beam", "mass", "spring", "cord")
 MATERIAL_ATTRIBUTES = ("E", "G", "rho")
@@ -37,7 +38,8 @@ class Variable:
     mass, offset_x/y/z for masses; k1..k6, c1..c6, stiffness, damping for springs; stiffness,
     damping for cords. targets: beam group names or fnmatch patterns ('region*'), mass or spring
     indices (order of model.masses / model.springs), or cord indices within each configuration
-    named in ``configurations`` (None: every configuration). bounds: normalised (lower, upper);
+    named in ``configurations`` (None: every configuration); a mass variable with
+    ``configurations`` targets those configurations' own masses. bounds: normalised (lower, upper);
     scale: the absolute size of x - 1 = 1 for shifted attributes (offsets) [m].
     """
 
@@ -63,6 +65,11 @@ class Variable:
         object.__setattr__(self, "targets", tuple(self.targets))
 
     @property
+    def per_configuration(self) -> bool:
+        """Targets configuration items (cords, a configuration's own masses), not the model."""
+        return self.kind == "cord" or (self.kind == "mass" and self.configurations is not None)
+
+    @property
     def shifts(self) -> bool:
         """Offsets and a cord's attachment position ``along`` shift (p0 + (x - 1) scale); every other
         attribute scales (x p0)."""
@@ -77,11 +84,15 @@ def beam(name: str, groups: str | Iterable[str], attribute: str, bounds=(0.9, 1.
 
 
 def mass(name: str, masses: int | Iterable[int], attribute: str = "mass", bounds=(0.9, 1.1),
-         scale: float = 0.01) -> Variable:
-    """Mass [kg] or one offset component [m] of concentrated masses (indices in model.masses);
-    offsets shift by (x - 1) * scale [m]."""
+         scale: float = 0.01, configurations: Iterable[str] | None = None) -> Variable:
+    """Mass [kg] or one offset component [m] of concentrated masses; offsets shift by (x - 1) * scale [m].
+
+    masses: indices in model.masses; with ``configurations``: indices in each named configuration's
+    own masses (Configuration.masses: what is present only in that test, such as suspension
+    attachment hardware or a shaker's moving mass), one value shared by all of them."""
     masses = (masses,) if np.isscalar(masses) else tuple(masses)
-    return Variable(name, "mass", attribute, tuple(int(m) for m in masses), bounds, scale)
+    return Variable(name, "mass", attribute, tuple(int(m) for m in masses), bounds, scale,
+                    configurations=None if configurations is None else tuple(configurations))
 
 
 def spring(name: str, springs: int | Iterable[int], attribute: str = "stiffness", bounds=(0.5, 2.0)) -> Variable:
@@ -156,6 +167,8 @@ class Parametrisation:
                                  f"groups: {sorted(set(names))}")
             initial = [self._beam_value(m.beams[k], v, where) for k in idx]
             return Binding(v, tuple(idx), np.array(initial))
+        if v.kind == "mass" and v.configurations is not None:
+            return self._bind_configuration_masses(v, where)
         if v.kind in ("mass", "spring"):
             items = m.masses if v.kind == "mass" else m.springs
             allowed = MASS_ATTRIBUTES if v.kind == "mass" else SPRING_ATTRIBUTES
@@ -172,11 +185,8 @@ class Parametrisation:
         # cords
         if v.attribute not in CORD_ATTRIBUTES:
             raise ModelError(f"{where}: attribute '{v.attribute}' of a cord must be one of {CORD_ATTRIBUTES}")
-        cfgs = list(self.configurations) if v.configurations is None else list(v.configurations)
-        unknown = [c for c in cfgs if c not in self.configurations]
-        if unknown:
-            raise ModelError(f"{where}: unknown configuration(s) {unknown}; known: {list(self.configurations)}")
         idx, initial = [], []
+        cfgs = self._configurations_of(v, where)
         for c in cfgs:
             cords = self.configurations[c].suspension
             chosen = range(len(cords)) if not v.targets else v.targets
@@ -193,6 +203,31 @@ class Parametrisation:
             raise ModelError(f"{where}: no cord in configuration(s) {cfgs}")
         if not v.shifts and np.any(np.asarray(initial) <= 0):
             raise ModelError(f"{where}: a cord's {v.attribute} is zero; a zero value cannot be scaled")
+        return Binding(v, tuple(idx), np.array(initial, float))
+
+    def _configurations_of(self, v: Variable, where: str) -> list[str]:
+        cfgs = list(self.configurations) if v.configurations is None else list(v.configurations)
+        unknown = [c for c in cfgs if c not in self.configurations]
+        if unknown:
+            raise ModelError(f"{where}: unknown configuration(s) {unknown}; known: {list(self.configurations)}")
+        return cfgs
+
+    def _bind_configuration_masses(self, v: Variable, where: str) -> Binding:
+        if v.attribute not in MASS_ATTRIBUTES:
+            raise ModelError(f"{where}: attribute '{v.attribute}' of a mass must be one of {MASS_ATTRIBUTES}")
+        if not v.targets:
+            raise ModelError(f"{where}: give the indices of the masses in each configuration's masses")
+        idx, initial = [], []
+        for c in self._configurations_of(v, where):
+            items = self.configurations[c].masses
+            for i in v.targets:
+                if not 0 <= i < len(items):
+                    raise ModelError(f"{where}: configuration '{c}' has no mass {i} ({len(items)} masses of its "
+                                     "own, Configuration.masses)")
+                idx.append((c, i))
+                initial.append(self._point_value(items[i], v))
+        if v.attribute == "mass" and np.any(np.asarray(initial) <= 0):
+            raise ModelError(f"{where}: a mass is zero; a zero value cannot be scaled")
         return Binding(v, tuple(idx), np.array(initial, float))
 
     @staticmethod
@@ -245,12 +280,19 @@ class Parametrisation:
             return replace(group.material, **{a: value}), group.section
         return group.material, replace(group.section, **{a: value})
 
-    def mass_entities(self, model: Model, b: Binding, xk: float) -> tuple[np.ndarray, np.ndarray]:
-        """(masses (k,), offsets (k, 3)) of b's concentrated masses with its attribute at xk."""
-        items = [model.masses[i] for i in b.indices]
+    def mass_entities(self, model: Model, b: Binding, xk: float, configuration: str | None = None
+                      ) -> tuple[np.ndarray, np.ndarray]:
+        """(masses (k,), offsets (k, 3)) of b's concentrated masses with its attribute at xk (for a
+        variable on configuration masses: those of ``configuration``, as bound)."""
+        if b.variable.per_configuration:
+            keep = [k for k, (c, _) in enumerate(b.indices) if c == configuration]
+            items = [self.configurations[configuration].masses[b.indices[k][1]] for k in keep]
+            values = self.physical(b, xk)[keep]
+        else:
+            items = [model.masses[i] for i in b.indices]
+            values = self.physical(b, xk)
         masses = np.array([m.mass for m in items], float)
-        offsets = np.array([m.offset for m in items], float)
-        values = self.physical(b, xk)
+        offsets = np.array([m.offset for m in items], float).reshape(-1, 3)
         if b.variable.attribute == "mass":
             masses = values.astype(float)
         else:
@@ -264,6 +306,7 @@ class Parametrisation:
         beams: dict[int, tuple[dict, dict]] = {}
         configs = dict(self.configurations)
         cords: dict[str, list] = {}
+        own_masses: dict[str, list] = {}
         springs: dict[tuple[int, str], np.ndarray] = {}
         base = self.model
         for b, xi in zip(self.bindings, x):
@@ -273,6 +316,10 @@ class Parametrisation:
                 if v.kind == "beam":
                     mat, sec = beams.setdefault(idx, ({}, {}))
                     (mat if v.attribute in MATERIAL_ATTRIBUTES else sec)[v.attribute] = float(value)
+                elif v.kind == "mass" and v.per_configuration:
+                    c, i = idx
+                    lst = own_masses.setdefault(c, list(configs[c].masses))
+                    lst[i] = _set_mass(lst[i], v.attribute, float(value))
                 elif v.kind == "mass":
                     if v.attribute == "mass":
                         model.set_mass(idx, mass=value)
@@ -311,4 +358,14 @@ class Parametrisation:
             model.set_beam_group(k, material=material, section=section)
         for c, lst in cords.items():
             configs[c] = configs[c].with_(suspension=tuple(lst))
+        for c, lst in own_masses.items():
+            configs[c] = configs[c].with_(masses=tuple(lst))
         return configs
+
+
+def _set_mass(item: ConcentratedMass, attribute: str, value: float) -> ConcentratedMass:
+    if attribute == "mass":
+        return replace(item, mass=value)
+    off = np.array(item.offset, float)
+    off["xyz".index(attribute[-1])] = value
+    return replace(item, offset=off)

@@ -107,8 +107,13 @@ class _QuietLog:
         return _QuietLog()
 
 
-def _open_bdf(path: Path, index: CardIndex):
-    """pyNastran BDF of ``path`` (with or without executive/case control), errors as FileFormatError."""
+def _is_begin_bulk(line: str) -> bool:
+    return line.split("$", 1)[0].strip().upper().replace(" ", "") == "BEGINBULK"
+
+
+def _open_bdf(path: Path, index: CardIndex, notes: list[str]):
+    """pyNastran BDF of ``path`` (with or without executive/case control), errors as FileFormatError.
+    A plain BEGIN BULK repeated inside the bulk data (a pasted deck) is ignored and noted."""
     from pyNastran.bdf.bdf import BDF
 
     if index.missing_includes:
@@ -121,6 +126,9 @@ def _open_bdf(path: Path, index: CardIndex):
         raise FileFormatError(f"{path}: the file is empty; give a Nastran bulk data deck")
     has_cend = any(line.strip().upper().startswith("CEND") for line in lines)
     has_begin = any(line.strip().upper().replace(" ", "").startswith("BEGINBULK") for line in lines)
+    for k in [i for i, line in enumerate(lines) if _is_begin_bulk(line)][1:]:
+        lines[k] = "$" + lines[k]  # a comment keeps the line numbers
+        notes.append(f"{path}:{k + 1}: BEGIN BULK repeated inside the bulk data: ignored")
     lines = absolute_include_lines(lines, path.resolve().parent)
     punch = False
     if not has_cend:
@@ -190,11 +198,11 @@ class _Reader(BeamsMixin, MassesMixin, CardsMixin, ConfigurationsMixin):
         self.units = units
         self.index = CardIndex(path)
         _check_duplicates(path, self.index)
-        self.bdf = _open_bdf(path, self.index)
+        self.notes: list[str] = []
+        self.bdf = _open_bdf(path, self.index, self.notes)
         self.rotary_inertia = rotary_inertia
         self.mass_override = mass
         self.unsupported: dict[str, list] = {}
-        self.notes: list[str] = []
         self.missing: list[str] = []
         self.pending_links: list[tuple] = []  # (grid, end node, components, source) for attach_end_nodes
         self.pending_rbe3: list[tuple] = []  # (eid, reference, REFC, {node: weight}) for read_interpolations
@@ -337,6 +345,8 @@ def read_bdf(path, *, units: str | Units = "SI", unsupported: str = "error", mas
     unsupported: 'error' raises UnsupportedCardsError listing every card (or card feature) that
     has no flexgvt counterpart, with ids; 'warn' reads the rest and lists them in one warning.
     mass: 'lumped' or 'consistent' beam mass; default from PARAM,COUPMASS (lumped unless > 0).
+    'consistent' is Nastran's coupled mass: cubic bending, linear axial for CBAR, lumped axial and
+    torsional for CBEAM (group mass 'consistent-bending').
     rotary_inertia: include bending rotary inertia of beams (Nastran's CBAR leaves it out, so the
     default False matches Nastran; torsional inertia: see cbar_torsional_inertia).
     cbar_torsional_inertia: the default False reproduces Nastran's CBAR, whose mass (lumped or

@@ -256,9 +256,12 @@ class BeamsMixin:
             cy, cz = sdata.principal
             orient = cy * yn + cz * zn
             name = f"{prop.type}_{pid}"
+            # Nastran's coupled (COUPMASS) CBEAM mass lumps the axial and torsional terms; its CBAR's is
+            # consistent (measured: the strut-braced wing deck, see docs/nastran.md).
+            mass = "consistent-bending" if self.mass == "consistent" and elems[0].type == "CBEAM" else self.mass
             try:
                 ids = model.add_beams(pairs, mat, section, orientation=orient, rotary_inertia=self.rotary_inertia,
-                                      mass=self.mass, name=name)
+                                      mass=mass, name=name)
             except ModelError as exc:
                 raise ModelError(f"{self.at(prop.type, pid)}: {exc}") from None
             eids = tuple(int(e.eid) for e in elems)

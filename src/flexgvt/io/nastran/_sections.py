@@ -56,6 +56,12 @@ def from_properties(where: str, A, I1, I2, I12, J, K1=None, K2=None) -> SectionD
             raise ModelError(f"{where}: {name}={v!r}; moments of inertia and J must be >= 0 (0: no stiffness in "
                              "that plane or in torsion, held by constraints). Correct the property card")
     I12 = float(I12 or 0.0)
+    if not math.isfinite(I12):
+        raise ModelError(f"{where}: I12={I12!r} is not a number. Correct the property card")
+    for name, k in (("K1", K1), ("K2", K2)):
+        if k is not None and not (math.isfinite(k) and k >= 0):
+            raise ModelError(f"{where}: {name}={k!r}; shear factors must be >= 0 (blank or 0: rigid in shear). "
+                             "Correct the property card")
     if I12 != 0.0:
         if I1 * I2 <= I12 * I12:
             raise ModelError(f"{where}: I1*I2 <= I12^2 ({I1}*{I2} <= {I12}^2) is not a valid section")

@@ -263,15 +263,16 @@ def _write_compact(model: Model, path: Path, configurations, u: Units, size: int
         bdf.add_grid(int(nid), [float(v) for v in x])
     xyz = dict(zip(node_ids.tolist(), model.xyz))
     mats: list[Material] = []
-    formulations = {g.mass for g in model.beams}
-    if len(formulations) > 1:
+    lumped = {g.mass == "lumped" for g in model.beams}
+    if len(lumped) > 1:
         raise ModelError("write_bdf: beam groups mix lumped and consistent mass; Nastran's PARAM,COUPMASS is "
                          "global. Use one formulation")
-    if formulations == {"consistent"}:
+    if lumped == {False}:
         bdf.add_param("COUPMASS", [1])
     if any(g.rotary_inertia for g in model.beams):
         notes.append("beam rotary inertia (rotary_inertia=True) has no bulk data equivalent and is not written")
     eid_used = set()
+    inexact: dict[str, list[str]] = {}  # groups whose mass formulation the written card does not have
     for pid, group in enumerate(model.beams, start=1):
         try:
             mid = next(i for i, m in enumerate(mats, start=1) if m == group.material)
@@ -294,6 +295,8 @@ def _write_compact(model: Model, path: Path, configurations, u: Units, size: int
         dims = library_dims(section) if getattr(section, "shear", False) else None
         p = section.properties()
         beam = p["Ip"] > 0.0
+        if group.mass != "lumped" and (group.mass == "consistent-bending") != beam:
+            inexact.setdefault("CBEAM" if beam else "CBAR", []).append(group.name or str(pid))
         if dims is not None:
             bdf.add_pbeaml(pid, mid, dims[0], [1.0], [list(dims[1])], so=["YES"], nsm=[0.0], comment=comment)
         elif beam:
@@ -320,6 +323,11 @@ def _write_compact(model: Model, path: Path, configurations, u: Units, size: int
             add = bdf.add_cbeam if beam else bdf.add_cbar
             add(int(eid), pid, [int(na), int(nb)], [float(c) for c in vv], None)
             eid_used.add(int(eid))
+    for card, names in inexact.items():
+        notes.append(f"beam groups {', '.join(names)} are written as {card}s, whose coupled mass (COUPMASS) Nastran "
+                     "forms with " + ("the axial and torsional terms lumped" if card == "CBEAM" else
+                                      "linear axial terms and no torsional inertia") +
+                     ": the deck's axial and torsion modes differ slightly from the model's")
     next_eid = max(eid_used | {0}) + 1
     next_pid = len(model.beams) + 1
     next_cid = 1
