@@ -269,7 +269,7 @@ def _align_rigid_modes(phi: np.ndarray, zero: np.ndarray, system, x: np.ndarray,
     motions, basis = system.unrestrained_rigid_motions(x)
     if len(idx) < 2 or len(idx) != basis.shape[1]:
         return phi
-    rigid = np.stack([system.reduce_vector(motions @ basis[:, j], T) for j in range(basis.shape[1])], axis=1)
+    rigid = system.reduce_displacement(motions @ basis)
     C = phi[:, idx].T @ (M @ rigid)  # (cluster, motions): the motions' components in the cluster
     u, sv, vt = np.linalg.svd(C)
     if sv.min() < 1e-6 * sv.max():  # the cluster does not span the rigid motions (not only them)
@@ -288,7 +288,7 @@ def _rigid_count(system, x: np.ndarray, T, K, M) -> int:
     motions, basis = system.unrestrained_rigid_motions(x)
     if basis.shape[1] == 0:
         return 0
-    U = np.stack([system.reduce_vector(motions @ basis[:, j], T) for j in range(basis.shape[1])], axis=1)
+    U = system.reduce_displacement(motions @ basis)
     Kr = U.T @ (K @ U)
     Mr = U.T @ (M @ U)
     Ua = np.abs(U)

@@ -110,8 +110,7 @@ def frequency_derivatives(modes, derivative: ParameterDerivative) -> np.ndarray:
     holding the static state fixed (the state's own change with p belongs to the updating layer:
     du/dp = -K^-1 d(residual)/dp, then dK/du along it)."""
     system = modes.state.system
-    T = system.transformation(modes.state.positions, modes.state.rotations) if system.has_links else None
-    phi = np.stack([system.reduce_vector(s.reshape(-1), T) for s in modes.shapes], axis=1)
+    phi = np.stack([system.reduce_displacement(s.reshape(-1)) for s in modes.shapes], axis=1)
     lam = modes.eigenvalues
     dlam = np.einsum("ij,ij->j", phi, (0.5 * (derivative.stiffness + derivative.stiffness.T)) @ phi) \
         - lam * np.einsum("ij,ij->j", phi, derivative.mass @ phi)

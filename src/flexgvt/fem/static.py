@@ -178,9 +178,7 @@ def _rigid_body_check(system: System, K: sp.csc_matrix | Callable[[], sp.csc_mat
     modes, basis = system.unrestrained_rigid_motions(x)
     if callable(K):
         K = K()
-    T = system.transformation(x, R) if system.has_links else None
-    full = modes @ basis
-    phi = np.stack([system.reduce_vector(full[:, j], T) for j in range(full.shape[1])], axis=1)
+    phi = system.reduce_displacement(modes @ basis)
     phi /= np.linalg.norm(phi, axis=0)
     Ksym = 0.5 * (K + K.T)
     w, v = np.linalg.eigh(phi.T @ (Ksym @ phi))

@@ -494,9 +494,16 @@ class System:
                              shape=(6 * n, self.n_free))
 
     def reduce_vector(self, v_full: np.ndarray, T=None) -> np.ndarray:
+        """A full force vector (6n,) reduced to the reduced DOFs: T^T f with links (the dependents'
+        forces carried to their independent DOFs). For displacements use reduce_displacement."""
         if not self.has_links:
             return v_full[self.dof_map >= 0]
         return T.T @ v_full
+
+    def reduce_displacement(self, u_full: np.ndarray) -> np.ndarray:
+        """A full displacement vector (6n, ...) that satisfies the links (a rigid motion, a mode
+        shape) as reduced DOFs: its values at the independent free DOFs (expand's inverse)."""
+        return u_full[self.dof_map >= 0]
 
     def expand(self, v_red: np.ndarray, T=None) -> np.ndarray:
         """Reduced DOF vector(s) -> full (6n, ...) with fixed DOFs zero and dependents following."""
