@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from flexgvt.model import Model
+from flexgvt.model import Model, TaperedSection
 
 
 def _perp(orientation, a, b):
@@ -21,7 +21,8 @@ def model_data(model) -> dict:
         m = g.material
         beams.append({
             "material": (m.E, m.rho, m.shear_modulus),
-            "section": g.section.properties(),
+            "section": list(g.section.end_properties()) if isinstance(g.section, TaperedSection) else
+            g.section.properties(),
             "nodes": g.nodes.tolist(),
             "orientation": np.array([_perp(o, xyz[a], xyz[b]) for o, (a, b) in zip(g.orientation, g.nodes)]),
             "mass": g.mass, "rotary_inertia": g.rotary_inertia})

@@ -16,7 +16,13 @@ import scipy.sparse as sp
 
 from ..errors import ModelError
 from ..model import RectangularSection, end_properties
-from .beam import beam_forces, beam_mass_matrices, element_coefficients, local_mass_matrices, nodal_weights
+from .beam import (
+    beam_forces,
+    beam_mass_matrices,
+    element_coefficients,
+    local_mass_matrices,
+    nodal_weights,
+)
 from .points import cord_forces, mass_gravity, mass_matrix, spring_forces
 from .rotations import spin
 from .static import State
@@ -86,20 +92,22 @@ def _group_derivatives(group, parameter, L):
 
 def beam_parameter_derivative(state: State, group: str, parameter: str) -> ParameterDerivative:
     """Exact d(residual), dK, dM with respect to ``parameter`` (E, G, rho, width, height) of the
-    beam group named ``group`` (the ``name=`` of add_beams), at ``state``.
+    beam groups named ``group`` (the ``name=`` of add_beams; every group of that name moves
+    together, each with its own material and section), at ``state``.
 
     Applied gravity loads change with rho (beam weight) and are included in d(residual).
     """
     system = state.system
     model = state.model
     cm = system.cm
-    mask = cm.beam_group_names == group
-    if not mask.any():
+    if not np.any(cm.beam_group_names == group):
         raise ModelError(f"no beam group named '{group}' in model '{model.name}'; groups: "
                          f"{sorted(set(cm.beam_group_names.tolist()))}")
-    grp = next(g for g in model.beams if g.name == group)
-    rows = np.flatnonzero(mask)
-    dcoeff, dmass, dinertia = _group_derivatives(grp, parameter, cm.beams.L0[rows])
+    starts = np.cumsum([0] + [len(g.ids) for g in model.beams])
+    parts = [(np.arange(starts[k], starts[k + 1]), g) for k, g in enumerate(model.beams) if g.name == group]
+    rows = np.concatenate([r for r, _ in parts])
+    values = [_group_derivatives(g, parameter, cm.beams.L0[r]) for r, g in parts]
+    dcoeff, dmass, dinertia = (np.concatenate([v[i] for v in values]) for i in range(3))
     d_res, dK, dM = value_derivative(system, state.positions, state.rotations, state.load_factor,
                                      ValueChange(beams=(rows, dcoeff, dmass, dinertia)))
     return ParameterDerivative(parameter, group, d_res, dK, dM)

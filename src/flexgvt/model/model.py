@@ -120,6 +120,8 @@ class Model:
                   name: str = "") -> np.ndarray:
         """Add beam elements between node id ``pairs`` (n, 2); returns element ids.
 
+        section: one section for every element, or a TaperedSection (a section at each element's
+        first and second node, linear between them).
         orientation: one vector or (n, 3) vectors fixing local z (see class docstring).
         rotary_inertia: False drops bending rotary inertia (thin-strip reference solutions do);
         torsional inertia rho*Ip is always kept. mass: 'consistent' (cubic bending, linear axial and

@@ -1,7 +1,8 @@
 """Beam cross-sections.
 
 Section axes: local y and z of the beam element (see ``Model.add_beams``). ``Iy`` is the second
-moment of area about local y (bending in the local x-z plane), ``Iz`` about local z.
+moment of area about local y (bending in the local x-z plane), ``Iz`` about local z. A
+TaperedSection holds a section for each end of the element (Nastran's tapered PBEAM/PBEAML).
 """
 
 from __future__ import annotations

@@ -11,7 +11,7 @@ from pathlib import Path
 import numpy as np
 
 from ...errors import ModelError
-from ...model import Configuration, Material, Model, RodSection
+from ...model import Configuration, Material, Model, RodSection, TaperedSection
 from ._common import Units, coord_axes, get_units
 from ._read import BdfDeck, _scale_section
 from ._sections import library_dims, library_section, to_properties
@@ -35,9 +35,36 @@ def _same(a, b, rtol=1e-9) -> bool:
     return np.allclose(np.asarray(a, float), np.asarray(b, float), rtol=rtol, atol=0.0)
 
 
+def _ends(section) -> tuple:
+    """The sections at end A and end B (the same one twice for a uniform section)."""
+    return (section.end_a, section.end_b) if isinstance(section, TaperedSection) else (section, section)
+
+
 def _same_section(a, b, rtol=1e-9) -> bool:
-    pa, pb = a.properties(), b.properties()
-    return all(np.isclose(pa[k], pb[k], rtol=rtol, atol=0.0) for k in ("A", "Iy", "Iz", "J", "Ay", "Az"))
+    """Equal A, Iy, Iz, J and shear areas at both ends (Ip is not a Nastran property: not compared)."""
+    for ea, eb in zip(_ends(a), _ends(b)):
+        pa, pb = ea.properties(), eb.properties()
+        if not all(np.isclose(pa[k], pb[k], rtol=rtol, atol=0.0) for k in ("A", "Iy", "Iz", "J", "Ay", "Az")):
+            return False
+    return True
+
+
+def _library_ends(section, shape: str) -> list[list[float]] | None:
+    """The DIMs of each end when both ends are the library ``shape`` exactly (with its shear factor), else None."""
+    dims = [library_dims(e) if getattr(e, "shear", False) else None for e in _ends(section)]
+    if all(d is not None and d[0] == shape for d in dims):
+        return [list(d[1]) for d in dims]
+    return None
+
+
+def _pbeam_ends(section, principal=(0.0, 1.0)) -> tuple[dict, dict, list[str]]:
+    """Nastran values (to_properties) at end A and end B, and what a PBEAM cannot hold (one K1, K2)."""
+    va, vb = (to_properties(e, principal) for e in _ends(section))
+    issues = []
+    for k in ("K1", "K2"):
+        if not (va[k] == vb[k] or (va[k] is not None and vb[k] is not None and np.isclose(va[k], vb[k], rtol=1e-9))):
+            issues.append(f"{k} differs between the ends ({va[k]} at A, {vb[k]} at B; end A's is written)")
+    return va, vb, issues
 
 
 def _quiet_write(bdf, path: Path, size: int) -> None:
@@ -46,9 +73,31 @@ def _quiet_write(bdf, path: Path, size: int) -> None:
 
 
 # --------------------------------------------------------------------------- template
+_EDITED = ("materials", "properties", "elements", "masses")  # the card groups the template writer edits
+
+
+def _copy_deck(bdf):
+    """A copy of a pyNastran deck to write into: the deck object and the card groups the template
+    writer edits or adds to are deep copies; every other card group (loads, aero, monitor points,
+    plot elements...) is shared, untouched. pyNastran cannot deep-copy some cards (PLOTEL, TLOAD2
+    with an integer phase, MONPNT1 with a long label: the glider deck fmondsp.dat has them all)."""
+    other = {name: value for name, value in vars(bdf).items()
+             if isinstance(value, (dict, list)) and name not in _EDITED}
+    for name in other:
+        setattr(bdf, name, {})
+    try:
+        new = copy.deepcopy(bdf)
+    finally:
+        for name, value in other.items():
+            setattr(bdf, name, value)
+    for name, value in other.items():
+        setattr(new, name, copy.copy(value))
+    return new
+
+
 def _write_into_template(model: Model, path: Path, deck: BdfDeck, size: int) -> list[str]:
     from ._read import _QuietLog
-    bdf = copy.deepcopy(deck.bdf)
+    bdf = _copy_deck(deck.bdf)
     bdf.log = _QuietLog()
     u, w = deck.units, deck.wtmass
     notes: list[str] = []
@@ -207,46 +256,58 @@ def _write_into_template(model: Model, path: Path, deck: BdfDeck, size: int) -> 
 
 
 def _update_beam_property(bdf, prop, section, src, notes: list[str]) -> None:
-    """Write a (deck-unit) flexgvt section into a PBAR/PBARL/PBEAM/PBEAML card."""
+    """Write a (deck-unit) flexgvt section, uniform or tapered, into a PBAR/PBARL/PBEAM/PBEAML card."""
     where = f"{prop.type} {prop.pid}"
+    tapered = isinstance(section, TaperedSection)
+    if tapered and prop.type in ("PBAR", "PBARL"):
+        raise ModelError(f"write_bdf: beam group '{src.name}' ({where}, CBAR) has a TaperedSection; a CBAR cannot "
+                         "taper. Write without template= (tapered groups become CBEAM + PBEAM/PBEAML)")
     if prop.type in ("PBARL", "PBEAML"):
         shape = prop.Type if prop.type == "PBARL" else prop.beam_type
-        dims = library_dims(section) if getattr(section, "shear", True) else None
-        if dims is not None and dims[0] == shape:
+        x = np.atleast_1d(np.asarray(getattr(prop, "xxb", [0.0]), float))
+        dims = _library_ends(section, shape)
+        if dims is not None and (not tapered or len(x) == 2):
             if prop.type == "PBARL":
-                prop.dim = list(dims[1])
-            else:
-                prop.dim = np.array([list(dims[1]) for _ in range(len(prop.dim))], float)
+                prop.dim = dims[0]
+            else:  # every station of a uniform section, or end A and end B
+                prop.dim = np.array([dims[0]] * (len(x) - 1) + [dims[1]], float)
             return
-        old = prop.dim if prop.type == "PBARL" else prop.dim[0]
-        ref = library_section(where, shape, old)
-        if _same_section(section, ref.section):  # unchanged (Ip is not a Nastran property: not compared)
-            return
+        old = [prop.dim] if prop.type == "PBARL" else [prop.dim[int(np.argmin(x))], prop.dim[int(np.argmax(x))]]
+        ref = [library_section(where, shape, d).section for d in old]
+        if _same_section(section, ref[0] if len(ref) == 1 or _same_section(ref[0], ref[1]) else
+                         TaperedSection(*ref)):
+            return  # unchanged
         # Values no longer match the shape: replace by an equivalent PBAR / PBEAM.
-        vals = to_properties(section, src.principal)
-        nsm = prop.nsm if prop.type == "PBARL" else float(np.atleast_1d(prop.nsm)[0] if prop.nsm is not None else 0)
+        va, vb, issues = _pbeam_ends(section, src.principal)
+        nsm = prop.nsm if prop.type == "PBARL" else np.atleast_1d(prop.nsm if prop.nsm is not None else [0.0])
         del bdf.properties[prop.pid]
         if prop.type == "PBARL":
-            bdf.add_pbar(prop.pid, prop.mid, A=vals["A"], i1=vals["I1"], i2=vals["I2"], i12=vals["I12"], j=vals["J"],
-                         nsm=nsm or 0.0, k1=vals["K1"], k2=vals["K2"],
+            bdf.add_pbar(prop.pid, prop.mid, A=va["A"], i1=va["I1"], i2=va["I2"], i12=va["I12"], j=va["J"],
+                         nsm=nsm or 0.0, k1=va["K1"], k2=va["K2"],
                          comment=f"PBARL {prop.pid} ({shape}) replaced by flexgvt: updated section values")
         else:
-            bdf.add_pbeam(prop.pid, prop.mid, [0.0], ["C"], [vals["A"]], [vals["I1"]], [vals["I2"]], [vals["I12"]],
-                          [vals["J"]], nsm=[nsm or 0.0], k1=vals["K1"] or 0.0, k2=vals["K2"] or 0.0,
+            st = [va, vb] if tapered else [va]
+            bdf.add_pbeam(prop.pid, prop.mid, [0.0, 1.0][:len(st)], ["YES"] * len(st), *[[v[k] for v in st] for k in
+                          ("A", "I1", "I2", "I12", "J")], nsm=[float(nsm[int(np.argmin(x))]),
+                                                              float(nsm[int(np.argmax(x))])][:len(st)],
+                          k1=va["K1"] or 0.0, k2=va["K2"] or 0.0,
                           comment=f"PBEAML {prop.pid} ({shape}) replaced by flexgvt: updated section values")
+            notes.extend(f"{where}: {i}" for i in issues)
         notes.append(f"{where} ({shape}) was replaced by an equivalent "
                      f"{'PBAR' if prop.type == 'PBARL' else 'PBEAM'}: its updated values are not those of a {shape}")
         return
-    vals = to_properties(section, src.principal)
+    va, vb, issues = _pbeam_ends(section, src.principal)
     if prop.type == "PBAR":
-        prop.A, prop.i1, prop.i2, prop.i12, prop.j = vals["A"], vals["I1"], vals["I2"], vals["I12"], vals["J"]
-        prop.k1, prop.k2 = vals["K1"], vals["K2"]
-    else:  # PBEAM: constant along its stations
-        n = len(np.atleast_1d(prop.A))
-        prop.A = [vals["A"]] * n
-        prop.i1, prop.i2, prop.i12, prop.j = ([vals[k]] * n for k in ("I1", "I2", "I12", "J"))
-        prop.k1 = vals["K1"] or 0.0
-        prop.k2 = vals["K2"] or 0.0
+        prop.A, prop.i1, prop.i2, prop.i12, prop.j = va["A"], va["I1"], va["I2"], va["I12"], va["J"]
+        prop.k1, prop.k2 = va["K1"], va["K2"]
+    else:  # PBEAM: every station on the line between the end values (constant when uniform)
+        x = np.atleast_1d(np.asarray(prop.xxb, float))
+        t = (x - x.min()) / (x.max() - x.min()) if x.max() > x.min() else np.zeros_like(x)
+        prop.A, prop.i1, prop.i2, prop.i12, prop.j = ([va[k] + (vb[k] - va[k]) * ti for ti in t]
+                                                      for k in ("A", "I1", "I2", "I12", "J"))
+        prop.k1 = va["K1"] or 0.0
+        prop.k2 = va["K2"] or 0.0
+        notes.extend(f"{where}: {i}" for i in issues)
 
 
 # --------------------------------------------------------------------------- compact
@@ -290,24 +351,32 @@ def _write_compact(model: Model, path: Path, configurations, u: Units, size: int
                 bdf.add_crod(int(eid), pid, [int(na), int(nb)])
                 eid_used.add(int(eid))
             continue
-        # CBEAM keeps rho*Ip in Nastran's mass, CBAR has none (read_bdf follows Nastran): a section
-        # without torsional inertia is a CBAR + PBAR, any other a CBEAM + PBEAML/PBEAM.
-        dims = library_dims(section) if getattr(section, "shear", False) else None
-        p = section.properties()
-        beam = p["Ip"] > 0.0
+        # CBEAM keeps rho*Ip in Nastran's mass, CBAR has none (read_bdf follows Nastran): a uniform
+        # section without torsional inertia is a CBAR + PBAR, any other a CBEAM + PBEAML/PBEAM (a
+        # tapered one with its end A and end B stations).
+        tapered = isinstance(section, TaperedSection)
+        ends = _ends(section)
+        props = [e.properties() for e in ends]
+        beam = tapered or props[0]["Ip"] > 0.0
         if group.mass != "lumped" and (group.mass == "consistent-bending") != beam:
             inexact.setdefault("CBEAM" if beam else "CBAR", []).append(group.name or str(pid))
+        library = library_dims(ends[0])
+        dims = _library_ends(section, library[0]) if library is not None else None
         if dims is not None:
-            bdf.add_pbeaml(pid, mid, dims[0], [1.0], [list(dims[1])], so=["YES"], nsm=[0.0], comment=comment)
+            x, so = ([0.0, 1.0], ["YES", "YES"]) if tapered else ([1.0], ["YES"])
+            bdf.add_pbeaml(pid, mid, library[0], x, dims[:len(x)], so=so, nsm=[0.0] * len(x), comment=comment)
         elif beam:
-            vals = to_properties(section)
+            va, vb, issues = _pbeam_ends(section)
+            notes.extend(f"beam group '{group.name or pid}': {i}" for i in issues)
             # A polar mass moment other than rho (I1 + I2): PBEAM's NSI carries the difference
             # (mass moment of inertia per length), which read_bdf adds back.
-            nsi = float(vals_rho(group, u) * (p["Ip"] - p["Iy"] - p["Iz"]))
-            if abs(p["Ip"] - (p["Iy"] + p["Iz"])) <= 1e-12 * (p["Iy"] + p["Iz"]):
-                nsi = 0.0
-            bdf.add_pbeam(pid, mid, [0.0], ["YES"], [vals["A"]], [vals["I1"]], [vals["I2"]], [0.0], [vals["J"]],
-                          nsm=[0.0], k1=vals["K1"] or 0.0, k2=vals["K2"] or 0.0, nsia=nsi, nsib=nsi,
+            nsi = [float(vals_rho(group, u) * (p["Ip"] - p["Iy"] - p["Iz"])) for p in props]
+            nsi = [0.0 if abs(p["Ip"] - (p["Iy"] + p["Iz"])) <= 1e-12 * (p["Iy"] + p["Iz"]) else v
+                   for p, v in zip(props, nsi)]
+            st = [va, vb] if tapered else [va]
+            bdf.add_pbeam(pid, mid, [0.0, 1.0][:len(st)], ["YES"] * len(st), *[[v[k] for v in st] for k in
+                          ("A", "I1", "I2", "I12", "J")], nsm=[0.0] * len(st), k1=va["K1"] or 0.0,
+                          k2=va["K2"] or 0.0, nsia=nsi[0], nsib=nsi[1],
                           comment=comment)  # K = 0: no shear flexibility (PBEAM blank is 1.0)
         else:
             vals = to_properties(section)
