@@ -31,7 +31,7 @@ import numpy as np
 from ..errors import EMAError
 from .polymax import checked_frfs
 
-_BLOCK = 1 << 19  # entries (lines x products) of one block of the weighted products over the lines
+_BLOCK = 1 << 17  # entries (products x lines) of one block of the weighted products: 1 MB, cache-sized
 
 
 @dataclass(frozen=True)
@@ -137,11 +137,17 @@ class _Problem:
         I, J = np.triu_indices(len(A2T)) if pairs is None else pairs
         out = np.zeros((self.n_o, len(I)))
         step = max(64, _BLOCK // len(I))
+        P, Q, T = (np.empty((len(I), min(step, R))) for _ in range(3))  # cache-sized, reused
         for s in range(0, R, step):
             e = min(s + step, R)
+            if e - s < P.shape[1]:  # the last, shorter block
+                P, Q, T = (np.empty((len(I), e - s)) for _ in range(3))
             a, b = A2T[:, s:e], A2T[:, R + s:R + e]
-            P = a[I] * a[J]
-            P += b[I] * b[J]
+            np.take(a, I, axis=0, out=P, mode="clip")  # mode "clip": no buffering (the indices are valid)
+            P *= np.take(a, J, axis=0, out=Q, mode="clip")
+            np.take(b, I, axis=0, out=Q, mode="clip")
+            Q *= np.take(b, J, axis=0, out=T, mode="clip")
+            P += Q
             out += self.uT[:, s:e] @ P.T
         return out
 
