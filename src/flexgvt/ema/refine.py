@@ -368,13 +368,18 @@ def _variance_from_residual(model, H, iterations: int = 6):
     (e^2 of complex Gaussian noise is exponential with mean var and standard deviation var).
     The proportional term follows the measured |H|^2 (an averaged FRF's variance is |H|^2 (1 - coh) /
     (coh n_avg)), which stays right where the model is still wrong (the start)."""
+    shape = H.shape
+    H, model = H.reshape(len(H), -1), model.reshape(len(H), -1)  # (lines, FRFs): long inner loops
     m2 = np.abs(H) ** 2
     e2 = np.abs(H - model) ** 2
     products = np.stack([m2 * m2, m2, e2 * m2, e2])  # the weighted sums' factors (fixed)
-    var = np.broadcast_to(np.mean(e2, axis=0, keepdims=True), e2.shape)
+    var = np.broadcast_to(np.mean(e2, axis=0), e2.shape)
+    q = np.empty_like(e2)
     for _ in range(iterations):
-        q = 1.0 / np.maximum(var, 1e-300) ** 2
-        s_mm, s_m, s_em, s_e = np.einsum("k...,fk...->f...", q, products)
+        np.maximum(var, 1e-300, out=q)
+        q *= q
+        np.divide(1.0, q, out=q)
+        s_mm, s_m, s_em, s_e = np.einsum("kc,fkc->fc", q, products)
         s_1 = np.sum(q, axis=0)
         det = s_mm * s_1 - s_m ** 2
         ok = det > 1e-12 * s_mm * s_1
@@ -383,10 +388,10 @@ def _variance_from_residual(model, H, iterations: int = 6):
         # Clip: whichever term would go negative is dropped and the other refitted alone.
         a, b = np.where(b < 0, s_em / np.maximum(s_mm, 1e-300), a), np.where(b < 0, 0.0, b)
         a, b = np.where(a < 0, 0.0, a), np.where(a < 0, s_e / s_1, b)
-        var = a * m2 + b
-        floor = 1e-9 * np.maximum(np.max(var, axis=0, keepdims=True), 1e-300)
-        var = np.maximum(var, floor)
-    return var
+        var = a * m2
+        var += b
+        np.maximum(var, 1e-9 * np.maximum(np.max(var, axis=0), 1e-300), out=var)
+    return var.reshape(shape)
 
 
 def _variance_from_fit(prob, theta, H):
