@@ -91,6 +91,7 @@ class _Problem:
         self.ref = np.tile(np.arange(n_i), n_f)  # reference of each row
         self.onehot = (self.ref[:, None] == np.arange(n_i)[None, :]).astype(float)  # (R, n_i)
         self.n_free_L = n_i - 1
+        self._fits, self._normal = {}, (None, None)  # caches of _fit and normal, keyed by theta
 
     # parameters: theta = [wn (M), zeta (M), (Re L_free, Im L_free) per mode]
     def unpack(self, theta):
@@ -131,13 +132,13 @@ class _Problem:
     def _gram(self, A2T, pairs=None):
         """Re(A^H U_o A) for every output o, upper triangle (n_o, n(n+1)/2) (or the entries (I, J) of
         pairs), from the real stacking A2T = [Re A^T, Im A^T] (n, 2R): Re(conj(a) b) = Re a Re b + Im a Im b.
-        The products are formed in blocks of lines, one row per pair (contiguous along the lines), and
-        summed over the lines by one BLAS matrix product per block."""
+        The products are formed in cache-sized blocks of lines, one row per pair (contiguous along the
+        lines) in reused buffers, and summed over the lines by one BLAS matrix product per block."""
         R = self.n_f * self.n_i
         I, J = np.triu_indices(len(A2T)) if pairs is None else pairs
         out = np.zeros((self.n_o, len(I)))
         step = max(64, _BLOCK // len(I))
-        P, Q, T = (np.empty((len(I), min(step, R))) for _ in range(3))  # cache-sized, reused
+        P, Q, T = (np.empty((len(I), min(step, R))) for _ in range(3))
         for s in range(0, R, step):
             e = min(s + step, R)
             if e - s < P.shape[1]:  # the last, shorter block
@@ -192,20 +193,18 @@ class _Problem:
         model = A2T.T @ x.T  # (2R, n_o)
         r = self.h2 - model
         r *= r
-        cost = np.einsum("ro,ro->o", self.u, r[:len(A)] + r[len(A):])
-        return x, G, cost, model
+        return x, G, np.einsum("ro,ro->o", self.u2, r), model
 
     def _fit(self, theta):
         """Design, scale and linear solution at theta. The last two are cached: a trial step's cost
         evaluation is reused by the next normal(), the optimum's survives the start's cost evaluation."""
         key = theta.tobytes()
-        cache = self.__dict__.setdefault("_fits", {})
-        if key not in cache:
+        if key not in self._fits:
             A, scale, terms = self.design(theta)
-            cache[key] = (A, scale, terms, *self.linear(A))
-            while len(cache) > 2:
-                del cache[next(iter(cache))]
-        return cache[key]
+            self._fits[key] = (A, scale, terms, *self.linear(A))
+            if len(self._fits) > 2:
+                del self._fits[next(iter(self._fits))]
+        return self._fits[key]
 
     def cost(self, theta):
         return float(np.sum(self._fit(theta)[5]))
@@ -244,9 +243,9 @@ class _Problem:
         Re(X^H U_o X) and Re(A^H U_o X), formed for all outputs at once (`_cross_grams`); the per-output
         Jacobians are never formed. The last one is cached."""
         key = theta.tobytes()
-        if getattr(self, "_normal_key", None) != key:
-            self._normal_key, self._normal = key, self._normal_at(theta)
-        return self._normal
+        if self._normal[0] != key:
+            self._normal = key, self._normal_at(theta)
+        return self._normal[1]
 
     def _normal_at(self, theta):
         A, scale, terms, x, G, cost_o, model_lin = self._fit(theta)
