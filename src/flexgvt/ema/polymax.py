@@ -219,6 +219,7 @@ def checked_frfs(freq, H, frequency_band=None, where: str = ""):
     return freq, H, (freq >= lo) & (freq <= hi) & (freq > 0), (lo, hi)
 
 
+@serial_blas  # its products are small or medium: a second BLAS thread's hand-off costs more on a shared machine
 def polymax(frfs, max_order: int = 40, frequency_band=None, orders=None, weighting: str = "unit") -> Stabilisation:
     """Stabilisation diagram of pLSCF poles for model orders 1..max_order (or ``orders``).
 
@@ -270,11 +271,8 @@ def polymax(frfs, max_order: int = 40, frequency_band=None, orders=None, weighti
     return stab
 
 
-@serial_blas
 def _fill_diagram(stab, normal_matrices, n_i, dt, df_hz):
-    """Poles, participations and stability flags of stab.orders from the reduced normal matrices (p, M_p).
-    BLAS on one thread: the products and factorisations of one order (at most a few hundred rows) are
-    too small for a second thread, whose hand-off cost more than they took on a shared machine."""
+    """Poles, participations and stability flags of stab.orders from the reduced normal matrices (p, M_p)."""
     wanted = set(stab.orders)
     prev_s = prev_L = None
     for p, M in normal_matrices:

@@ -29,6 +29,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from ..errors import EMAError
+from ..fem.linsolve import serial_blas
 from .polymax import checked_frfs
 
 _BLOCK = 1 << 17  # entries (products x lines) of one block of the weighted products: 1 MB, cache-sized
@@ -441,6 +442,7 @@ def _solve(prob, theta0, max_iter, tol):
     return theta, cost, converged, it
 
 
+@serial_blas  # as polymax: medium products (outputs x lines x a few hundred), one BLAS thread
 def refine(frfs, modal_set, variance=None, frequency_band=None, max_iter: int = 30, tol: float = 1e-3,
            return_info: bool = False):
     """Maximum-likelihood refinement of poles, participation factors, shapes and residuals.

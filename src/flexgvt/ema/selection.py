@@ -31,6 +31,7 @@ import numpy as np
 from scipy.stats import chi2
 
 from ..errors import EMAError
+from ..fem.linsolve import serial_blas
 from .clustering import group_by_gap, representative, split_by_order
 from .polymax import ModalSet, Stabilisation, polymax
 from .refine import SignificanceScreen, refine
@@ -123,6 +124,7 @@ def _pole(ms):
     return -ms.damping_ratio * wn + 1j * wn * np.sqrt(1 - ms.damping_ratio ** 2)
 
 
+@serial_blas  # as refine
 def select_ml(stab: Stabilisation, variance=None, alpha: float = 1e-6, min_fraction: float = 0.3,
               tol_f: float = 0.01, min_orders: int = 4, min_mac: float = 0.9, max_damping: float = 0.3,
               max_trials: int = 6, return_info: bool = False):
