@@ -372,14 +372,14 @@ def _variance_from_residual(model, H, iterations: int = 6):
     H, model = H.reshape(len(H), -1), model.reshape(len(H), -1)  # (lines, FRFs): long inner loops
     m2 = np.abs(H) ** 2
     e2 = np.abs(H - model) ** 2
-    products = np.stack([m2 * m2, m2, e2 * m2, e2])  # the weighted sums' factors (fixed)
-    var = np.broadcast_to(np.mean(e2, axis=0), e2.shape)
-    q = np.empty_like(e2)
+    products = (m2 * m2, m2, e2 * m2, e2)  # the weighted sums' factors (fixed)
+    var, q = np.empty_like(e2), np.empty_like(e2)
+    var[:] = np.mean(e2, axis=0)
     for _ in range(iterations):
         np.maximum(var, 1e-300, out=q)
         q *= q
         np.divide(1.0, q, out=q)
-        s_mm, s_m, s_em, s_e = np.einsum("kc,fkc->fc", q, products)
+        s_mm, s_m, s_em, s_e = (np.einsum("kc,kc->c", q, f) for f in products)
         s_1 = np.sum(q, axis=0)
         det = s_mm * s_1 - s_m ** 2
         ok = det > 1e-12 * s_mm * s_1
@@ -388,7 +388,7 @@ def _variance_from_residual(model, H, iterations: int = 6):
         # Clip: whichever term would go negative is dropped and the other refitted alone.
         a, b = np.where(b < 0, s_em / np.maximum(s_mm, 1e-300), a), np.where(b < 0, 0.0, b)
         a, b = np.where(a < 0, 0.0, a), np.where(a < 0, s_e / s_1, b)
-        var = a * m2
+        np.multiply(m2, a, out=var)
         var += b
         np.maximum(var, 1e-9 * np.maximum(np.max(var, axis=0), 1e-300), out=var)
     return var.reshape(shape)
