@@ -153,3 +153,25 @@ def test_free_strip_with_a_damper_complex_modes_count_each_rigid_motion_once():
     np.testing.assert_allclose(s[7:11], elastic, rtol=1e-7)
     # zeta = -Re(s) / |s| carries the roots' relative error as an absolute one
     np.testing.assert_allclose(modes.damping_ratio[7:11], -elastic.real / np.abs(elastic), rtol=0, atol=1e-7)
+
+
+def test_strip_hung_on_its_axis_with_its_centre_of_mass_off_it_rolls_until_held():
+    """The 3.66 m strip on two cords along its axis, its leading-edge sensors moved 10 mm further
+    forward: flat, nothing restrains the roll the offset weight pushes; sagged, the strip is held.
+    The solve ramps the load with the roll held by a spring, then releases it: the equilibrium
+    has its centre of mass under the cords' line (vertical cords carry no chordwise force) and
+    every mode at a positive frequency. Ramping freely rolled it edgewise (an unstable branch)."""
+    from flexgvt.fem.massprops import system_mass_properties
+    case = fg.cases.strip_366()
+    model = case.model
+    for k in range(0, 26, 2):
+        model.set_mass(k, offset=np.array(model.masses[k].offset) + (-0.01, 0.0, 0.0))
+    state = fg.solve_static(model, case.configurations["outboard"])
+    cg = system_mass_properties(state.system, state.positions, state.rotations).cg
+    assert abs(cg[0]) < 1e-6  # the cords' attachments and anchors lie at x = 0
+    z = state.positions[:, 2]
+    assert 0.55 < z.max() - z.min() < 0.6  # bowed flat-wise as the symmetric strip (0.57 m), not edgewise
+    roll = np.abs(state.rotations[:, 0, 2]).max()  # the section normal's chordwise tilt
+    assert 1e-5 < roll < 0.01
+    f = fg.solve_modes(state, 8, damped=False, label=False).frequencies_hz
+    assert np.all(f > 0.2)

@@ -39,7 +39,8 @@ def representative(pts, idx, f: np.ndarray, tol_f: float) -> int:
     """Among the poles of the upper half of the cluster's orders (the better fits), the one nearest
     their median frequency and damping (outliers out; damping, which scatters more, measured on its
     own scale)."""
-    top = [i for i in idx if pts[i][2] >= np.median([pts[j][2] for j in idx])]
+    middle = np.median([pts[j][2] for j in idx])
+    top = [i for i in idx if pts[i][2] >= middle]
     z_top = {i: -pts[i][0].real / abs(pts[i][0]) for i in top}
     f_med, z_med = np.median(f[top]), max(np.median(list(z_top.values())), 1e-12)
     return min(top, key=lambda i: (abs(f[i] / f_med - 1) / tol_f + abs(z_top[i] / z_med - 1), -pts[i][2]))

@@ -14,8 +14,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 from scipy.linalg import cholesky, lapack, solve_triangular
+from scipy.linalg.blas import dtrsm
 
 from ..errors import EMAError
+from ..fem.linsolve import serial_blas
 
 
 @dataclass(frozen=True)
@@ -128,16 +130,35 @@ def _stability(prev_s, prev_L, s, L, df_hz=0.0, tol_f=0.01, tol_z=0.05, tol_mac=
 _GRAM_PIVOT = 1e-6  # smallest squared Cholesky pivot of the basis Gram matrix, relative to its diagonal
 
 
-def _well_posed_order(Om, w2, P):
-    """Highest model order <= P whose basis Gram matrices R_o (Toeplitz in the lag) are positive
-    definite: on a narrow band far from 0 Hz the basis exp(i w dt r) covers a short arc of the unit
-    circle and its Gram matrix loses definiteness at high order."""
-    r = (Om.T @ w2).real  # (2P+1, n_o)
+def _lag_sums(phase, w2, Hk, P):
+    """Real parts of the lag sums over the lines, lags d = -P..P in rows P + d: r_o(d) = sum_k w_o^2 z^d,
+    g_o(d) = sum_k w_o^2 z^d H_o and G(d) = sum_k z^d sum_o w_o^2 H_o^H H_o (z = exp(i phase_k)); only
+    real parts enter the normal matrices. With z^(+-d) = cos(d phase) +- i sin(d phase), a lag and its
+    negative come from the same two real products over the lines."""
+    n_f, n_o, n_i = Hk.shape
+    arg = np.outer(phase, np.arange(P + 1))
+    cos, sin = np.cos(arg), np.sin(arg)
+
+    def real_sums(x):  # Re sum_k z^d x_k, d = -P..P
+        a, b = cos.T @ np.ascontiguousarray(x.real), sin.T @ np.ascontiguousarray(x.imag)
+        return np.concatenate([(a + b)[:0:-1], a - b])
+
+    same = bool(np.all(w2 == w2[:, :1]))  # unit weighting: one r for every output
+    r = cos.T @ (w2[:, :1] if same else w2)
+    r = np.broadcast_to(np.concatenate([r[:0:-1], r]), (2 * P + 1, n_o))
+    g = real_sums((w2[:, :, None] * Hk).reshape(n_f, n_o * n_i)).reshape(-1, n_o, n_i)
+    HH = np.einsum("ko,koj,kol->kjl", w2, Hk.conj(), Hk).reshape(n_f, n_i * n_i)
+    return r, g, real_sums(HH).reshape(-1, n_i, n_i), same
+
+
+def _well_posed_order(r, same, P):
+    """Highest model order <= P whose basis Gram matrices R_o (Toeplitz in the lag; lag sums r) are
+    positive definite: on a narrow band far from 0 Hz the basis exp(i w dt r) covers a short arc of the
+    unit circle and its Gram matrix loses definiteness at high order."""
     idx = np.arange(P + 1)
     D = idx[None, :] - idx[:, None] + P
-    cols = [0] if bool(np.all(w2 == w2[:, :1])) else range(w2.shape[1])
     best = P
-    for o in cols:
+    for o in [0] if same else range(r.shape[1]):
         L, info = lapack.dpotrf(r[D, o], lower=1)
         rows = info - 1 if info > 0 else P + 1  # the leading block that is positive definite
         # A squared pivot below 1e-6 of r(0): the basis is nearly dependent, and the factorisation
@@ -148,44 +169,36 @@ def _well_posed_order(Om, w2, P):
     return best
 
 
-def _reduced_normal_matrices(Om, w2, Hk, P):
+def _reduced_normal_matrices(r, g, G, same, P):
     """Reduced normal matrices M_p = 2 (T - sum_o S_o^T R_o^-1 S_o) of every order p = 1..P.
 
     Every entry of R_o, S_o and T depends only on the lag s - r of the basis powers, so all are
-    built for order P from 2P + 1 lag sums (matrix products over the lines). With R_o = L_o L_o^T,
+    built for order P from the lag sums r, g, G (`_lag_sums`, rows P + lag). With R_o = L_o L_o^T,
     S_o^T R_o^-1 S_o = X_o^T X_o for X_o = L_o^-1 S_o; the Cholesky factor of a leading block is
     the leading block of the factor and the leading rows of X_o depend only on the leading rows
     of S_o, so order p takes the first p + 1 rows and (p + 1) n_i columns of the order-P X_o: a
     running sum over rows gives every order for about the cost of order P alone. Yields (p, M_p).
     """
-    n_f, n_o, n_i = Hk.shape
-    # Lag sums: r_o(d) = sum_k w_o^2 Om_d, g_o(d) = sum_k w_o^2 Om_d H_o, G(d) = sum_k Om_d sum_o w_o^2 H_o^H H_o.
-    r = (Om.T @ w2).real  # (2P+1, n_o)
-    g = (Om.T @ (w2[:, :, None] * Hk).reshape(n_f, n_o * n_i)).reshape(-1, n_o, n_i)
-    HH = np.einsum("ko,koj,kol->kjl", w2, Hk.conj(), Hk).reshape(n_f, n_i * n_i)
-    G = (Om.T @ HH).reshape(-1, n_i, n_i)
+    n_o, n_i = g.shape[1:]
     idx = np.arange(P + 1)
     D = idx[None, :] - idx[:, None] + P  # lag s - r
     c = (P + 1) * n_i
-    S = -np.real(np.transpose(g[D], (2, 0, 1, 3))).reshape(n_o, P + 1, c)  # S_o[r, (s, j)]
-    T = np.real(np.transpose(G[D], (0, 2, 1, 3))).reshape(c, c)  # T[(r, i), (s, j)]
-    X = np.empty_like(S)
-    same = bool(np.all(w2 == w2[:, :1]))  # unit weighting: one R for every output
+    S = -np.transpose(g[D], (0, 2, 1, 3)).reshape(P + 1, n_o, c)  # S[r, o, (s, j)]: row r of every S_o
+    T = np.transpose(G[D], (0, 2, 1, 3)).reshape(c, c)  # T[(r, i), (s, j)]
     try:
-        if same:
-            Lc = cholesky(r[D, 0], lower=True)
-            X[:] = solve_triangular(Lc, S.transpose(1, 0, 2).reshape(P + 1, -1), lower=True) \
-                .reshape(P + 1, n_o, c).transpose(1, 0, 2)
+        if same:  # X^T = S^T L^-T, solved in place from the right: X comes out row-major, no copy
+            X = dtrsm(1.0, cholesky(r[D, 0], lower=True), S.reshape(P + 1, -1).T, side=1, lower=1, trans_a=1,
+                      overwrite_b=1).T.reshape(P + 1, n_o, c)
         else:
+            X = np.empty_like(S)
             for o in range(n_o):
-                X[o] = solve_triangular(cholesky(r[D, o], lower=True), S[o], lower=True)
+                X[:, o] = solve_triangular(cholesky(r[D, o], lower=True), S[:, o], lower=True, check_finite=False)
     except np.linalg.LinAlgError as exc:
         raise EMAError(f"PolyMAX: the normal equations are singular at model order {P} ({exc}); use fewer "
                        "model orders than frequency lines, or a wider frequency band") from None
     N = np.zeros((c, c))
     for p in range(P + 1):
-        Y = X[:, p, :]
-        N += Y.T @ Y
+        N += X[p].T @ X[p]
         if p >= 1:
             m = (p + 1) * n_i
             yield p, 2 * (T[:m, :m] - N[:m, :m])
@@ -206,6 +219,7 @@ def checked_frfs(freq, H, frequency_band=None, where: str = ""):
     return freq, H, (freq >= lo) & (freq <= hi) & (freq > 0), (lo, hi)
 
 
+@serial_blas  # its products are small or medium: a second BLAS thread's hand-off costs more on a shared machine
 def polymax(frfs, max_order: int = 40, frequency_band=None, orders=None, weighting: str = "unit") -> Stabilisation:
     """Stabilisation diagram of pLSCF poles for model orders 1..max_order (or ``orders``).
 
@@ -233,8 +247,6 @@ def polymax(frfs, max_order: int = 40, frequency_band=None, orders=None, weighti
     if (P + 1) * n_i > len(fk):
         raise EMAError(f"model order {P} needs more than {len(fk)} frequency lines in the band {lo:g}-{hi:g} Hz; "
                        "lower max_order or widen the band")
-    lags = np.arange(-P, P + 1)
-    Om = np.exp(1j * 2 * np.pi * fk[:, None] * dt * lags[None, :])  # (n_f, 2P+1)
     mag = np.sqrt(np.sum(np.abs(Hk) ** 2, axis=2))  # (n_f, n_o)
     if weighting == "unit":
         w2 = np.ones_like(mag)
@@ -243,7 +255,8 @@ def polymax(frfs, max_order: int = 40, frequency_band=None, orders=None, weighti
         w2 /= w2.mean(axis=0, keepdims=True)
     else:
         raise EMAError(f"weighting '{weighting}' must be 'unit' or 'inverse'")
-    usable = _well_posed_order(Om, w2, P)
+    r, g, G, same = _lag_sums(2 * np.pi * fk * dt, w2, Hk, P)
+    usable = _well_posed_order(r, same, P)
     if usable < P:
         kept = [p for p in orders if p <= usable]
         if not kept:
@@ -251,41 +264,55 @@ def polymax(frfs, max_order: int = 40, frequency_band=None, orders=None, weighti
                            f"{lo:g}-{hi:g} Hz (a narrow band far from 0 Hz); widen the band towards 0 Hz")
         warnings.warn(f"PolyMAX: model orders above {usable} dropped: the basis is ill-conditioned on the band "
                       f"{lo:g}-{hi:g} Hz (narrow and far from 0 Hz); widen the band for higher orders", stacklevel=2)
+        r, g, G = (a[P - usable: P + usable + 1] for a in (r, g, G))
         orders, P = kept, usable
-        Om = Om[:, len(lags) // 2 - P: len(lags) // 2 + P + 1]
     stab = Stabilisation(freq, H, orders, [], [], [], outputs, inputs, (lo, hi), weighting)
-    wanted = set(orders)
+    _fill_diagram(stab, _reduced_normal_matrices(r, g, G, same, P), n_i, dt, df_hz)
+    return stab
+
+
+def _fill_diagram(stab, normal_matrices, n_i, dt, df_hz):
+    """Poles, participations and stability flags of stab.orders from the reduced normal matrices (p, M_p)."""
+    wanted = set(stab.orders)
     prev_s = prev_L = None
-    for p, M in _reduced_normal_matrices(Om, w2, Hk, P):
+    for p, M in normal_matrices:
         if p not in wanted:
             continue
-        m = p * n_i
-        try:
-            alpha = -np.linalg.solve(M[:m, :m], M[:m, m:])  # (p n_i, n_i), alpha_p = I
-        except np.linalg.LinAlgError:
-            stab.poles.append(np.zeros(0, complex))
-            stab.participations.append(np.zeros((0, n_i), complex))
-            stab.stable.append(np.zeros(0, bool))
-            continue
-        C = np.zeros((m, m))
-        if p > 1:
-            C[:-n_i, n_i:] = np.eye(m - n_i)
-        # Companion of A^T(z) = sum alpha_r^T z^r: same poles, and its eigenvectors' first block are the
-        # left null vectors of A(s), i.e. the participation factors (H = B A^-1 ~ B v w^T / (s - lambda)).
-        C[-n_i:, :] = -alpha.reshape(p, n_i, n_i).transpose(0, 2, 1).transpose(1, 0, 2).reshape(n_i, m)
-        z, V = np.linalg.eig(C)
-        s = np.log(z.astype(complex)) / dt
-        L = V[:n_i].T  # participation factors (n, n_i)
-        ok = (s.imag > 0) & (s.real < 0)
-        s, L = s[ok], L[ok]
-        L = L / np.linalg.norm(L, axis=1, keepdims=True)
-        order = np.argsort(np.abs(s))
-        s, L = s[order], L[order]
+        found = _order_poles(M, p, n_i, dt)
+        s, L = found if found is not None else (np.zeros(0, complex), np.zeros((0, n_i), complex))
         stab.poles.append(s)
         stab.participations.append(L)
         stab.stable.append(_stability(prev_s, prev_L, s, L, df_hz))
-        prev_s, prev_L = s, L
-    return stab
+        if found is not None:  # a singular order is skipped by the stability test
+            prev_s, prev_L = s, L
+
+
+def _order_poles(M, p, n_i, dt):
+    """Poles s [rad/s] (stable, upper half plane, by |s|) and unit participation factors L (n, n_i) of
+    model order p from its reduced normal matrix M; None when M is singular."""
+    m = p * n_i
+    try:
+        alpha = -np.linalg.solve(M[:m, :m], M[:m, m:])  # (p n_i, n_i), alpha_p = I
+    except np.linalg.LinAlgError:
+        return None
+    C = np.zeros((m, m))
+    if p > 1:
+        C[:-n_i, n_i:] = np.eye(m - n_i)
+    # Companion of A^T(z) = sum alpha_r^T z^r: same poles, and its eigenvectors' first block are the
+    # left null vectors of A(s), i.e. the participation factors (H = B A^-1 ~ B v w^T / (s - lambda)).
+    C[-n_i:, :] = -alpha.reshape(p, n_i, n_i).transpose(0, 2, 1).transpose(1, 0, 2).reshape(n_i, m)
+    if n_i == 1:  # one reference: every participation factor is 1, the eigenvectors are not needed
+        z = np.linalg.eigvals(C)
+        L = np.ones((m, 1), complex)
+    else:
+        z, V = np.linalg.eig(C)
+        L = V[:n_i].T  # participation factors (n, n_i)
+    s = np.log(z.astype(complex)) / dt
+    ok = (s.imag > 0) & (s.real < 0)
+    s, L = s[ok], L[ok]
+    L = L / np.linalg.norm(L, axis=1, keepdims=True)
+    order = np.argsort(np.abs(s))
+    return s[order], L[order]
 
 
 def lsfd(frequencies_hz, H, poles, participation=None, outputs=None, inputs=None, residuals: bool = True,

@@ -29,9 +29,10 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from ..errors import EMAError
+from ..fem.linsolve import serial_blas
 from .polymax import checked_frfs
 
-_BLOCK = 1 << 19  # entries (lines x products) of one block of the weighted products over the lines
+_BLOCK = 1 << 17  # entries (products x lines) of one block of the weighted products: 1 MB, cache-sized
 
 
 @dataclass(frozen=True)
@@ -61,6 +62,14 @@ def frf_variance_from_coherence(H, coherence, n_averages: int):
     return np.abs(H) ** 2 * (1 - g) / (g * (n_averages - 1))
 
 
+def _real_stack(A):
+    """[Re A^T, Im A^T] (n, 2R) of A (R, n) complex, row-major: the rows the weighted products gather."""
+    out = np.empty((A.shape[1], 2 * len(A)))
+    out[:, :len(A)] = A.real.T
+    out[:, len(A):] = A.imag.T
+    return out
+
+
 def _lambda(wn, z):
     return -z * wn + 1j * wn * np.sqrt(1 - z ** 2)
 
@@ -76,12 +85,14 @@ class _Problem:
         self.u = u.transpose(0, 2, 1).reshape(n_f * n_i, n_o)
         self.uT = np.ascontiguousarray(self.u.T)  # (n_o, R): the weights as the left factor of BLAS products
         self.h2 = np.vstack([self.h.real, self.h.imag])  # (2R, n_o) real stacking
-        self.uh2 = self.h2 * np.vstack([self.u, self.u])
+        self.u2 = np.vstack([self.u, self.u])
+        self.uh2 = self.h2 * self.u2
         self.ref_fixed = np.asarray(ref_fixed)
         self.iw = np.repeat(1j * w, n_i)  # (R,)
         self.ref = np.tile(np.arange(n_i), n_f)  # reference of each row
         self.onehot = (self.ref[:, None] == np.arange(n_i)[None, :]).astype(float)  # (R, n_i)
         self.n_free_L = n_i - 1
+        self._fits, self._normal = {}, (None, None)  # caches of _fit and normal, keyed by theta
 
     # parameters: theta = [wn (M), zeta (M), (Re L_free, Im L_free) per mode]
     def unpack(self, theta):
@@ -119,59 +130,58 @@ class _Problem:
         scale = 1.0 / np.sqrt(np.mean(np.abs(A) ** 2, axis=0))
         return A * scale, scale, (lam, L, Pa, Pb, Lr)
 
-    def _gram(self, A2, pairs=None):
+    def _gram(self, A2T, pairs=None):
         """Re(A^H U_o A) for every output o, upper triangle (n_o, n(n+1)/2) (or the entries (I, J) of
-        pairs), from the real stacking A2 = [Re A; Im A] (2R, n): Re(conj(a) b) = Re a Re b + Im a Im b.
-        The products are formed in blocks of lines and summed over the lines by one BLAS matrix product
-        per block."""
-        R, n = self.n_f * self.n_i, A2.shape[1]
-        I, J = np.triu_indices(n) if pairs is None else pairs
+        pairs), from the real stacking A2T = [Re A^T, Im A^T] (n, 2R): Re(conj(a) b) = Re a Re b + Im a Im b.
+        The products are formed in cache-sized blocks of lines, one row per pair (contiguous along the
+        lines) in reused buffers, and summed over the lines by one BLAS matrix product per block."""
+        R = self.n_f * self.n_i
+        I, J = np.triu_indices(len(A2T)) if pairs is None else pairs
         out = np.zeros((self.n_o, len(I)))
         step = max(64, _BLOCK // len(I))
+        P, Q, T = (np.empty((len(I), min(step, R))) for _ in range(3))
         for s in range(0, R, step):
             e = min(s + step, R)
-            a, b = A2[s:e], A2[R + s:R + e]
-            P = a[:, I] * a[:, J]
-            P += b[:, I] * b[:, J]
-            out += self.uT[:, s:e] @ P
+            if e - s < P.shape[1]:  # the last, shorter block
+                P, Q, T = (np.empty((len(I), e - s)) for _ in range(3))
+            a, b = A2T[:, s:e], A2T[:, R + s:R + e]
+            np.take(a, I, axis=0, out=P, mode="clip")  # mode "clip": no buffering (the indices are valid)
+            P *= np.take(a, J, axis=0, out=Q, mode="clip")
+            np.take(b, I, axis=0, out=Q, mode="clip")
+            Q *= np.take(b, J, axis=0, out=T, mode="clip")
+            P += Q
+            out += self.uT[:, s:e] @ P.T
         return out
 
-    def _cross_grams(self, A, Phi):
-        """A^H U_o Phi (n_o, n_lin, n_phi) and Phi^H U_o Phi (n_o, n_phi, n_phi) for every output o
-        (complex; weights real), formed as _gram does (complex products viewed as pairs of reals)."""
-        R, n_lin, n_phi = len(A), A.shape[1], Phi.shape[1]
-        n1 = n_lin * n_phi
-        N = n1 + n_phi * (n_phi + 1) // 2
-        step = max(64, _BLOCK // (2 * N))
-        out = np.zeros((self.n_o, 2 * N))
-        P = np.empty((step, N), complex)
-        for s in range(0, R, step):
-            e = min(s + step, R)
-            m, f = e - s, Phi[s:e]
-            np.multiply(A[s:e].conj()[:, :, None], f[:, None, :], out=P[:m, :n1].reshape(m, n_lin, n_phi))
-            fc, off = f.conj(), n1
-            for i in range(n_phi):  # upper triangle, row by row
-                np.multiply(fc[:, i:i + 1], f[:, i:], out=P[:m, off:off + n_phi - i])
-                off += n_phi - i
-            out += self.uT[:, s:e] @ P[:m].view(float)
-        out = out.view(complex)
-        I, J = np.triu_indices(n_phi)
-        B = np.empty((self.n_o, n_phi, n_phi), complex)
-        B[:, I, J] = out[:, n1:]
-        B[:, J, I] = out[:, n1:].conj()
-        return out[:, :n1].reshape(self.n_o, n_lin, n_phi), B
+    def gram(self, A2T):
+        """Re(A^H U_o A) (n_o, n, n) of the real stacking A2T = [Re A^T, Im A^T] (n, 2R)."""
+        n = len(A2T)
+        I, J = np.triu_indices(n)
+        Gt = self._gram(A2T)
+        G = np.empty((self.n_o, n, n))
+        G[:, I, J] = Gt
+        G[:, J, I] = Gt
+        return G
+
+    def _cross_grams(self, A2T, X2T):
+        """Re(A^H U_o X) (n_o, n_a, n_x) and Re(X^H U_o X) (n_o, n_x, n_x) for every output o from the real
+        stackings A2T (n_a, 2R) and X2T (n_x, 2R), in one pass over the lines (`_gram`)."""
+        n_a, n_x = len(A2T), len(X2T)
+        I, J = np.triu_indices(n_x)
+        pairs = (np.r_[np.repeat(np.arange(n_a), n_x), n_a + I], np.r_[np.tile(np.arange(n_x), n_a) + n_a, n_a + J])
+        out = self._gram(np.vstack([A2T, X2T]), pairs)
+        B = np.empty((self.n_o, n_x, n_x))
+        B[:, I, J] = out[:, n_a * n_x:]
+        B[:, J, I] = out[:, n_a * n_x:]
+        return out[:, :n_a * n_x].reshape(self.n_o, n_a, n_x), B
 
     def linear(self, A):
         """Per-output normal equations: x (n_o, n_lin) real, Gram G (n_o, n_lin, n_lin), cost (n_o,) and
         the model at x as the real stacking [Re; Im] (2R, n_o)."""
         n_lin = A.shape[1]
-        A2 = np.vstack([A.real, A.imag])  # (2R, n_lin): real BLAS products only
-        I, J = np.triu_indices(n_lin)
-        Gt = self._gram(A2)  # Re(A^H U_o A), upper triangle
-        G = np.empty((self.n_o, n_lin, n_lin))
-        G[:, I, J] = Gt
-        G[:, J, I] = Gt
-        b = (self.uh2.T @ A2)  # (n_o, n_lin) = Re(A^H U_o h_o)
+        A2T = _real_stack(A)  # (n_lin, 2R): real BLAS products only
+        G = self.gram(A2T)
+        b = (A2T @ self.uh2).T  # (n_o, n_lin) = Re(A^H U_o h_o)
         d = np.sqrt(np.maximum(np.einsum("oii->oi", G), 1e-300))
         Gs = G / d[:, :, None] / d[:, None, :] + 1e-12 * np.eye(n_lin)
         try:
@@ -181,21 +191,21 @@ class _Problem:
                            "remove duplicate modes before refining") from None
         # The cost from the residual itself (not hh - b.x, whose cancellation leaves round-off noise of
         # ~1e-11 of the cost that would decide the last Gauss-Newton steps).
-        model = A2 @ x.T  # (2R, n_o)
+        model = A2T.T @ x.T  # (2R, n_o)
         r = self.h2 - model
         r *= r
-        cost = np.einsum("ro,ro->o", self.u, r[:len(A)] + r[len(A):])
-        return x, G, cost, model
+        return x, G, np.einsum("ro,ro->o", self.u2, r), model
 
     def _fit(self, theta):
-        """Design, scale and linear solution at theta (the last one cached: a trial step's cost
-        evaluation is reused by the next normal())."""
+        """Design, scale and linear solution at theta. The last two are cached: a trial step's cost
+        evaluation is reused by the next normal(), the optimum's survives the start's cost evaluation."""
         key = theta.tobytes()
-        if getattr(self, "_key", None) != key:
+        if key not in self._fits:
             A, scale, terms = self.design(theta)
-            x, G, cost_o, model = self.linear(A)
-            self._key, self._cache = key, (A, scale, terms, x, G, cost_o, model)
-        return self._cache
+            self._fits[key] = (A, scale, terms, *self.linear(A))
+            if len(self._fits) > 2:
+                del self._fits[next(iter(self._fits))]
+        return self._fits[key]
 
     def cost(self, theta):
         return float(np.sum(self._fit(theta)[5]))
@@ -227,32 +237,38 @@ class _Problem:
     def normal(self, theta):
         """Cost, gradient g = J^T r and reduced (Schur complement) normal matrix S over theta.
 
-        With Phi = [beta, gamma] and V_o (2 n_b, n_t) holding alpha_ot in row basis[t] and its conjugate
-        in row n_b + basis[t], the Jacobian of output o is J_o = Phi V_o, so every sum over lines is one
-        of the weighted products Phi^H U_o Phi and A^H U_o Phi, formed for all outputs at once; the
-        per-output Jacobians are never formed. Real parameters: J^T U J = Re(J^H U J)."""
+        The Jacobian column of parameter t for output o is alpha_ot beta_k + conj(alpha_ot) gamma_k
+        (`_derivative_basis`), = Re(alpha_ot) (beta_k + gamma_k) + Im(alpha_ot) i (beta_k - gamma_k): a real
+        combination J_o = X V_o of the 2 n_b columns X = [beta + gamma, i (beta - gamma)], V_o (2 n_b, n_t)
+        real. With real parameters J^T U J = Re(J^H U J), so every sum over lines is one of the real parts
+        Re(X^H U_o X) and Re(A^H U_o X), formed for all outputs at once (`_cross_grams`); the per-output
+        Jacobians are never formed. The last one is cached."""
+        key = theta.tobytes()
+        if self._normal[0] != key:
+            self._normal = key, self._normal_at(theta)
+        return self._normal[1]
+
+    def _normal_at(self, theta):
         A, scale, terms, x, G, cost_o, model_lin = self._fit(theta)
-        M, n_o, R = self.M, self.n_o, len(A)
-        p, q = x[:, :M] * scale[:M], x[:, M:2 * M] * scale[M:2 * M]  # psi = p + i q, (n_o, M)
-        psi = p + 1j * q
+        M, n_o, n_lin = self.M, self.n_o, A.shape[1]
+        psi = x[:, :M] * scale[:M] + 1j * x[:, M:2 * M] * scale[M:2 * M]  # (n_o, M)
         beta, gamma, c, basis, owner = self._derivative_basis(theta, terms)
-        n_b, n_t, n_lin = beta.shape[1], len(c), A.shape[1]
-        Phi = np.hstack([beta, gamma])
-        AP, B = self._cross_grams(A, Phi)  # one pass over the lines
+        n_b, n_t = beta.shape[1], len(c)
+        X = np.hstack([beta + gamma, 1j * (beta - gamma)])
+        X2T = _real_stack(X)  # (2 n_b, 2R)
+        AX, B = self._cross_grams(_real_stack(A), X2T)  # one pass over the lines
         alpha = psi[:, owner] * c  # (n_o, n_t)
-        V = np.zeros((n_o, 2 * n_b, n_t), complex)
-        V[:, basis, np.arange(n_t)] = alpha
-        V[:, n_b + basis, np.arange(n_t)] = alpha.conj()
-        JJ = (V.conj().reshape(-1, n_t).T @ (B @ V).reshape(-1, n_t)).real  # sum_o J_o^T U_o J_o
-        C = (AP @ V).real  # C_o = A_o^T U_o J_o (n_o, n_lin, n_t)
+        V = np.zeros((n_o, 2 * n_b, n_t))
+        V[:, basis, np.arange(n_t)] = alpha.real
+        V[:, n_b + basis, np.arange(n_t)] = alpha.imag
+        JJ = np.einsum("obt,obs->ts", V, B @ V)  # sum_o J_o^T U_o J_o
+        C = AX @ V  # C_o = A_o^T U_o J_o (n_o, n_lin, n_t)
         ridge = 1e-12 * np.einsum("cii->ci", G).max(axis=1)[:, None, None] * np.eye(n_lin)
         Y = np.linalg.solve(G + ridge, C)
         S = JJ - np.einsum("olt,ols->ts", C, Y)
         S = 0.5 * (S + S.T)
-        # Gradient: sum_o J_o^T U_o r_o, the residual at the linear optimum.
-        r = self.h2 - model_lin
-        ur = self.u * (r[:R] + 1j * r[R:])
-        g = np.einsum("ost,so->t", V.conj(), Phi.conj().T @ ur).real
+        # Gradient: sum_o J_o^T U_o r_o = sum_o V_o^T Re(X^H U_o r_o), the residual at the linear optimum.
+        g = np.einsum("obt,bo->t", V, X2T @ (self.u2 * (self.h2 - model_lin)))
         return float(np.sum(cost_o)), g, S, (x, scale, psi, terms[1], terms[0])
 
 
@@ -290,11 +306,11 @@ def mode_significance(frfs, modal_set, variance, frequency_band=None) -> np.ndar
 
 
 class SignificanceScreen:
-    """`mode_significance` of one candidate mode added to a fixed set of modes, for many candidates in
-    turn (the screening of weak clusters): the fixed set's weighted Gram is formed and inverted once per
-    output; a candidate adds two columns, whose statistic is (b_c - G_cb y)^T S_c^-1 (b_c - G_cb y)
-    summed over outputs, S_c = G_cc - G_cb G_bb^-1 G_bc the Schur complement (= the inverse of the
-    candidate's block of the full inverse Gram), y = G_bb^-1 b_b. Poles s [rad/s], participations L."""
+    """`mode_significance` of one candidate mode added to a fixed set of modes, for many candidates (the
+    screening of weak clusters): the fixed set's weighted Gram is formed and inverted once per output; a
+    candidate adds two columns, whose statistic is (b_c - G_cb y)^T S_c^-1 (b_c - G_cb y) summed over
+    outputs, S_c = G_cc - G_cb G_bb^-1 G_bc the Schur complement (= the inverse of the candidate's block
+    of the full inverse Gram), y = G_bb^-1 b_b. Poles s [rad/s], participations L."""
 
     def __init__(self, frfs, poles, participation, variance, frequency_band=None):
         freq, H = (frfs if isinstance(frfs, tuple) else (frfs.frequencies_hz, frfs.H))
@@ -302,13 +318,13 @@ class SignificanceScreen:
         V = np.asarray(variance, float)
         self.prob = _Problem(2 * np.pi * freq[keep], H[keep], 2.0 / V[keep], len(poles), np.zeros(len(poles), int))
         A, _, _ = self.prob.design(self._theta(self.prob, poles, participation))
-        self.A2 = np.vstack([A.real, A.imag])
-        _, G, _, _ = self.prob.linear(A)
+        self.A2T = _real_stack(A)
+        G = self.prob.gram(self.A2T)
         n = G.shape[1]
         d = np.sqrt(np.maximum(np.einsum("oii->oi", G), 1e-300))
         Gs = G / d[:, :, None] / d[:, None, :] + 1e-12 * np.eye(n)
         self.Ginv = np.linalg.inv(Gs) / d[:, :, None] / d[:, None, :]
-        self.bb = self.prob.uh2.T @ self.A2
+        self.bb = (self.A2T @ self.prob.uh2).T
         self.y = np.einsum("oij,oj->oi", self.Ginv, self.bb)
 
     @staticmethod
@@ -321,23 +337,29 @@ class SignificanceScreen:
         return prob.pack(wn, z, L)
 
     def __call__(self, pole, participation) -> float:
-        prob, n = self.prob, self.A2.shape[1]
+        return float(self.many([pole], [participation])[0])
+
+    def many(self, poles, participations) -> np.ndarray:
+        """The statistic of each candidate (pole, participation) in turn, all in one pass over the lines."""
+        prob, n, nc = self.prob, len(self.A2T), len(poles)
         M = prob.M
-        prob.M = 1
+        prob.M = nc
         try:
-            ac, _, _ = prob.design(self._theta(prob, pole, participation), residuals=False)  # (R, 2)
+            ac, _, _ = prob.design(self._theta(prob, poles, participations), residuals=False)  # (R, 2 nc)
         finally:
             prob.M = M
-        X2 = np.hstack([self.A2, np.vstack([ac.real, ac.imag])])
-        I = np.r_[np.repeat(np.arange(n), 2), n, n, n + 1]
-        J = np.r_[np.tile([n, n + 1], n), n, n + 1, n + 1]
-        prods = prob._gram(X2, (I, J))
-        Gbc = prods[:, :2 * n].reshape(-1, n, 2)
-        Gcc = prods[:, 2 * n:][:, [0, 1, 1, 2]].reshape(-1, 2, 2)
-        bc = prob.uh2.T @ X2[:, n:]
-        Sc = Gcc - Gbc.transpose(0, 2, 1) @ (self.Ginv @ Gbc)
-        e = bc - np.einsum("oic,oi->oc", Gbc, self.y)
-        return float(np.sum(e * np.linalg.solve(Sc, e[:, :, None])[:, :, 0]))
+        ac = ac.reshape(-1, 2, nc).transpose(0, 2, 1).reshape(-1, 2 * nc)  # candidate k: columns 2k, 2k + 1
+        X2T = np.vstack([self.A2T, _real_stack(ac)])
+        cols = n + 2 * np.arange(nc)[:, None]  # (nc, 1): each candidate's first column
+        I = np.hstack([np.repeat(np.arange(n), 2)[None, :].repeat(nc, 0), cols, cols, cols + 1])
+        J = np.hstack([cols + np.tile([0, 1], n), cols, cols + 1, cols + 1])
+        prods = prob._gram(X2T, (I.ravel(), J.ravel())).reshape(-1, nc, 2 * n + 3)
+        Gbc = prods[:, :, :2 * n].reshape(-1, nc, n, 2)
+        Gcc = prods[:, :, 2 * n:][:, :, [0, 1, 1, 2]].reshape(-1, nc, 2, 2)
+        bc = (X2T[n:] @ prob.uh2).T.reshape(-1, nc, 2)
+        Sc = Gcc - np.einsum("okic,oij,okjd->okcd", Gbc, self.Ginv, Gbc, optimize=True)
+        e = bc - np.einsum("okic,oi->okc", Gbc, self.y)
+        return np.einsum("okc,okc->k", e, np.linalg.solve(Sc, e[..., None])[..., 0])
 
 
 def _variance_from_residual(model, H, iterations: int = 6):
@@ -346,14 +368,19 @@ def _variance_from_residual(model, H, iterations: int = 6):
     (e^2 of complex Gaussian noise is exponential with mean var and standard deviation var).
     The proportional term follows the measured |H|^2 (an averaged FRF's variance is |H|^2 (1 - coh) /
     (coh n_avg)), which stays right where the model is still wrong (the start)."""
+    shape = H.shape
+    H, model = H.reshape(len(H), -1), model.reshape(len(H), -1)  # (lines, FRFs): long inner loops
     m2 = np.abs(H) ** 2
     e2 = np.abs(H - model) ** 2
-    var = np.broadcast_to(np.mean(e2, axis=0, keepdims=True), e2.shape)
+    products = (m2 * m2, m2, e2 * m2, e2)  # the weighted sums' factors (fixed)
+    var, q = np.empty_like(e2), np.empty_like(e2)
+    var[:] = np.mean(e2, axis=0)
     for _ in range(iterations):
-        q = 1.0 / np.maximum(var, 1e-300) ** 2
-        qm, qe = q * m2, q * e2
-        s_mm, s_m, s_1 = np.sum(qm * m2, axis=0), np.sum(qm, axis=0), np.sum(q, axis=0)
-        s_em, s_e = np.sum(qe * m2, axis=0), np.sum(qe, axis=0)
+        np.maximum(var, 1e-300, out=q)
+        q *= q
+        np.divide(1.0, q, out=q)
+        s_mm, s_m, s_em, s_e = (np.einsum("kc,kc->c", q, f) for f in products)
+        s_1 = np.sum(q, axis=0)
         det = s_mm * s_1 - s_m ** 2
         ok = det > 1e-12 * s_mm * s_1
         a = np.where(ok, (s_em * s_1 - s_m * s_e) / np.where(ok, det, 1.0), 0.0)
@@ -361,16 +388,25 @@ def _variance_from_residual(model, H, iterations: int = 6):
         # Clip: whichever term would go negative is dropped and the other refitted alone.
         a, b = np.where(b < 0, s_em / np.maximum(s_mm, 1e-300), a), np.where(b < 0, 0.0, b)
         a, b = np.where(a < 0, 0.0, a), np.where(a < 0, s_e / s_1, b)
-        var = a * m2 + b
-        floor = 1e-9 * np.maximum(np.max(var, axis=0, keepdims=True), 1e-300)
-        var = np.maximum(var, floor)
-    return var
+        np.multiply(m2, a, out=var)
+        var += b
+        np.maximum(var, 1e-9 * np.maximum(np.max(var, axis=0), 1e-300), out=var)
+    return var.reshape(shape)
+
+
+def _variance_from_fit(prob, theta, H):
+    """`_variance_from_residual` of the FRFs H (n_f, n_o, n_i) about prob's linear fit at theta."""
+    A, _, _ = prob.design(theta)
+    model = prob.linear(A)[3]
+    model = (model[:len(A)] + 1j * model[len(A):]).reshape(prob.n_f, prob.n_i, prob.n_o).transpose(0, 2, 1)
+    return _variance_from_residual(model, H)
 
 
 def _solve(prob, theta0, max_iter, tol):
+    """Levenberg-Marquardt from theta0: (theta, cost, converged, iterations). The normal matrix at the
+    converged theta is left to the caller (prob.normal, cached), which needs it only on the last pass."""
     theta = theta0.copy()
-    cost, g, S, extra = prob.normal(theta)
-    cost0 = cost
+    cost, g, S, _ = prob.normal(theta)
     mu = 1e-3
     converged = False
     it = 0
@@ -397,14 +433,16 @@ def _solve(prob, theta0, max_iter, tol):
         predicted = float(step @ g)
         theta = trial
         drop = cost - c_trial
-        cost, g, S, extra = prob.normal(theta)
-        mu = max(mu / 10, 1e-9)
+        cost = c_trial
         if drop < tol and predicted < 10 * tol:
             converged = True
             break
-    return theta, cost, cost0, g, S, extra, converged, it
+        cost, g, S, _ = prob.normal(theta)
+        mu = max(mu / 10, 1e-9)
+    return theta, cost, converged, it
 
 
+@serial_blas  # as polymax: medium products (outputs x lines x a few hundred), one BLAS thread
 def refine(frfs, modal_set, variance=None, frequency_band=None, max_iter: int = 30, tol: float = 1e-3,
            return_info: bool = False):
     """Maximum-likelihood refinement of poles, participation factors, shapes and residuals.
@@ -463,32 +501,24 @@ def refine(frfs, modal_set, variance=None, frequency_band=None, max_iter: int = 
     def problem(V):
         return _Problem(w, Hk, 2.0 / V, M, ref_fixed)
 
-    theta0 = None
+    if estimated:  # the noise model's linear fits weight every line by its relative error (1/|H|^2)
+        h2 = np.abs(Hk) ** 2
+        relative = problem(np.maximum(h2, 1e-12 * h2.max(axis=0, keepdims=True)) + 1e-300)
+    theta0 = theta = None
     passes = 2 if estimated else 1
-    result = None
-    for p in range(passes):
-        if estimated:
-            # Noise model from the residual of the current fit (the start's on the first pass).
-            start_theta = theta0 if result is None else result[0]
-            # Linear fit weighted by 1/|H|^2 (every line by its relative error) for the residual.
-            h2 = np.abs(Hk) ** 2
-            tmp = problem(np.maximum(h2, 1e-12 * h2.max(axis=0, keepdims=True)) + 1e-300)
-            if start_theta is None:
-                start_theta = tmp.pack(wn0, z0, L0)
-            A, _, _ = tmp.design(start_theta)
-            model = tmp.linear(A)[3]
-            model = (model[:len(A)] + 1j * model[len(A):]).reshape(n_f, n_i, n_o).transpose(0, 2, 1)
-            V = _variance_from_residual(model, Hk)
+    for k in range(passes):
+        if estimated:  # noise model from the residual of the current fit (the start's on the first pass)
+            V = _variance_from_fit(relative, relative.pack(wn0, z0, L0) if theta is None else theta, Hk)
         prob = problem(V)
         if theta0 is None:
             theta0 = prob.pack(wn0, z0, L0)
-        start = theta0 if result is None else result[0]
         try:
-            result = _solve(prob, start, max_iter, tol)
+            theta, cost, converged, iters = _solve(prob, theta0 if theta is None else theta, max_iter, tol)
+            if k == passes - 1:  # the first pass only moves the start of the second
+                cost, g, S, extra = prob.normal(theta)
         except (np.linalg.LinAlgError, FloatingPointError) as exc:
             raise EMAError(f"refine: the Gauss-Newton iteration failed ({exc}); check for duplicate or "
                            "out-of-band modes") from None
-    theta, cost, _, g, S, extra, converged, iters = result
     cost_start = prob.cost(theta0)  # with the final weights: a fair comparison
     wn, z, L = prob.unpack(theta)
     bw = 2 * z0 * wn0  # half-power bandwidth [rad/s]

@@ -31,8 +31,9 @@ import numpy as np
 from scipy.stats import chi2
 
 from ..errors import EMAError
+from ..fem.linsolve import serial_blas
 from .clustering import group_by_gap, representative, split_by_order
-from .polymax import ModalSet, Stabilisation, lsfd, polymax
+from .polymax import ModalSet, Stabilisation, polymax
 from .refine import SignificanceScreen, refine
 
 
@@ -49,8 +50,10 @@ class Cluster:
     mac: float  # median participation MAC with the representative
 
 
-def _mac(a, b):
-    return abs(np.vdot(a, b)) ** 2 / max(np.vdot(a, a).real * np.vdot(b, b).real, 1e-300)
+def _macs(pts, idx, b):
+    """MAC of the participation vectors of poles idx with b."""
+    a = np.array([pts[i][1] for i in idx])
+    return np.abs(a.conj() @ b) ** 2 / np.maximum(np.sum(np.abs(a) ** 2, axis=1) * np.vdot(b, b).real, 1e-300)
 
 
 def clusters(stab: Stabilisation, min_fraction: float = 0.3, tol_f: float = 0.01, min_orders: int = 4,
@@ -77,7 +80,7 @@ def clusters(stab: Stabilisation, min_fraction: float = 0.3, tol_f: float = 0.01
             best = representative(pts, list(sub), f, tol_f)
             used[sub] = True
             if f_lo <= f[best] <= f_hi:
-                macs = [_mac(pts[i][1], pts[best][1]) for i in sub]
+                macs = _macs(pts, sub, pts[best][1])
                 out.append(Cluster(pts[best][0], pts[best][1], np.array([pts[i][2] for i in sub]), f[sub], True,
                                    float(np.median(macs))))
     # Weak clusters from the poles left: looser grouping (a weak pole wanders by a fraction of a line).
@@ -88,7 +91,7 @@ def clusters(stab: Stabilisation, min_fraction: float = 0.3, tol_f: float = 0.01
             if len({pts[i][2] for i in c}) < min_orders:
                 continue
             best = representative(pts, c, f, 5 * tol_f)
-            macs = [_mac(pts[i][1], pts[best][1]) for i in c]
+            macs = _macs(pts, c, pts[best][1])
             z = -pts[best][0].real / abs(pts[best][0])
             if np.median(macs) >= min_mac and z <= max_damping and f_lo <= f[best] <= f_hi:
                 out.append(Cluster(pts[best][0], pts[best][1], np.array([pts[i][2] for i in c]), f[c], False,
@@ -105,12 +108,15 @@ def _subset(ms: ModalSet, keep) -> ModalSet:
                    frequency_std_hz=pick(ms.frequency_std_hz), damping_std=pick(ms.damping_std))
 
 
-def _start(stab, poles, parts, variance_band):
-    f_lo, f_hi = stab.band
-    band = (stab.frequencies_hz >= f_lo) & (stab.frequencies_hz <= f_hi)
+def _start(stab, poles, parts):
+    """The refinement's start: poles s [rad/s] by |s| with their participations. `refine` takes only the
+    frequencies, damping ratios and participations of a modal set (it fits shapes and residuals itself),
+    so no LSFD here: the shapes and residues are left empty."""
     o = np.argsort(np.abs(poles))
-    return lsfd(stab.frequencies_hz[band], stab.H[band], np.asarray(poles)[o], np.asarray(parts)[o],
-                stab.outputs, stab.inputs, weighting=stab.weighting)
+    s, L = np.asarray(poles)[o], np.asarray(parts)[o]
+    n_i = stab.H.shape[2]
+    return ModalSet(np.abs(s) / (2 * np.pi), -s.real / np.abs(s), np.zeros((len(s), 0), complex), L,
+                    np.zeros((len(s), 0, n_i), complex), stab.outputs, stab.inputs)
 
 
 def _pole(ms):
@@ -118,6 +124,7 @@ def _pole(ms):
     return -ms.damping_ratio * wn + 1j * wn * np.sqrt(1 - ms.damping_ratio ** 2)
 
 
+@serial_blas  # as refine
 def select_ml(stab: Stabilisation, variance=None, alpha: float = 1e-6, min_fraction: float = 0.3,
               tol_f: float = 0.01, min_orders: int = 4, min_mac: float = 0.9, max_damping: float = 0.3,
               max_trials: int = 6, return_info: bool = False):
@@ -138,7 +145,7 @@ def select_ml(stab: Stabilisation, variance=None, alpha: float = 1e-6, min_fract
     band = stab.band
 
     def fit(poles, parts, start_var):
-        ms0 = _start(stab, poles, parts, band)
+        ms0 = _start(stab, poles, parts)
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
             ms, info = refine(frfs, ms0, variance=start_var, frequency_band=band, return_info=True)
@@ -160,7 +167,7 @@ def select_ml(stab: Stabilisation, variance=None, alpha: float = 1e-6, min_fract
     added = False
     tried = 0
     screen = None
-    for c in weak:
+    for i, c in enumerate(weak):
         if c in kept or tried >= max_trials:
             continue
         sd_f = ms.frequency_std_hz
@@ -172,10 +179,12 @@ def select_ml(stab: Stabilisation, variance=None, alpha: float = 1e-6, min_fract
         trial_L = np.vstack([ms.participation / np.linalg.norm(ms.participation, axis=1, keepdims=True), c.L])
         # Screen at the candidate's PolyMAX pole (one linear solve): a pole that does not pass the test
         # there is not tried (a real mode's statistic is orders of magnitude above the threshold).
-        # (The kept set's weighted Gram is shared by every candidate: SignificanceScreen.)
+        # The kept set's weighted Gram is shared by every candidate, and the candidates left are
+        # screened against it together (SignificanceScreen.many) until a candidate is kept.
         if screen is None:
             screen = SignificanceScreen(frfs, trial_s[:-1], trial_L[:-1], base_var, band)
-        if screen(c.s, c.L) < threshold:
+            statistic = dict(zip(range(i, len(weak)), screen.many([w.s for w in weak[i:]], [w.L for w in weak[i:]])))
+        if statistic[i] < threshold:
             continue
         tried += 1
         try:

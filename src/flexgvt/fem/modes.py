@@ -164,10 +164,14 @@ def real_modes(K: sp.spmatrix, M: sp.spmatrix, n_modes: int, shift: float | None
                 sigma = _rigid_safe_shift(K, dm, sigma)
             Mop = M.tocsr()  # ARPACK multiplies by M a few times per pair: leave exact zeros out
             Mop.eliminate_zeros()
+            # A fixed start vector: ARPACK's own is random, so results (and an optimiser's path through
+            # nearly repeated modes) would change from one run to the next in the last digits.
+            v0 = np.random.default_rng(0).standard_normal(n)
 
             def run(s):
                 return spla.eigsh(K.tocsc(), k=k_run, M=Mop, sigma=s, which="LM", mode="normal",
-                                  OPinv=_cholesky_inverse(K, M, s, cholmod) if use_cholmod else None, tol=1e-12)
+                                  OPinv=_cholesky_inverse(K, M, s, cholmod) if use_cholmod else None, tol=1e-12,
+                                  v0=v0)
 
             lam, phi = run(sigma)
             if shift is None and not clamped:

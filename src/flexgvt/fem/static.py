@@ -167,14 +167,17 @@ class _Factor:
         return x
 
 
-def _rigid_body_check(system: System, K: sp.csc_matrix | Callable[[], sp.csc_matrix], f_red: np.ndarray,
-                      x: np.ndarray, R: np.ndarray) -> None:
-    """Raise a clear error if the loads push along a rigid-body motion that nothing restrains.
-    K: the undeformed tangent, or a function giving it (called only if a rigid motion is free)."""
-    names = ["translation along x", "translation along y", "translation along z",
-             "rotation about x", "rotation about y", "rotation about z"]
+_RIGID_NAMES = ("translation along x", "translation along y", "translation along z",
+                "rotation about x", "rotation about y", "rotation about z")
+
+
+def _pushed_rigid_motion(system: System, K: sp.csc_matrix | Callable[[], sp.csc_matrix], f_red: np.ndarray,
+                         x: np.ndarray, R: np.ndarray) -> np.ndarray | None:
+    """The rigid-body motion (coefficients of the six canonical motions about the centroid) that
+    the loads push along and nothing restrains, or None. K: the undeformed tangent, or a function
+    giving it (called only if a rigid motion is free)."""
     if system.clamped:
-        return
+        return None
     modes, basis = system.unrestrained_rigid_motions(x)
     if callable(K):
         K = K()
@@ -185,16 +188,97 @@ def _rigid_body_check(system: System, K: sp.csc_matrix | Callable[[], sp.csc_mat
     scale = max(abs(Ksym.diagonal()).max(), 1e-300)
     null = v[:, w <= 1e-13 * scale]  # motions with no stiffness above round-off
     if null.shape[1] == 0:
-        return
+        return None
     push = (phi @ null).T @ f_red  # generalised load on each unrestrained motion
     if np.linalg.norm(push) <= 1e-8 * max(np.linalg.norm(f_red), 1e-300):
-        return
-    coeffs = basis @ (null @ push)  # the pushed motion in terms of the six canonical rigid motions
-    pushed = [names[i] for i in np.flatnonzero(np.abs(coeffs) > 0.1 * np.abs(coeffs).max())]
-    raise SingularModelError(
+        return None
+    return basis @ (null @ push)
+
+
+def _unrestrained_error(system: System, coeffs: np.ndarray, extra: str = "") -> SingularModelError:
+    pushed = [_RIGID_NAMES[i] for i in np.flatnonzero(np.abs(coeffs) > 0.1 * np.abs(coeffs).max())]
+    return SingularModelError(
         f"configuration '{system.config.name}': the model is under-constrained: the loads push it along "
-        f"{' and '.join(pushed)} and nothing restrains that motion. Fix DOFs (fixed={{node: '123456'}}), add "
-        "springs or suspension cords, or remove the load.")
+        f"{' and '.join(pushed)} and nothing restrains that motion{extra}. Fix DOFs (fixed={{node: '123456'}}), "
+        "add springs or suspension cords, or remove the load.")
+
+
+def _rigid_body_check(system: System, K: sp.csc_matrix | Callable[[], sp.csc_matrix], f_red: np.ndarray,
+                      x: np.ndarray, R: np.ndarray) -> None:
+    """Raise a clear error if the loads push along a rigid-body motion that nothing restrains."""
+    coeffs = _pushed_rigid_motion(system, K, f_red, x, R)
+    if coeffs is not None:
+        raise _unrestrained_error(system, coeffs)
+
+
+def _sag_may_hold(system: System, coeffs: np.ndarray) -> bool:
+    """A structure on loaded cords under gravity, pushed only in rotation: once it sags its centre of
+    mass can hang below the cords' line (a strip hung on two cords along its axis, its centre of
+    mass off that axis, rolls a little and is held)."""
+    big = np.abs(coeffs) > 0.1 * np.abs(coeffs).max()
+    return bool(len(system.cord_nodes) and np.any(system.mass_weight) and not big[:3].any())
+
+
+# Holding-spring stiffness during the load ramp, released in these steps (fractions of the start).
+_RELEASE = (1.0, 1e-1, 1e-2, 1e-3, 1e-4, 0.0)
+
+
+def _hold_then_release(model: Model, configuration: Configuration, system: System, coeffs: np.ndarray,
+                       settings: StaticSettings, load_factors, progress, keep_steps: bool):
+    """Equilibrium of a structure that its deformation restrains but its undeformed shape does not:
+    the load ramp with a rotational spring at the node nearest the centroid holding the pushed
+    rotations (stiffness weight x span per radian), then that spring released step by step, each
+    step a Newton solve at full load from the last; the last has no spring, so the state is the
+    structure's own equilibrium. Ramping without the spring would roll the structure over at small
+    loads (a strip ends up edgewise, an unstable branch at full load)."""
+    from ..model import Spring
+    x0 = system.cm.xyz
+    node = int(system.cm.node_ids[np.argmin(np.linalg.norm(x0 - x0.mean(axis=0), axis=1))])
+    span = max(float(np.ptp(x0, axis=0).max()), 1e-3)
+    weight = _total_weight(system)
+    axes = (np.abs(coeffs[3:]) > 0.1 * np.abs(coeffs).max()).astype(float)
+    k0 = weight * span
+    held = lambda f: configuration.with_(springs=configuration.springs + (  # noqa: E731
+        Spring.make(node, None, stiffness=np.r_[np.zeros(3), f * k0 * axes]),))
+    out = solve_static(model, held(1.0), settings=settings, load_factors=load_factors, progress=progress,
+                       keep_steps=keep_steps)
+    state, saved = out if keep_steps else (out, None)
+    done, fractions = 1.0, list(_RELEASE[1:])
+    while fractions:
+        f = fractions[0]
+        cfg = configuration if f == 0.0 else held(f)
+        try:
+            state = solve_static(model, cfg, settings=settings, start=state, _warm_only=True)
+        except ConvergenceError:
+            mid = np.sqrt(done * max(f, done * 1e-3))
+            if done / mid < 1.05:
+                raise _unrestrained_error(system, coeffs, " until it deforms, and releasing the spring that held it "
+                                          "during the load ramp did not converge") from None
+            fractions.insert(0, mid)
+            continue
+        done = f
+        fractions.pop(0)
+    if not _stable(state):
+        raise _unrestrained_error(system, coeffs, " until it deforms, and the equilibrium found once the spring that "
+                                  "held it during the load ramp was released is unstable")
+    return (state, saved) if keep_steps else state
+
+
+def _stable(state: State) -> bool:
+    """No mode of the state's tangent (symmetric part) with the mass matrix below -(2 pi 0.01 Hz)^2."""
+    from .modes import real_modes
+    system, x, R = state.system, state.positions, state.rotations
+    M = system.mass_matrix(x, R)
+    K = system.newton_matrix(system.evaluate(x, R, state.load_factor, assemble=False), M, 0.0)
+    lam, _ = real_modes(K, M, 1, shift=-1.0)
+    return bool(lam[0] > -(2 * np.pi * 0.01) ** 2)
+
+
+def _total_weight(system: System) -> float:
+    """Total weight [N] of the compiled system at full load."""
+    from .massprops import system_mass_properties
+    x, R = system.undeformed
+    return system_mass_properties(system, x, R).mass * float(np.linalg.norm(system.config.gravity_vector))
 
 
 def _limit_rotation(delta: np.ndarray, system: System, limit: float = 0.5) -> np.ndarray:
@@ -206,13 +290,17 @@ def _limit_rotation(delta: np.ndarray, system: System, limit: float = 0.5) -> np
 @serial_blas
 def solve_static(model: Model, configuration: Configuration, *, settings: StaticSettings | None = None,
                  start: State | None = None, load_factors: np.ndarray | None = None,
-                 progress: Callable[[float], None] | None = None, keep_steps: bool = False):
+                 progress: Callable[[float], None] | None = None, keep_steps: bool = False,
+                 _warm_only: bool = False):
     """Geometrically nonlinear static equilibrium of ``model`` in ``configuration``.
 
     start: a previous State to warm-start from (same model, e.g. another design point); the full
     load is tried first, then the load ramp. load_factors: extra load levels to return states at
     (with keep_steps=True the function returns (final_state, [states at those levels])).
     progress: called with the converged load factor after each increment.
+    A structure on cords under gravity that only its deformation restrains (a strip hung on two
+    cords along its axis with its centre of mass off that axis) is ramped with its free rotation
+    held by a spring, then released (see _hold_then_release).
     Raises ConvergenceError (with .state = last converged state, .history) if the load cannot
     be reached, SingularModelError for under-constrained models.
     """
@@ -231,7 +319,14 @@ def solve_static(model: Model, configuration: Configuration, *, settings: Static
     length = np.abs(system.cm.xyz).max() + 1.0  # correction energies |du . r| are per (load x length) [m]
     # The tangent with the full load at the undeformed state: loaded cords already give their
     # pendulum stiffness there (a tilted cord pulls sideways and restrains that motion too).
-    _rigid_body_check(system, lambda: system.evaluate(x, R, 1.0).tangent, ev0.external - ev0.internal, x, R)
+    pushed = None if _warm_only else _pushed_rigid_motion(system, lambda: system.evaluate(x, R, 1.0).tangent,
+                                                          ev0.external - ev0.internal, x, R)
+    if pushed is not None:
+        if not _sag_may_hold(system, pushed):
+            raise _unrestrained_error(system, pushed)
+        if start is None:
+            return _hold_then_release(model, configuration, system, pushed, settings, load_factors, progress,
+                                      keep_steps)
     levels = sorted(set(np.round(np.asarray(load_factors, float), 12))) if load_factors is not None else []
     saved: list[State] = []
 
@@ -364,6 +459,12 @@ def solve_static(model: Model, configuration: Configuration, *, settings: Static
             xs, Rs, ev, stab = got
             state = make_state(xs, Rs, 1.0, ev, stab)
             return (state, saved) if keep_steps else state
+        if _warm_only:
+            raise ConvergenceError(f"configuration '{configuration.name}': Newton-Raphson did not converge from "
+                                   "the start state", state=start, history=tuple(history))
+        if pushed is not None:  # the warm start failed: ramp again with the free rotation held
+            return _hold_then_release(model, configuration, system, pushed, settings, load_factors, progress,
+                                      keep_steps)
     if not (np.any(system.applied) or np.any(system.mass_weight) or len(system.cord_nodes) or system.has_prescribed):
         # Nothing loads the structure: the undeformed state is the equilibrium.
         state = make_state(x, R, 1.0, system.evaluate(x, R, 1.0, tangent=False), False)

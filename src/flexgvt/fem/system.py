@@ -196,6 +196,16 @@ def _springs(model: Model, items) -> Springs:
                    np.array([s.frame for s in items]))
 
 
+def _same_configuration(a: Configuration, b: Configuration) -> bool:
+    """a == b, where items holding arrays (springs, masses) compare element-wise."""
+    if a is b:
+        return True
+    try:
+        return bool(a == b)
+    except ValueError:  # dataclass equality on array fields
+        return False
+
+
 def _merge_masses(a: PointMasses, b: PointMasses) -> PointMasses:
     return PointMasses(*(np.concatenate([getattr(a, f), getattr(b, f)]) for f in ("nodes", "mass", "offset", "inertia")))
 
@@ -355,7 +365,7 @@ class System:
         mass, spring values) in a configuration of the same topology (other cord or spring values,
         load factors): a sibling sharing the DOF numbering, the sparsity pattern and the symbolic
         factorisation; a new System when the topology changed. Returns self when nothing changed."""
-        if model is self.model and model.revision == self._revision and config == self.config:
+        if model is self.model and model.revision == self._revision and _same_configuration(config, self.config):
             return self
         if model is not self.model or dict(config.fixed) != dict(self.config.fixed) or \
                 dict(config.prescribed).keys() != dict(self.config.prescribed).keys():

@@ -182,7 +182,8 @@ def minimise(problem: UpdatingProblem, x0: np.ndarray, method: str = "least_squa
         x, message, success = out.x, str(out.message), bool(out.success)
     drv.point(x)  # SciPy's final iterate competes with every point seen; a failed trial never wins
     x = drv.best.x
-    return {"x": np.asarray(x, float), "history": drv.history, "message": message, "success": success,
+    return {"x": np.asarray(x, float), "reference": problem.reference_of(drv.best), "history": drv.history,
+            "message": message, "success": success,
             "evaluations": drv.evaluations, "failures": drv.failures, "seconds": time.perf_counter() - t0,
             "method": method}
 

@@ -180,6 +180,26 @@ class UpdatingProblem:
     def __setstate__(self, state: dict) -> None:
         self.__init__(*state["args"])
 
+    # ------------------------------------------------------------------ pairing reference
+    def reference_of(self, point: "Point") -> dict:
+        """What reproduces ``point`` when it is evaluated again: the pairing references (its paired
+        analytical shapes) and its equilibria as warm starts (solved afresh from the undeformed
+        shape, a far design point may not converge where continuation along the run did)."""
+        out = {"pairing": {}, "states": {}}
+        for name, c in point.configurations.items():
+            if c.phi is not None and self.measured[name].shapes is None:
+                out["pairing"][name] = (-np.inf, c.phi[:, np.maximum(c.paired, 0)])
+            if c.state is not None:
+                out["states"][name] = c.state
+        return out
+
+    def set_pairing_reference(self, reference: dict) -> None:
+        """Pair from now on against ``reference`` (from reference_of) and warm-start from its states;
+        cached points are dropped, as their pairing may differ."""
+        self._tracking = dict(reference.get("pairing", {}))
+        self.states.update(reference.get("states", {}))
+        self._cache.clear()
+
     @property
     def x0(self) -> np.ndarray:
         return np.ones(len(self.par))

@@ -7,7 +7,7 @@ from typing import Callable, Sequence
 
 import numpy as np
 
-from ..errors import ModelError
+from ..errors import ModelError, SolverError
 from ..model import Configuration, Model
 from .optimise import minimise, starting_points
 from .problem import UpdatingProblem
@@ -59,6 +59,9 @@ def update(model: Model, configurations: Sequence[Configuration], measured: Sequ
 
 def _run(problem, model, method, starts, seed, max_iterations, tolerance, store, callback, client) -> UpdateResult:
     initial = problem.evaluate(problem.x0, gradient=True)
+    # Every start pairs the measured modes against the initial point's pairing, and the answer is
+    # evaluated with the winning run's own: runs that explored elsewhere do not relabel it.
+    reference = problem.reference_of(initial)
     if store is not None:
         store.bind(fingerprint(problem, method))
     runs = []
@@ -67,15 +70,24 @@ def _run(problem, model, method, starts, seed, max_iterations, tolerance, store,
         if done is not None:  # finished before: its answer, no optimisation
             runs.append({"x": done["x"], "history": store.history(run), "message": done["message"], "success": True,
                          "evaluations": 0, "failures": [], "method": done["method"], "resumed": True,
-                         "objective": problem.evaluate(done["x"]).objective, "x0": np.asarray(x0).tolist()})
+                         "objective": problem.evaluate(done["x"]).objective, "x0": np.asarray(x0).tolist(),
+                         "reference": problem.reference_of(problem.evaluate(done["x"]))})
             continue
         resume = store.best(run) if store is not None else None
         start = x0 if resume is None else resume
         if client is not None and starts > 1:  # independent runs as parallel tasks, collected below
             runs.append(client.submit(_remote_start, problem, start, method, max_iterations, tolerance, pure=False))
             continue
-        out = minimise(problem, start, method, store=store, run=run, max_iterations=max_iterations,
-                       tolerance=tolerance, callback=callback)
+        problem.set_pairing_reference(reference)
+        try:
+            out = minimise(problem, start, method, store=store, run=run, max_iterations=max_iterations,
+                           tolerance=tolerance, callback=callback)
+        except SolverError as exc:
+            if run == 0:  # the user's own starting point: nothing to compare with, say why
+                raise
+            runs.append(_unsolved_start(start, x0, method, exc))  # the other starts go on
+            continue
+        problem.set_pairing_reference(out["reference"])
         out["objective"] = problem.evaluate(out["x"]).objective
         out["resumed"] = resume is not None
         out["x0"] = np.asarray(x0).tolist()
@@ -86,12 +98,20 @@ def _run(problem, model, method, starts, seed, max_iterations, tolerance, store,
     for run, item in enumerate(runs):
         if not isinstance(item, dict):  # a parallel start
             out = item.result()
+            if out.get("unsolved"):
+                runs[run] = out
+                continue
+            problem.set_pairing_reference(out["reference"])
             out["objective"] = problem.evaluate(out["x"]).objective
             out["resumed"] = False
             if store is not None:
                 store.finish(run, out["x"], out["objective"], out["method"], str(out["message"]))
             runs[run] = out
     best = min(runs, key=lambda r: r["objective"])
+    if not np.isfinite(best["objective"]):
+        raise SolverError("updating: no starting point could be solved; the first failure: "
+                          + best["failures"][0][1])
+    problem.set_pairing_reference(best.get("reference") or reference)
     final = problem.evaluate(best["x"], gradient=True)
     ident = identifiability(problem, final)
     updated = model.copy(f"{model.name} (updated)")
@@ -111,9 +131,21 @@ def _run(problem, model, method, starts, seed, max_iterations, tolerance, store,
                 for k, r in enumerate(runs)])
 
 
+def _unsolved_start(start, x0, method: str, exc: Exception) -> dict:
+    """A multi-start run whose random start the structure cannot be solved at: reported in
+    UpdateResult.starts, never the answer."""
+    return {"x": np.asarray(start, float), "history": [], "message": f"start not solved: {exc}", "success": False,
+            "evaluations": 1, "failures": [(np.asarray(start, float), str(exc))], "method": method,
+            "resumed": False, "objective": np.inf, "x0": np.asarray(x0).tolist(), "unsolved": True}
+
+
 def _remote_start(problem, x0, method, max_iterations, tolerance) -> dict:
     """One multi-start run in a worker (a copy of the problem travels with the task)."""
-    out = minimise(problem, np.asarray(x0, float), method, max_iterations=max_iterations, tolerance=tolerance)
+    try:
+        out = minimise(problem, np.asarray(x0, float), method, max_iterations=max_iterations, tolerance=tolerance)
+    except SolverError as exc:
+        return _unsolved_start(x0, x0, method, exc)
+    out["reference"] = {"pairing": out["reference"]["pairing"], "states": {}}  # states stay in the worker
     out["x0"] = np.asarray(x0).tolist()
     out["history"] = [{k: v for k, v in row.items()} for row in out["history"]]
     return out
