@@ -216,7 +216,7 @@ def _sag_may_hold(system: System, coeffs: np.ndarray) -> bool:
     mass can hang below the cords' line (a strip hung on two cords along its axis, its centre of
     mass off that axis, rolls a little and is held)."""
     big = np.abs(coeffs) > 0.1 * np.abs(coeffs).max()
-    return bool(len(system.cord_nodes) and np.any(system.mass_weight) and not big[:3].any())
+    return bool(len(system.cord_nodes) and system.config.gravity != 0.0 and not big[:3].any())
 
 
 # Holding-spring stiffness during the load ramp, released in these steps (fractions of the start).
@@ -238,8 +238,11 @@ def _hold_then_release(model: Model, configuration: Configuration, system: Syste
     weight = _total_weight(system)
     axes = (np.abs(coeffs[3:]) > 0.1 * np.abs(coeffs).max()).astype(float)
     k0 = weight * span
-    held = lambda f: configuration.with_(springs=configuration.springs + (  # noqa: E731
-        Spring.make(node, None, stiffness=np.r_[np.zeros(3), f * k0 * axes]),))
+
+    def held(f: float) -> Configuration:
+        return configuration.with_(springs=configuration.springs + (
+            Spring.make(node, None, stiffness=np.r_[np.zeros(3), f * k0 * axes]),))
+
     out = solve_static(model, held(1.0), settings=settings, load_factors=load_factors, progress=progress,
                        keep_steps=keep_steps)
     state, saved = out if keep_steps else (out, None)
