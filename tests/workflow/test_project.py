@@ -97,3 +97,33 @@ def test_broken_project_names_the_key(tmp_path, change, expected):
 def test_missing_project_file(tmp_path):
     with pytest.raises(ProjectError, match="project file not found"):
         load_project(tmp_path / "nope.toml")
+
+
+def test_a_configurations_own_masses_as_design_variables(tmp_path):
+    """A mass variable with `configurations` reaches those configurations' own masses (the
+    `from` configuration's, then `masses`, then the shaker's moving mass), not the model's."""
+    text = GOOD.replace('[configurations.test]\nmodes = "modes.json"', '''[[configurations.masses]]
+node = 10
+mass = "20 g"
+[[configurations.masses]]
+node = 114
+mass = "20 g"
+[configurations.test]
+modes = "modes.json"''', 1) + '''[[variables]]
+name = "hardware"
+kind = "mass"
+targets = [0, 1]
+attribute = "mass"
+configurations = ["outboard"]
+bounds = [0.25, 2.5]
+'''
+    p = load_project(write(tmp_path, text))
+    hardware = p.variables[1]
+    assert hardware.per_configuration and hardware.configurations == ("outboard",)
+    from flexgvt.updating import Parametrisation
+    par = Parametrisation(p.model, list(p.configurations.values()), p.variables)
+    applied = par.apply(p.model.copy(), [1.0, 2.0])
+    assert [m.mass for m in applied["outboard"].masses] == pytest.approx([0.04, 0.04])
+    bad = text.replace("targets = [0, 1]", "targets = [0, 2]")
+    with pytest.raises(ProjectError, match=r"configuration 'outboard' has no mass 2 \(2 masses of its own"):
+        load_project(write(tmp_path, bad))
