@@ -2,6 +2,7 @@
 a hung structure with a very stiff member keeps its slow pendulum and yaw modes."""
 
 import numpy as np
+import pytest
 
 import flexgvt as fg
 
@@ -31,3 +32,22 @@ def test_a_pinned_structure_keeps_its_gravity_pendulum():
     assert np.allclose(m.frequencies_hz[1:3], m.frequencies_hz[1], rtol=1e-6) and m.frequencies_hz[1] > 0.4
     free = fg.solve_modes(fg.solve_static(model, hung.with_(gravity=0.0)), 4, damped=False)
     assert np.sum(free.frequencies_hz == 0) == 3
+
+
+def test_dense_modes_with_a_massless_dof_are_the_condensed_ones():
+    """Three DOFs in a line, the middle one massless (m, 0, m; springs k between them, and k to
+    ground at the first or not): the dense path solves B phi = mu (A - sigma B) phi, symmetric
+    despite the singular mass matrix, and gives the statically condensed system's modes (the two
+    springs in series, k/2) with M-orthonormal shapes."""
+    import scipy.sparse as sp
+
+    from flexgvt.fem.modes import real_modes
+    m, k = 2.0, 800.0
+    M = sp.csc_matrix(np.diag([m, 0.0, m]))
+    for ground in (0.0, k):
+        K = sp.csc_matrix(np.array([[k + ground, -k, 0.0], [-k, 2 * k, -k], [0.0, -k, k]]))
+        lam, phi = real_modes(K, M, 2)
+        Kc = np.array([[ground + k / 2, -k / 2], [-k / 2, k / 2]])  # the middle DOF condensed out
+        expected = np.sort(np.linalg.eigvalsh(Kc / m))
+        assert lam == pytest.approx(expected, abs=1e-9 * k / m)
+        assert phi.T @ M @ phi == pytest.approx(np.eye(2), abs=1e-12)

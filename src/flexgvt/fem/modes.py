@@ -148,10 +148,15 @@ def real_modes(K: sp.spmatrix, M: sp.spmatrix, n_modes: int, shift: float | None
                 lam = lam + sigma
         except np.linalg.LinAlgError:
             lam = None
-        if lam is None:
-            w, v = sla.eig(A, B)
-            ok = np.isfinite(w)
-            lam, phi = w[ok].real, v[:, ok].real
+        if lam is None:  # massless DOFs: B singular. Symmetric still when A - sigma B is definite:
+            try:        # B phi = mu (A - sigma B) phi, mu = 1 / (lam - sigma), mu = 0 for the massless
+                mu, phi = sla.eigh(B, A - sigma * B)
+                keep = mu > 1e-12 * max(mu.max(initial=0.0), 1e-300)
+                lam, phi = sigma + 1.0 / mu[keep], phi[:, keep]
+            except np.linalg.LinAlgError:  # indefinite (buckled, unstable): the general solver
+                w, v = sla.eig(A, B)
+                ok = np.isfinite(w)
+                lam, phi = w[ok].real, v[:, ok].real
         order = np.argsort(lam)[:k]
         lam, phi = lam[order], phi[:, order]
     else:
