@@ -175,3 +175,14 @@ def test_strip_hung_on_its_axis_with_its_centre_of_mass_off_it_rolls_until_held(
     assert 1e-5 < roll < 0.01
     f = fg.solve_modes(state, 8, damped=False, label=False).frequencies_hz
     assert np.all(f > 0.2)
+
+
+def test_top_heavy_strip_on_its_axis_is_refused():
+    """The strip with 1 kg on a 2 m mast above mid-span (5 mm off the axis): its centre of mass sits
+    above the cords' line, so the equilibrium left when the holding spring is released is unstable
+    (it would roll over): refused, naming the cause."""
+    from flexgvt.errors import SingularModelError
+    case = fg.cases.strip_366()
+    case.model.add_mass(case.references["mid_node"], 1.0, offset=(0.005, 0.0, 2.0))
+    with pytest.raises(SingularModelError, match="rotation about y.*is unstable"):
+        fg.solve_static(case.model, case.configurations["outboard"])
