@@ -57,19 +57,20 @@ def mutate(text: str, rng, kind: int) -> str:
     return "\n".join(lines)
 
 
-def test_mutated_real_decks_raise_only_flexgvt_errors(tmp_path):
-    rng = np.random.default_rng(18)
-    (tmp_path / "aero_bah.inc").write_text("")
+def fuzz(sources: list[Path], cases: int, tmp_path: Path, seed: int) -> dict:
+    """Read ``cases`` mutations of the ``sources`` decks (in turn, unsupported cards as warnings and
+    errors alternately); every failure must be a FlexGVTError naming the file. Returns the counts
+    of decks read and refused."""
+    rng = np.random.default_rng(seed)
     outcomes = {"read": 0, "error": 0}
-    for n in range(210):
-        src = SOURCES[n % len(SOURCES)]
-        text = mutate(src.read_text(), rng, n % 5)
+    for n in range(cases):
+        src = sources[n % len(sources)]
         path = tmp_path / f"fuzz{n}{src.suffix}"
-        path.write_text(text)
+        path.write_text(mutate(src.read_text(), rng, n % 5))
         try:
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore")
-                fg.io.read_bdf(path, unsupported=("warn", "error")[n % 2])
+                fg.io.read_bdf(path, unsupported=("warn", "error")[(n // len(sources)) % 2])
             outcomes["read"] += 1
         except FlexGVTError as exc:
             assert path.name in str(exc), f"{type(exc).__name__} without the file name: {exc}"
@@ -77,4 +78,10 @@ def test_mutated_real_decks_raise_only_flexgvt_errors(tmp_path):
         except Exception as exc:  # pragma: no cover - the failure report
             raise AssertionError(f"fuzz case {n} ({src.name}, kind {n % 5}) raised {type(exc).__name__}: {exc}\n"
                                  f"deck kept at {path}") from exc
+    return outcomes
+
+
+def test_mutated_real_decks_raise_only_flexgvt_errors(tmp_path):
+    (tmp_path / "aero_bah.inc").write_text("")
+    outcomes = fuzz(SOURCES, 210, tmp_path, seed=18)
     assert outcomes["error"] > 20 and outcomes["read"] > 10

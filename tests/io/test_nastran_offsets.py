@@ -90,7 +90,7 @@ def test_cbush_between_distinct_points_acts_at_its_spring_location(tmp_path):
     F / K2 + F d^2 / (4 K6) (the spring at mid-span, rigid arms on both sides)."""
     d, K2, K6, F = 0.4, 2.0e5, 3.0e3, 50.0
     c, s = np.cos(0.5), np.sin(0.5)
-    ex, ey = np.array([c, s, 0.0]), np.array([-s, c, 0.0])
+    ey = np.array([-s, c, 0.0])
     text = "\n".join(["SOL 101", "CEND", "SUBCASE 1", "  SPC = 1", "  LOAD = 2", "BEGIN BULK",
                       "GRID,1,,0.,0.,0.", f"GRID,2,,{d * c:.12f},{d * s:.12f},0.",
                       f"CBUSH,7,8,1,2,{ey[0]:.12f},{ey[1]:.12f},0.", f"PBUSH,8,K,1.e9,{K2},1.e9,1.e7,1.e7,{K6}",

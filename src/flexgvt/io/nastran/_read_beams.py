@@ -188,7 +188,6 @@ class BeamsMixin:
         for eid, elem in sorted(bdf.elements.items()):
             if elem.type not in BEAM_CARDS:
                 continue
-            where = self.at(elem.type, eid)
             if any(pin and set(str(pin)) != set("456") for pin in (elem.pa, elem.pb)):
                 self.skip(f"{elem.type} (pin flags other than 456)", eid)
                 continue
