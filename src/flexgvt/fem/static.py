@@ -226,8 +226,9 @@ _RELEASE = (1.0, 1e-1, 1e-2, 1e-3, 1e-4, 0.0)
 def _hold_then_release(model: Model, configuration: Configuration, system: System, coeffs: np.ndarray,
                        settings: StaticSettings, load_factors, progress, keep_steps: bool):
     """Equilibrium of a structure that its deformation restrains but its undeformed shape does not:
-    the load ramp with a rotational spring at the node nearest the centroid holding the pushed
-    rotations (stiffness weight x span per radian), then that spring released step by step, each
+    the load ramp with a rotational spring at the node nearest the centroid holding its rotations
+    (all three: the pushed motion mixes them; stiffness weight x span per radian), then that spring
+    released step by step, each
     step a Newton solve at full load from the last; the last has no spring, so the state is the
     structure's own equilibrium. Ramping without the spring would roll the structure over at small
     loads (a strip ends up edgewise, an unstable branch at full load)."""
@@ -236,12 +237,11 @@ def _hold_then_release(model: Model, configuration: Configuration, system: Syste
     node = int(system.cm.node_ids[np.argmin(np.linalg.norm(x0 - x0.mean(axis=0), axis=1))])
     span = max(float(np.ptp(x0, axis=0).max()), 1e-3)
     weight = _total_weight(system)
-    axes = (np.abs(coeffs[3:]) > 0.1 * np.abs(coeffs).max()).astype(float)
     k0 = weight * span
 
     def held(f: float) -> Configuration:
         return configuration.with_(springs=configuration.springs + (
-            Spring.make(node, None, stiffness=np.r_[np.zeros(3), f * k0 * axes]),))
+            Spring.make(node, None, stiffness=np.r_[np.zeros(3), np.full(3, f * k0)]),))
 
     out = solve_static(model, held(1.0), settings=settings, load_factors=load_factors, progress=progress,
                        keep_steps=keep_steps)
