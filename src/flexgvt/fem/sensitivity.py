@@ -9,7 +9,7 @@ element pass per parameter, exact, at any (deformed) state.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 import scipy.sparse as sp
@@ -146,6 +146,7 @@ class ValueChange:
     cords: tuple | None = None
     cord_offsets: tuple | None = None  # (indices, [(offsets (k, 3), weight), ...]): a difference rule in the offset
     cord_along: tuple | None = None  # (indices, [(fractions (k,), weight), ...]): the same in the attachment fraction
+    cache: dict = field(default_factory=dict, compare=False, repr=False)  # state-independent pieces, computed once
 
 
 def _add_cords(g_full: np.ndarray, system, rows: np.ndarray, g: np.ndarray) -> None:
@@ -179,16 +180,22 @@ def value_derivative(system, x: np.ndarray, R: np.ndarray, lam: float, change: V
         rows, dcoeff, drhoA, drhoI = change.beams
         rows = np.asarray(rows, int)
         sub = _beam_subset(system.cm.beams, rows, np.asarray(dcoeff, float))
-        g, K, _ = beam_forces(x, R, sub, True)
-        p.data_subset(0, rows, K, K_data)
-        np.add.at(g_full, sub.nodes[:, 0], g[:, :6])
-        np.add.at(g_full, sub.nodes[:, 1], g[:, 6:])
-        dsub = replace(sub, mass_per_length=np.asarray(drhoA, float), inertia_per_length=np.asarray(drhoI, float))
-        dw1, dw2 = nodal_weights(dsub)
-        np.add.at(f_full, (sub.nodes[:, 0], slice(0, 3)), lam * dw1[:, None] * gvec[None, :])
-        np.add.at(f_full, (sub.nodes[:, 1], slice(0, 3)), lam * dw2[:, None] * gvec[None, :])
-        local = local_mass_matrices(dsub)
-        mass_pattern.data_subset(0, rows, beam_mass_matrices(x, R, sub, local), M_data)
+        if np.any(sub.stiffness):  # E, G, section: the stiffness changes (not rho)
+            g, K, _ = beam_forces(x, R, sub, True)
+            p.data_subset(0, rows, K, K_data)
+            np.add.at(g_full, sub.nodes[:, 0], g[:, :6])
+            np.add.at(g_full, sub.nodes[:, 1], g[:, 6:])
+        if np.any(drhoA) or np.any(drhoI):  # rho, section: the mass changes (not E, G)
+            dsub = replace(sub, mass_per_length=np.asarray(drhoA, float), inertia_per_length=np.asarray(drhoI, float))
+            dw1, dw2 = nodal_weights(dsub)
+            np.add.at(f_full, (sub.nodes[:, 0], slice(0, 3)), lam * dw1[:, None] * gvec[None, :])
+            np.add.at(f_full, (sub.nodes[:, 1], slice(0, 3)), lam * dw2[:, None] * gvec[None, :])
+            # The element-axes mass matrices do not depend on the state: once per change, for
+            # every configuration's system (they share the model's elements).
+            local = change.cache.get("local_mass")
+            if local is None:
+                local = change.cache["local_mass"] = local_mass_matrices(dsub)
+            mass_pattern.data_subset(0, rows, beam_mass_matrices(x, R, sub, local), M_data)
     if change.masses is not None:
         rows, (m_p, off_p), (m_m, off_m), inv2h = change.masses
         rows = np.asarray(rows, int)
