@@ -111,6 +111,16 @@ class Sensors:
         readings: d^T (u + theta x r) = d^T u + (r x d)^T theta. With a State and follow=True the
         arm and direction turn with the node's rotation."""
         node_ids = np.asarray(node_ids, int)
+        rows = self.rows(node_ids)
+        d, r = self._turned(rows, state, follow)
+        vals = np.concatenate([d, np.cross(r, d)], axis=1)  # (n, 6)
+        cols = 6 * rows[:, None] + np.arange(6)[None, :]
+        n = len(self)
+        return sp.csr_matrix((vals.ravel(), (np.repeat(np.arange(n), 6), cols.ravel())), shape=(n, 6 * len(node_ids)))
+
+    def rows(self, node_ids: np.ndarray) -> np.ndarray:
+        """(n_sensors,) each sensor's node position in ``node_ids``."""
+        node_ids = np.asarray(node_ids, int)
         order = np.argsort(node_ids)
         pos = np.searchsorted(node_ids, self.nodes, sorter=order)
         pos = np.clip(pos, 0, len(node_ids) - 1)
@@ -120,12 +130,23 @@ class Sensors:
             bad = sorted(set(self.nodes[missing].tolist()))
             raise ModelError(f"sensors on node(s) {bad[:10]} that the model does not have; map the test points "
                              "to FE nodes (Sensors.from_outputs(..., node_map=...))")
+        return rows
+
+    def _turned(self, rows: np.ndarray, state, follow: bool) -> tuple[np.ndarray, np.ndarray]:
+        """Directions and arms (n_sensors, 3), turned with their nodes' rotations when following a State."""
         d, r = self.directions, self.offsets
         if state is not None and follow:
             Rn = state.rotations[rows]
             d = np.einsum("nij,nj->ni", Rn, d)
             r = np.einsum("nij,nj->ni", Rn, r)
-        vals = np.concatenate([d, np.cross(r, d)], axis=1)  # (n, 6)
-        cols = 6 * rows[:, None] + np.arange(6)[None, :]
-        n = len(self)
-        return sp.csr_matrix((vals.ravel(), (np.repeat(np.arange(n), 6), cols.ravel())), shape=(n, 6 * len(node_ids)))
+        return d, r
+
+    def turning(self, node_ids: np.ndarray, state, shape: np.ndarray) -> np.ndarray:
+        """(n_sensors, 3) derivative of the readings of the node-major 6-DOF ``shape`` (6 len(node_ids),)
+        with respect to a spatial spin of each sensor's node, when the sensors turn with the nodes
+        of ``state``: a spin dtheta turns d and c = r x d by dtheta x, so the reading
+        d.u + c.theta changes by dtheta . (d x u + c x theta)."""
+        rows = self.rows(node_ids)
+        d, r = self._turned(rows, state, True)
+        s = np.asarray(shape).reshape(-1, 6)[rows]
+        return np.cross(d, s[:, :3]) + np.cross(np.cross(r, d), s[:, 3:])

@@ -7,12 +7,15 @@ At an equilibrium R(u, p) = 0 of the reduced residual:
     d lambda_i  = phi_i^T (dK - lambda_i dM) phi_i        (mass-normalised phi_i)
     d phi_i     : Nelson's method, (K - lambda_i M) v = -(dK - lambda_i dM - d lambda_i M) phi_i
 
-dR/dp, dK/dp and dM/dp at the fixed state come from fem.sensitivity.value_derivative: the
-assembly is linear in what a variable changes (beam kernel coefficients, mass per length and
-inertia, point masses, spring and cord rates), so it is evaluated with the derivative of those
-values on the affected items only; a beam group's values are differentiated by a four-point rule
-on the section formulas (truncation ~1e-12), masses (linear) and their offsets (quadratic) by an
-exact central difference, cord attachment offsets by a four-point rule on the cord's forces.
+dR/dp, dK/dp and dM/dp at the fixed state: the assembly is linear in what a variable changes
+(beam kernel coefficients, mass per length and inertia, point masses, spring and cord rates). Beam
+variables go through fem.beam_basis: element blocks per unit beam value, evaluated once per state,
+combined with the sparse matrices of every variable's value derivatives, so their cost does not
+grow with their number; no per-variable matrix is assembled (the modes need only quadratic forms
+and products with the mode shapes). Other variables use fem.sensitivity.value_derivative on the
+items they change. A beam group's values are differentiated by a four-point rule on the section
+formulas (truncation ~1e-12), masses (linear) and their offsets (quadratic) by an exact central
+difference, cord attachment offsets by a four-point rule on the cord's forces.
 
 The state part (dK/du)[du/dp] of the modes' derivatives comes from element-level derivatives with
 exploded nodes (fem.sensitivity.modal_state_terms: 48 kernel calls whatever the number of
@@ -30,13 +33,15 @@ truncation-bound by the members' stretch along straight lines in the state).
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from ..errors import SolverError
+from ..fem.beam_basis import N_VALUES, beam_basis, local_unit_masses, mass_values
+from ..fem.linsolve import superlu
 from ..fem.sensitivity import ValueChange, modal_state_terms, value_derivative
 from ..fem.system import group_values
 from .variables import Parametrisation
@@ -48,15 +53,110 @@ _STATE_STEP = 1e-3  # largest rotation [rad] or translation / size of the state 
 
 
 @dataclass
+class DesignChanges:
+    """What every variable changes in the compiled values at one design point.
+
+    changes[k]: variable k's ValueChange where it does not depend on the configuration (None for
+    variables on configuration items); beam variables also as sparse (8 k, n_var) matrices of the
+    value derivatives of the elements ``rows`` they reach (DK: kernel coefficients, DM: mass values,
+    fem.beam_basis order), ``batched`` marking them."""
+
+    changes: list
+    rows: np.ndarray
+    DK: sp.csc_matrix
+    DM: sp.csc_matrix
+    batched: np.ndarray
+    _local: dict = field(default_factory=dict, repr=False)
+
+    def local_units(self, beams) -> np.ndarray:
+        """The rows' element-axes mass matrices per unit mass value (the same for every configuration)."""
+        if "units" not in self._local:
+            self._local["units"] = local_unit_masses(beams, self.rows)
+        return self._local["units"]
+
+    @classmethod
+    def of(cls, changes: list) -> "DesignChanges":
+        n = len(changes)
+        batched = np.array([c is not None and c.beams is not None and c.masses is None and c.springs is None
+                            and c.cords is None and c.cord_offsets is None and c.cord_along is None
+                            for c in changes], bool)
+        rows = np.unique(np.concatenate([np.asarray(changes[k].beams[0], int) for k in np.flatnonzero(batched)]
+                                        + [np.zeros(0, int)]))
+        entries = {"K": ([], [], []), "M": ([], [], [])}
+        for k in np.flatnonzero(batched):
+            r, dcoeff, drhoA, drhoI = changes[k].beams
+            pos = np.searchsorted(rows, np.asarray(r, int))
+            for key, values in (("K", np.asarray(dcoeff, float)), ("M", mass_values(drhoA, drhoI))):
+                at = (N_VALUES * pos[:, None] + np.arange(N_VALUES)[None, :]).ravel()
+                v = values.ravel()
+                nz = v != 0
+                entries[key][0].append(at[nz])
+                entries[key][1].append(np.full(int(nz.sum()), k))
+                entries[key][2].append(v[nz])
+        shape = (N_VALUES * len(rows), n)
+
+        def matrix(key):
+            r, c, v = (np.concatenate(a + [np.zeros(0, t)]) for a, t in zip(entries[key], (int, int, float)))
+            return sp.csc_matrix((v, (r, c)), shape=shape)
+
+        return cls(changes, rows, matrix("K"), matrix("M"), batched)
+
+
+@dataclass
 class StateDerivatives:
     """Total derivatives at one configuration's state, per design variable k: du[:, k] (reduced),
-    dK[k] and dM[k] (reduced; dK of the consistent tangent, whose symmetric part the modes use:
-    quadratic forms phi^T dK phi need no symmetrising)."""
+    and the partial dK/dp_k, dM/dp_k (reduced; dK of the consistent tangent) held as ``matrices``
+    {k: (dK, dM)} for variables outside the beam basis, and as basis @ (DK, DM) columns for the
+    beam variables. The modes use them through ``quadratic`` and ``products`` only.
+    includes_state: dK, dM hold the change along du too (else: modal_terms)."""
 
     du: np.ndarray
-    dK: list
-    dM: list
-    includes_state: bool = True  # dK, dM hold the change along du too (else: modal_terms)
+    matrices: dict
+    system: object
+    basis: object | None = None
+    DK: sp.csc_matrix | None = None
+    DM: sp.csc_matrix | None = None
+    includes_state: bool = True
+    _cache: dict = field(default_factory=dict, repr=False)
+
+    def quadratic(self, phi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(m, n_var) phi_i^T dK_k phi_i and phi_i^T dM_k phi_i of reduced modes phi (n_free, m)."""
+        m, n = phi.shape[1], self.du.shape[1]
+        qK, qM = np.zeros((m, n)), np.zeros((m, n))
+        if self.basis is not None:
+            eK, eM = self.basis.quadratic(self.basis.element_values(self.system.expand(phi)))
+            qK += np.asarray(self.DK.T @ eK).T
+            qM += np.asarray(self.DM.T @ eM).T
+        for k, (Kk, Mk) in self.matrices.items():
+            qK[:, k] = np.einsum("ij,ij->j", phi, Kk @ phi)
+            qM[:, k] = np.einsum("ij,ij->j", phi, Mk @ phi)
+        return qK, qM
+
+    def products(self, phi: np.ndarray, lam: float) -> np.ndarray:
+        """(n_free, n_var) (sym(dK_k) - lam dM_k) phi of one reduced mode phi (n_free,)."""
+        n_free, n = self.du.shape
+        out = np.zeros((n_free, n))
+        if self.basis is not None:
+            G = self.basis.products(self.basis.element_values(self.system.expand(phi)), lam)
+            out += (G @ self.D).toarray()
+        for k, (Kk, Mk) in self.matrices.items():
+            out[:, k] = 0.5 * (Kk @ phi + Kk.T @ phi) - lam * (Mk @ phi)
+        return out
+
+    @property
+    def D(self) -> sp.csr_matrix:
+        """(16 k, n_var): DK over DM, in the order of BeamBasis.products' columns."""
+        if "D" not in self._cache:
+            self._cache["D"] = _interleave(self.DK, self.DM)
+        return self._cache["D"]
+
+
+def _interleave(DK: sp.csc_matrix, DM: sp.csc_matrix) -> sp.csr_matrix:
+    """Rows (e, 0..7) of DK then (e, 0..7) of DM per element e: (16 k, n) from two (8 k, n)."""
+    k = DK.shape[0] // N_VALUES
+    order = (np.arange(k)[:, None] * N_VALUES + np.arange(N_VALUES)[None, :])
+    perm = np.concatenate([order, order + k * N_VALUES], axis=1).ravel()
+    return sp.vstack([DK, DM]).tocsr()[perm]
 
 
 def value_change(par: Parametrisation, model, x: np.ndarray, k: int, configuration: str) -> ValueChange:
@@ -139,10 +239,11 @@ def partial_derivatives(par: Parametrisation, model, x: np.ndarray, state, k: in
     return value_derivative(state.system, state.positions, state.rotations, state.load_factor, change)
 
 
-def shared_changes(par: Parametrisation, model, x: np.ndarray) -> list:
+def shared_changes(par: Parametrisation, model, x: np.ndarray) -> DesignChanges:
     """Every variable's ValueChange that does not depend on the configuration (None for those on
-    configuration items)."""
-    return [None if b.variable.per_configuration else value_change(par, model, x, k, "") for k, b in enumerate(par.bindings)]
+    configuration items), with the beam variables' value-derivative matrices."""
+    return DesignChanges.of([None if b.variable.per_configuration else value_change(par, model, x, k, "")
+                             for k, b in enumerate(par.bindings)])
 
 
 def state_direction(system, state, v: np.ndarray):
@@ -177,18 +278,30 @@ def state_direction(system, state, v: np.ndarray):
 
 
 def state_derivatives(par: Parametrisation, model, x: np.ndarray, state, tangent: sp.csc_matrix,
-                      per_direction: bool | None = None, changes: list | None = None) -> StateDerivatives:
+                      per_direction: bool | None = None, changes: DesignChanges | None = None) -> StateDerivatives:
     """du/dp and the partial dK/dp, dM/dp of every variable at ``state``.
 
     tangent: the (full, possibly unsymmetric) reduced tangent at ``state``, factorised once.
-    The tangent's and mass matrix's change along du/dp is added per variable (four-point
-    difference along each du, `state_direction`) only for systems with links (per_direction=None)
-    or when asked; otherwise `modal_terms` gives it for the modes, whatever the number of variables."""
+    changes: shared_changes at x (computed here when None). The tangent's and mass matrix's change
+    along du/dp is added per variable (four-point difference along each du, `state_direction`)
+    only for systems with links (per_direction=None) or when asked; otherwise `modal_terms` gives
+    it for the modes, whatever the number of variables."""
     system = state.system
     n = len(par)
-    changes = changes or [None] * n
-    partial = [partial_derivatives(par, model, x, state, k, changes[k]) for k in range(n)]
-    dR = np.column_stack([p[0] for p in partial])
+    design = changes if changes is not None else shared_changes(par, model, x)
+    per_direction = system.has_links if per_direction is None else per_direction
+    batched = design.batched if not per_direction and not system.has_links else np.zeros(n, bool)
+    dR = np.zeros((system.n_free, n))
+    basis = None
+    if batched.any():
+        basis = beam_basis(system, state.positions, state.rotations, state.load_factor, design.rows,
+                           design.local_units(system.cm.beams))
+        dR += (basis.scatter(basis.g) @ design.DK - basis.scatter(basis.f) @ design.DM).toarray()
+    matrices = {}
+    for k in np.flatnonzero(~batched):
+        r, Kk, Mk = partial_derivatives(par, model, x, state, k, design.changes[k])
+        dR[:, k] = r
+        matrices[k] = (Kk, Mk)
     if np.any(dR):
         try:
             lu = spla.splu(tangent.tocsc())
@@ -200,16 +313,14 @@ def state_derivatives(par: Parametrisation, model, x: np.ndarray, state, tangent
                               "mechanism (a suspension or a boundary condition)") from None
     else:
         du = np.zeros((system.n_free, n))
-    per_direction = system.has_links if per_direction is None else per_direction
-    dK, dM = [], []
-    for k in range(n):
-        Kk, Mk = partial[k][1], partial[k][2]
-        if per_direction and np.any(du[:, k]):
-            Ku, Mu = state_direction(system, state, du[:, k])
-            Kk, Mk = _add(Kk, Ku), _add(Mk, Mu)
-        dK.append(Kk)
-        dM.append(Mk)
-    return StateDerivatives(du, dK, dM, includes_state=per_direction or not np.any(du))
+    if per_direction:
+        for k, (Kk, Mk) in matrices.items():
+            if np.any(du[:, k]):
+                Ku, Mu = state_direction(system, state, du[:, k])
+                matrices[k] = (_add(Kk, Ku), _add(Mk, Mu))
+    return StateDerivatives(du, matrices, system, basis, design.DK if basis is not None else None,
+                            design.DM if basis is not None else None,
+                            includes_state=per_direction or not np.any(du))
 
 
 def modal_terms(d: StateDerivatives, state, phi: np.ndarray, lam: np.ndarray, vectors: bool):
@@ -228,42 +339,59 @@ def _add(A: sp.csc_matrix, B: sp.csc_matrix) -> sp.csc_matrix:
     return (A + B).tocsc()
 
 
-def eigenvalue_derivatives(lam: np.ndarray, phi: np.ndarray, d: StateDerivatives, terms=None) -> np.ndarray:
-    """(n_modes, n_var) d lambda / dp for mass-normalised reduced eigenvectors phi (n_free, n_modes)."""
-    out = np.empty((len(lam), len(d.dK)))
-    for k, (Kk, Mk) in enumerate(zip(d.dK, d.dM)):
-        out[:, k] = np.einsum("ij,ij->j", phi, Kk @ phi) - lam * np.einsum("ij,ij->j", phi, Mk @ phi)
+def eigenvalue_derivatives(lam: np.ndarray, phi: np.ndarray, d: StateDerivatives, terms=None,
+                           forms: tuple | None = None) -> np.ndarray:
+    """(n_modes, n_var) d lambda / dp for mass-normalised reduced eigenvectors phi (n_free, n_modes);
+    forms: d.quadratic(phi) when already known."""
+    qK, qM = d.quadratic(phi) if forms is None else forms
+    out = qK - lam[:, None] * qM
     if terms is not None:
         out += (terms.gK - lam[:, None] * terms.gM) @ d.du
     return out
 
 
 def eigenvector_derivatives(K: sp.csc_matrix, M: sp.csc_matrix, lam: float, phi: np.ndarray, dlam: np.ndarray,
-                            d: StateDerivatives, terms=None, mode: int = 0) -> np.ndarray:
+                            d: StateDerivatives, terms=None, mode: int = 0, dmass: np.ndarray | None = None) -> np.ndarray:
     """(n_free, n_var) d phi / dp of one mass-normalised mode by Nelson's method (distinct eigenvalue).
 
     K: the symmetric tangent, M: the mass matrix the mode solves, lam its eigenvalue; terms and
-    mode: the state part (ModalStateTerms) and this mode's row in it."""
+    mode: the state part (ModalStateTerms) and this mode's row in it; dmass: phi^T dM_k phi at the
+    fixed state (n_var,) when already known (StateDerivatives.quadratic)."""
     n = len(phi)
     k = int(np.argmax(np.abs(phi) * np.sqrt(np.abs(M.diagonal()) + 1e-300)))
-    keep = np.r_[0:k, k + 1:n]
-    A = (K - lam * M).tocsc()[keep][:, keep]
-    rhs = np.column_stack([-(0.5 * (Kk @ phi + Kk.T @ phi) - lam * (Mk @ phi) - dl * (M @ phi))
-                           for Kk, Mk, dl in zip(d.dK, d.dM, dlam)])
-    dmass = np.array([phi @ (Mk @ phi) for Mk in d.dM])
+    A = _pinned(K - lam * M, k)  # DOF k held at zero: the singular K - lam M made regular
+    rhs = -d.products(phi, lam)
+    Mphi = M @ phi
+    rhs += Mphi[:, None] * dlam[None, :]
+    if dmass is None:
+        dmass = d.quadratic(phi[:, None])[1][0]
     if terms is not None:
         rhs -= terms.H[mode] @ d.du
-        dmass += terms.gM[mode] @ d.du
+        dmass = dmass + terms.gM[mode] @ d.du
+    rhs[k] = 0.0
     try:
-        sol = spla.splu(A.tocsc()).solve(rhs[keep])
+        v = superlu(A).solve(rhs)
     except RuntimeError as exc:
         raise SolverError(f"mode shape derivative: K - lambda M is singular after removing one DOF ({exc}); the "
                           "eigenvalue is repeated, so its shape derivative is not unique") from None
-    v = np.zeros((n, len(dlam)))
-    v[keep] = sol.reshape(len(keep), -1)
-    Mphi = M @ phi
+    v = v.reshape(n, -1)
     c = -(Mphi @ v) - 0.5 * dmass  # keeps phi^T M phi = 1
     return v + phi[:, None] * c[None, :]
+
+
+def _pinned(A: sp.spmatrix, k: int) -> sp.csc_matrix:
+    """A with row and column k zeroed and a unit diagonal there (A[keep][:, keep] without copying
+    the pattern)."""
+    A = sp.csc_matrix(A)
+    A.sum_duplicates()
+    A.data[A.indices == k] = 0.0
+    start, end = A.indptr[k], A.indptr[k + 1]
+    A.data[start:end] = 0.0
+    diag = start + np.flatnonzero(A.indices[start:end] == k)
+    if len(diag):
+        A.data[diag] = 1.0
+        return A
+    return (A + sp.csc_matrix(([1.0], ([k], [k])), shape=A.shape)).tocsc()
 
 
 def sensor_matrix_direction(sensors, state, v: np.ndarray, follow: bool):
@@ -281,5 +409,5 @@ def sensor_matrix_direction(sensors, state, v: np.ndarray, follow: bool):
     return (out[0] - out[1]) / (2 * h)
 
 
-__all__ = ["StateDerivatives", "eigenvalue_derivatives", "eigenvector_derivatives",
+__all__ = ["DesignChanges", "StateDerivatives", "eigenvalue_derivatives", "eigenvector_derivatives",
            "partial_derivatives", "sensor_matrix_direction", "state_derivatives", "state_direction"]

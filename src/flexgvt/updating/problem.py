@@ -22,8 +22,10 @@ from ..fem.modes import _frequency_hz, _lambda_max_bound, _rigid_count, real_mod
 from ..fem.system import System
 from ..model import Configuration, Model
 from ..correlation.mac import realise
+from ..fem.beam_basis import beam_basis
+from ..fem.linsolve import serial_blas
 from ..fem.sensitivity import value_derivative
-from .derivatives import (eigenvalue_derivatives, eigenvector_derivatives, modal_terms, sensor_matrix_direction,
+from .derivatives import (eigenvalue_derivatives, eigenvector_derivatives, modal_terms,
                           shared_changes, state_derivatives, value_change)
 from .targets import MassTarget, Measured, Objective
 from .variables import Parametrisation, Variable
@@ -363,6 +365,7 @@ class UpdatingProblem:
                 refs.append(i0)
         return np.array(vals), names, np.array(refs)
 
+    @serial_blas  # small dense products between kernel calls: a second BLAS thread only waits
     def _assemble(self, x, points: dict[str, ConfigurationPoint], gradient: bool) -> Point:
         """Every configuration's block (computed here unless a remote evaluation brought it) and the
         mass-property rows, in one residual vector and one constraint vector."""
@@ -434,10 +437,11 @@ class UpdatingProblem:
         d = state_derivatives(self.par, self.work, x, p.state, p.tangent, changes=changes)
         need_vectors = use_mac or use_mac_min or use_xor
         terms = modal_terms(d, p.state, p.phi[:, idx], p.eigenvalues[idx], need_vectors)
-        dlam = eigenvalue_derivatives(p.eigenvalues[idx], p.phi[:, idx], d, terms)
+        forms = d.quadratic(p.phi[:, idx])
+        dlam = eigenvalue_derivatives(p.eigenvalues[idx], p.phi[:, idx], d, terms, forms)
         df = dlam / (8 * np.pi**2 * np.where(fa > 0, fa, 1.0))[:, None]
         rows = [np.where(ok[:, None], (w.frequency * wf / fm)[:, None] * df, 0.0)]
-        shapes = self._shape_derivatives(p, meas, d, dlam, terms) if need_vectors else None
+        shapes = self._shape_derivatives(p, meas, d, dlam, terms, forms[1]) if need_vectors else None
         dmac = self._mac_derivatives(meas, shapes) if (use_mac or use_mac_min) else None
         if use_mac:
             rows.append(np.where(ok[:, None], -w.mac * dmac, 0.0))
@@ -486,27 +490,29 @@ class UpdatingProblem:
         return np.where(np.array(out) > 0, np.array(out), 1.0)
 
     # ------------------------------------------------------------------ Jacobian pieces
-    def _shape_derivatives(self, p: ConfigurationPoint, meas: Measured, d, dlam, terms=None) -> dict:
+    def _shape_derivatives(self, p: ConfigurationPoint, meas: Measured, d, dlam, terms=None, dmass=None) -> dict:
         """{measured mode i: (a, da)}: the paired analytical shape at the sensors (n_sensors,) and its
         derivative (n_sensors, n_var), the shape moving with p (Nelson) and the sensors turning with
         the structure."""
         system = p.state.system
         T = system.transformation(p.state.positions, p.state.rotations) if system.has_links else None
         S = meas.sensors.matrix(p.state.node_ids, p.state, follow=self.follow_sensors)
-        dS = [sensor_matrix_direction(meas.sensors, p.state, d.du[:, k], self.follow_sensors)
-              for k in range(len(self.par))]
+        turn = self.follow_sensors and np.any(d.du)
+        if turn:  # the sensors turn with their nodes as the state moves with p
+            rows = meas.sensors.rows(p.state.node_ids)
+            spins = system.expand(d.du, T).reshape(system.n_nodes, 6, -1)[rows, 3:]  # (n_sensors, 3, n_var)
         out = {}
         for i, j in enumerate(p.paired):
             if j < 0:
                 continue
             phi = p.phi[:, j]
-            dphi = eigenvector_derivatives(p.K, p.M, p.eigenvalues[j], phi, dlam[i], d, terms, mode=i)
+            dphi = eigenvector_derivatives(p.K, p.M, p.eigenvalues[j], phi, dlam[i], d, terms, mode=i,
+                                           dmass=None if dmass is None else dmass[i])
             full = system.expand(phi, T)
             a = S @ full
             da = np.asarray(S @ system.expand(dphi, T))
-            for k in range(len(self.par)):
-                if dS[k] is not None:
-                    da[:, k] += dS[k] @ full
+            if turn:
+                da += np.einsum("sc,sck->sk", meas.sensors.turning(p.state.node_ids, p.state, full), spins)
             out[i] = (a, da)
         return out
 
@@ -530,21 +536,27 @@ class UpdatingProblem:
         rows = [du[p.state.node(node), int(c) - 1] for (node, c) in meas.static]
         return np.array(rows)
 
-    def _mass_derivatives(self, x: np.ndarray, changes: list | None = None) -> np.ndarray:
+    def _mass_derivatives(self, x: np.ndarray, changes=None) -> np.ndarray:
         """d(mass residuals)/dp from the exact derivative of the undeformed mass matrix, projected on
-        the rigid-body motions (the moments m, m cg, I are linear in it)."""
+        the rigid-body motions (the moments m, m cg, I are linear in it); beam variables through
+        the element mass blocks per unit value (fem.beam_basis), all at once."""
         if self.mass_target is None:
             return np.zeros((0, len(self.par)))
+        design = changes if changes is not None else shared_changes(self.par, self.work, x)
         system = self._mass_system
         X, I3 = system.undeformed
         phi = rigid_body_basis(X)
-        cols = []
-        for k in range(len(self.par)):
-            change = changes[k] if changes and changes[k] is not None else \
+        rb = np.zeros((len(self.par), 6, 6))
+        if design.batched.any():
+            basis = beam_basis(system, X, I3, 0.0, design.rows, design.local_units(system.cm.beams), stiffness=False)
+            forms = basis.bilinear_mass(basis.element_values(phi))  # (8 k, 6, 6)
+            rb += np.asarray(design.DM.T @ forms.reshape(len(forms), 36)).reshape(-1, 6, 6)
+        for k in np.flatnonzero(~design.batched):
+            change = design.changes[k] if design.changes[k] is not None else \
                 value_change(self.par, self.work, x, k, system.config.name)
             dM = value_derivative(system, X, I3, 0.0, change, full_mass=True)[2]
-            cols.append(_moments(phi.T @ (dM @ phi)))
-        return self._mass_chain(np.column_stack(cols))
+            rb[k] = phi.T @ (dM @ phi)
+        return self._mass_chain(np.column_stack([_moments(m) for m in rb]))
 
     def _mass_chain(self, dmom: np.ndarray) -> np.ndarray:
         """From d(moments) to d(residuals) at the current mass properties."""
