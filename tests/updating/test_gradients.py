@@ -176,7 +176,11 @@ def test_partial_derivative_engine_matches_the_beam_parameter_derivative(attribu
         assert np.abs(a - b).max() <= 1e-9 * np.abs(b).max() + floor
 
 
-def test_mac_and_cross_orthogonality_rows_with_sensors_turning_with_the_structure():
+@pytest.mark.parametrize("objective", [up.Objective(mac=1.0, orthogonality=1.0), up.Objective(mac=1.0, mac_min=0.5)],
+                         ids=["mac-and-xor", "mac-only-adjoint"])
+def test_mac_and_cross_orthogonality_rows_with_sensors_turning_with_the_structure(objective):
+    """With cross-orthogonality the shapes' derivatives at every sensor are solved for; with MAC
+    alone (and the MAC >= MAC_min constraint) each pair's MAC derivative comes from one adjoint solve."""
     from flexgvt.correlation import Sensors
     case = fg.cases.cantilever_strip(n_elements=30)
     ids = case.model.node_ids
@@ -193,8 +197,33 @@ def test_mac_and_cross_orthogonality_rows_with_sensors_turning_with_the_structur
                                                                                                      keepdims=True)
         data.append(up.Measured(c.name, modes.frequencies_hz * 1.01, shapes + noise, sensors))
     variables = [up.beam("E2", "region2", "E"), up.beam("w3", "region3", "width"), up.beam("t1", "region1", "thickness")]
-    problem = up.UpdatingProblem(case.model, cfgs, data, variables,
-                                 objective=up.Objective(mac=1.0, orthogonality=1.0), static_settings=TIGHT)
-    point = problem.evaluate(np.array([1.02, 0.98, 1.01]))
-    assert any("XOR" in n for n in point.residual_names) and any("MAC" in n for n in point.residual_names)
-    _check(problem, np.array([1.02, 0.98, 1.01]))
+    problem = up.UpdatingProblem(case.model, cfgs, data, variables, objective=objective, static_settings=TIGHT)
+    x0 = np.array([1.02, 0.98, 1.01])
+    point = problem.evaluate(x0)
+    assert any("MAC" in n for n in point.residual_names)
+    assert any("XOR" in n for n in point.residual_names) == (objective.orthogonality > 0)
+    _check(problem, x0)
+    if objective.mac_min is not None:  # the constraint rows are the MAC rows' own derivative
+        p = problem.evaluate(x0, gradient=True)
+        mac_rows = [k for k, n in enumerate(p.residual_names) if "1-MAC" in n]
+        assert np.allclose(p.constraint_jacobian, -p.jacobian[mac_rows] / objective.mac, rtol=1e-12, atol=1e-15)
+
+
+def test_gradients_of_a_model_with_rigid_links_and_an_offset_mass():
+    """A rigid link carries a pod's mass off the strip: the linked path (state direction by a
+    four-point difference along each du, links' reduction) against finite differences."""
+    case = fg.cases.cantilever_strip(n_elements=30)
+    model = case.model
+    tip = int(case.references["tip_node"])
+    xyz = model.xyz[model.index_of([tip])[0]]
+    pod = model.add_nodes([xyz + np.array([0.03, 0.0, -0.02])])
+    model.add_rigid_link(tip, pod)
+    model.add_mass(int(pod[0]), 0.02)
+    cfgs = [case.configurations[n] for n in ("unloaded", "flatwise_2g")]
+    data = [up.Measured(c.name, fg.solve_modes(fg.solve_static(model, c), 5, label=False).frequencies_hz * 1.01,
+                        static={(tip, 3): -0.05} if c.gravity else {}) for c in cfgs]
+    variables = [up.beam("E2", "region2", "E"), up.beam("t1", "region1", "thickness"), up.mass("pod", [0])]
+    problem = up.UpdatingProblem(model, cfgs, data, variables, objective=up.Objective(static=1.0),
+                                 static_settings=TIGHT)
+    assert problem.evaluate(np.ones(3)).configurations["flatwise_2g"].state.system.has_links
+    _check(problem, np.array([1.02, 0.98, 1.03]))

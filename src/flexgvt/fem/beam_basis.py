@@ -105,6 +105,17 @@ class BeamBasis:
         out[:, N_VALUES:] *= -lam
         return self.scatter(out)
 
+    def bilinear(self, ph: np.ndarray, w: np.ndarray, lam: float) -> np.ndarray:
+        """(16 k, n_out) element bilinear forms w_o^T K[e, j] ph (j < 8) and -lam w_o^T M[e, j] ph
+        (j >= 8), in the column order of ``products``, for element values ph (k, 12) of one mode and
+        w (k, 12, n_out)."""
+        k = len(ph)
+        out = np.empty((k, 2 * N_VALUES, 12))
+        out[:, :N_VALUES] = (self.K.reshape(k, N_VALUES * 12, 12) @ ph[:, :, None]).reshape(k, N_VALUES, 12)
+        out[:, N_VALUES:] = (self.M.reshape(k, N_VALUES * 12, 12) @ ph[:, :, None]).reshape(k, N_VALUES, 12)
+        out[:, N_VALUES:] *= -lam
+        return (out @ w).reshape(k * 2 * N_VALUES, -1)
+
     def bilinear_mass(self, ph: np.ndarray) -> np.ndarray:
         """(8 k, m, m) element mass bilinear forms ph^T M[e, j] ph of element values ph (k, 12, m)."""
         k, _, m = ph.shape

@@ -143,6 +143,18 @@ class StateDerivatives:
             out[:, k] = 0.5 * (Kk @ phi + Kk.T @ phi) - lam * (Mk @ phi)
         return out
 
+    def bilinear(self, phi: np.ndarray, W: np.ndarray, lam: float) -> np.ndarray:
+        """(n_out, n_var) W^T (sym(dK_k) - lam dM_k) phi of one reduced mode phi (n_free,) and
+        reduced vectors W (n_free, n_out), without forming the products."""
+        out = np.zeros((W.shape[1], self.du.shape[1]))
+        if self.basis is not None:
+            b = self.basis
+            out += np.asarray(self.D.T @ b.bilinear(b.element_values(self.system.expand(phi)),
+                                                      b.element_values(self.system.expand(W)), lam)).T
+        for k, (Kk, Mk) in self.matrices.items():
+            out[:, k] = W.T @ (0.5 * (Kk @ phi + Kk.T @ phi) - lam * (Mk @ phi))
+        return out
+
     @property
     def D(self) -> sp.csr_matrix:
         """(16 k, n_var): DK over DM, in the order of BeamBasis.products' columns."""
@@ -351,32 +363,49 @@ def eigenvalue_derivatives(lam: np.ndarray, phi: np.ndarray, d: StateDerivatives
 
 
 def eigenvector_derivatives(K: sp.csc_matrix, M: sp.csc_matrix, lam: float, phi: np.ndarray, dlam: np.ndarray,
-                            d: StateDerivatives, terms=None, mode: int = 0, dmass: np.ndarray | None = None) -> np.ndarray:
-    """(n_free, n_var) d phi / dp of one mass-normalised mode by Nelson's method (distinct eigenvalue).
+                            d: StateDerivatives, terms=None, mode: int = 0, dmass: np.ndarray | None = None,
+                            project=None) -> np.ndarray:
+    """(n_free, n_var) d phi / dp of one mass-normalised mode by Nelson's method (distinct eigenvalue),
+    or P d phi / dp ((n_out, n_var)) with project=P ((n_out, n_free), e.g. the sensors).
 
     K: the symmetric tangent, M: the mass matrix the mode solves, lam its eigenvalue; terms and
     mode: the state part (ModalStateTerms) and this mode's row in it; dmass: phi^T dM_k phi at the
-    fixed state (n_var,) when already known (StateDerivatives.quadratic)."""
+    fixed state (n_var,) when already known (StateDerivatives.quadratic). With fewer outputs than
+    variables, the projection is solved by the adjoint: P A^-1 = (A^-1 P^T)^T (A symmetric), n_out + 1
+    solves whatever the number of variables."""
     n = len(phi)
     k = int(np.argmax(np.abs(phi) * np.sqrt(np.abs(M.diagonal()) + 1e-300)))
-    A = _pinned(K - lam * M, k)  # DOF k held at zero: the singular K - lam M made regular
-    rhs = -d.products(phi, lam)
-    Mphi = M @ phi
-    rhs += Mphi[:, None] * dlam[None, :]
-    if dmass is None:
-        dmass = d.quadratic(phi[:, None])[1][0]
-    if terms is not None:
-        rhs -= terms.H[mode] @ d.du
-        dmass = dmass + terms.gM[mode] @ d.du
-    rhs[k] = 0.0
     try:
-        v = superlu(A).solve(rhs)
+        lu = superlu(_pinned(K - lam * M, k))  # DOF k held at zero: the singular K - lam M made regular
     except RuntimeError as exc:
         raise SolverError(f"mode shape derivative: K - lambda M is singular after removing one DOF ({exc}); the "
                           "eigenvalue is repeated, so its shape derivative is not unique") from None
-    v = v.reshape(n, -1)
+    Mphi = M @ phi
+    if dmass is None:
+        dmass = d.quadratic(phi[:, None])[1][0]
+    if terms is not None:
+        dmass = dmass + terms.gM[mode] @ d.du
+    if project is not None and project.shape[0] + 1 < d.du.shape[1]:
+        # Adjoint: W = A^-1 [P^T, M phi] (A symmetric, W[k] plays no part as rhs[k] = 0), then W^T rhs
+        # from the element bilinear forms, never forming rhs itself.
+        P = project
+        Pt = P.T.toarray() if sp.issparse(P) else np.asarray(P, float).T
+        W = lu.solve(np.column_stack([Pt, Mphi]))
+        W[k] = 0.0
+        Y = -d.bilinear(phi, W, lam) + (W.T @ Mphi)[:, None] * dlam[None, :]
+        if terms is not None:
+            Y -= (terms.H[mode].T @ W).T @ d.du
+        c = -Y[-1] - 0.5 * dmass  # keeps phi^T M phi = 1
+        return Y[:-1] + np.asarray(P @ phi).reshape(-1)[:, None] * c[None, :]
+    rhs = -d.products(phi, lam) + Mphi[:, None] * dlam[None, :]
+    if terms is not None:
+        rhs -= terms.H[mode] @ d.du
+    rhs[k] = 0.0
+    v = lu.solve(rhs).reshape(n, -1)
     c = -(Mphi @ v) - 0.5 * dmass  # keeps phi^T M phi = 1
-    return v + phi[:, None] * c[None, :]
+    if project is None:
+        return v + phi[:, None] * c[None, :]
+    return np.asarray(project @ v) + np.asarray(project @ phi).reshape(-1)[:, None] * c[None, :]
 
 
 def _pinned(A: sp.spmatrix, k: int) -> sp.csc_matrix:

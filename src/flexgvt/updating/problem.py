@@ -441,8 +441,9 @@ class UpdatingProblem:
         dlam = eigenvalue_derivatives(p.eigenvalues[idx], p.phi[:, idx], d, terms, forms)
         df = dlam / (8 * np.pi**2 * np.where(fa > 0, fa, 1.0))[:, None]
         rows = [np.where(ok[:, None], (w.frequency * wf / fm)[:, None] * df, 0.0)]
-        shapes = self._shape_derivatives(p, meas, d, dlam, terms, forms[1]) if need_vectors else None
-        dmac = self._mac_derivatives(meas, shapes) if (use_mac or use_mac_min) else None
+        shapes = self._shape_derivatives(p, meas, d, dlam, terms, forms[1], mac_only=not use_xor) \
+            if need_vectors else None
+        dmac = self._mac_derivatives(meas, shapes, mac_only=not use_xor) if (use_mac or use_mac_min) else None
         if use_mac:
             rows.append(np.where(ok[:, None], -w.mac * dmac, 0.0))
         if use_static:
@@ -490,13 +491,17 @@ class UpdatingProblem:
         return np.where(np.array(out) > 0, np.array(out), 1.0)
 
     # ------------------------------------------------------------------ Jacobian pieces
-    def _shape_derivatives(self, p: ConfigurationPoint, meas: Measured, d, dlam, terms=None, dmass=None) -> dict:
+    def _shape_derivatives(self, p: ConfigurationPoint, meas: Measured, d, dlam, terms=None, dmass=None,
+                           mac_only: bool = False) -> dict:
         """{measured mode i: (a, da)}: the paired analytical shape at the sensors (n_sensors,) and its
         derivative (n_sensors, n_var), the shape moving with p (Nelson) and the sensors turning with
-        the structure."""
+        the structure; mac_only: da is the MAC's derivative (1, n_var) instead, by the adjoint of
+        the MAC's gradient with respect to the shape (two solves per mode whatever the number of
+        variables)."""
         system = p.state.system
         T = system.transformation(p.state.positions, p.state.rotations) if system.has_links else None
         S = meas.sensors.matrix(p.state.node_ids, p.state, follow=self.follow_sensors)
+        S = (S @ T).tocsr() if T is not None else S[:, np.flatnonzero(system.dof_map >= 0)]  # on reduced DOFs
         turn = self.follow_sensors and np.any(d.du)
         if turn:  # the sensors turn with their nodes as the state moves with p
             rows = meas.sensors.rows(p.state.node_ids)
@@ -506,27 +511,24 @@ class UpdatingProblem:
             if j < 0:
                 continue
             phi = p.phi[:, j]
-            dphi = eigenvector_derivatives(p.K, p.M, p.eigenvalues[j], phi, dlam[i], d, terms, mode=i,
-                                           dmass=None if dmass is None else dmass[i])
-            full = system.expand(phi, T)
-            a = S @ full
-            da = np.asarray(S @ system.expand(dphi, T))
+            a = S @ phi
+            g = _mac_gradient(meas.shapes[i], a)[None, :] if mac_only else None
+            da = eigenvector_derivatives(p.K, p.M, p.eigenvalues[j], phi, dlam[i], d, terms, mode=i,
+                                         dmass=None if dmass is None else dmass[i],
+                                         project=S if g is None else np.asarray(S.T @ g[0])[None, :])
             if turn:
-                da += np.einsum("sc,sck->sk", meas.sensors.turning(p.state.node_ids, p.state, full), spins)
+                turning = np.einsum("sc,sck->sk", meas.sensors.turning(p.state.node_ids, p.state,
+                                                                        system.expand(phi, T)), spins)
+                da += turning if g is None else g @ turning
             out[i] = (a, da)
         return out
 
-    def _mac_derivatives(self, meas: Measured, shapes: dict) -> np.ndarray:
-        """(n_measured, n_var) dMAC/dp of each pair from the analytical shapes' derivatives."""
+    def _mac_derivatives(self, meas: Measured, shapes: dict, mac_only: bool = False) -> np.ndarray:
+        """(n_measured, n_var) dMAC/dp of each pair from the analytical shapes' derivatives (or the
+        MAC's own with mac_only)."""
         out = np.zeros((len(meas.frequencies_hz), len(self.par)))
         for i, (a, da) in shapes.items():
-            m = meas.shapes[i]
-            c = np.vdot(m, a)
-            mm = np.real(np.vdot(m, m))
-            aa = float(a @ a)
-            mac = abs(c) ** 2 / (mm * aa)
-            dc = m.conj() @ da
-            out[i] = 2 * np.real(np.conj(c) * dc) / (mm * aa) - mac * 2 * (a @ da) / aa
+            out[i] = da.reshape(-1) if mac_only else _mac_gradient(meas.shapes[i], a) @ da
         return out
 
     def _static_derivatives(self, p: ConfigurationPoint, meas: Measured, d) -> np.ndarray:
@@ -578,6 +580,15 @@ class UpdatingProblem:
             for a, i0 in enumerate(t.inertia):
                 rows.append(w.inertia * dIcg[a] / i0)
         return np.array(rows)
+
+
+def _mac_gradient(m: np.ndarray, a: np.ndarray) -> np.ndarray:
+    """(n_sensors,) d MAC(m, a) / d a of a measured (real or complex) shape m and a real analytical a."""
+    c = np.vdot(m, a)
+    mm = np.real(np.vdot(m, m))
+    aa = float(a @ a)
+    mac = abs(c) ** 2 / (mm * aa)
+    return 2 * np.real(np.conj(c) * m.conj()) / (mm * aa) - 2 * mac * a / aa
 
 
 def _xor_parts(Psi: np.ndarray, A: np.ndarray):
