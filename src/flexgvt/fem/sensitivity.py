@@ -63,7 +63,7 @@ def _section_props_complex(section, parameter: str, h: float) -> dict:
             "Ay": shear, "Az": shear}
 
 
-def _group_derivatives(group, parameter, L):
+def group_derivatives(group, parameter, L):
     """Exact (complex-step) derivatives with respect to ``parameter`` of a beam group's kernel
     coefficients (k, 8), mass per length (k, 2) and inertia per length (k, 2, 3) (see group_values)."""
     mat, sec = group.material, group.section
@@ -106,7 +106,7 @@ def beam_parameter_derivative(state: State, group: str, parameter: str) -> Param
     starts = np.cumsum([0] + [len(g.ids) for g in model.beams])
     parts = [(np.arange(starts[k], starts[k + 1]), g) for k, g in enumerate(model.beams) if g.name == group]
     rows = np.concatenate([r for r, _ in parts])
-    values = [_group_derivatives(g, parameter, cm.beams.L0[r]) for r, g in parts]
+    values = [group_derivatives(g, parameter, cm.beams.L0[r]) for r, g in parts]
     dcoeff, dmass, dinertia = (np.concatenate([v[i] for v in values]) for i in range(3))
     d_res, dK, dM = value_derivative(system, state.positions, state.rotations, state.load_factor,
                                      ValueChange(beams=(rows, dcoeff, dmass, dinertia)))

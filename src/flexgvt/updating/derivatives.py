@@ -42,8 +42,9 @@ import scipy.sparse.linalg as spla
 from ..errors import SolverError
 from ..fem.beam_basis import N_VALUES, beam_basis, local_unit_masses, mass_values
 from ..fem.linsolve import superlu
-from ..fem.sensitivity import ValueChange, modal_state_terms, value_derivative
+from ..fem.sensitivity import ValueChange, group_derivatives, modal_state_terms, value_derivative
 from ..fem.system import group_values
+from ..model import RectangularSection
 from .variables import Parametrisation
 
 _EXACT_STEP = 0.25  # normalised step of the two-point rule where the assembly is linear or quadratic
@@ -183,11 +184,15 @@ def value_change(par: Parametrisation, model, x: np.ndarray, k: int, configurati
         for idx in b.indices:
             group = model.beams[idx]
             L = np.linalg.norm(np.diff(model.xyz[model.index_of(group.nodes)], axis=1)[:, 0], axis=1)
-            acc = None
-            for off, w in zip((2 * h, h, -h, -2 * h), (-1 / 12, 8 / 12, -8 / 12, 1 / 12)):
-                mat, sec = par.beam_entities(group, b, idx, x[k] + off)
-                vals = group_values(mat, sec, group.rotary_inertia, L)
-                acc = [w / h * a for a in vals] if acc is None else [c + w / h * a for c, a in zip(acc, vals)]
+            if _complex_step_applies(group, v.attribute):  # exact, one evaluation
+                dp = v.scale if v.shifts else b.initial[b.indices.index(idx)]
+                acc = [dp * a for a in group_derivatives(group, v.attribute, L)]
+            else:  # any section formula: four-point rule
+                acc = None
+                for off, w in zip((2 * h, h, -h, -2 * h), (-1 / 12, 8 / 12, -8 / 12, 1 / 12)):
+                    mat, sec = par.beam_entities(group, b, idx, x[k] + off)
+                    vals = group_values(mat, sec, group.rotary_inertia, L)
+                    acc = [w / h * a for a in vals] if acc is None else [c + w / h * a for c, a in zip(acc, vals)]
             rows.append(np.arange(starts[idx], starts[idx + 1]))
             dsec.append(acc[0])
             drhoA.append(acc[1])
@@ -240,6 +245,13 @@ def value_change(par: Parametrisation, model, x: np.ndarray, k: int, configurati
             samples.append((o, w / h))
         return ValueChange(cord_offsets=(rows, samples))
     return ValueChange(cords=(rows, np.array([k0 for _, k0 in mine], float)))
+
+
+def _complex_step_applies(group, attribute: str) -> bool:
+    """fem.sensitivity's complex-step group derivative covers E, G, rho of any section, and width and
+    height of a uniform rectangle."""
+    return attribute in ("E", "G", "rho") or (attribute in ("width", "height")
+                                              and isinstance(group.section, RectangularSection))
 
 
 def partial_derivatives(par: Parametrisation, model, x: np.ndarray, state, k: int, change: ValueChange | None = None):
