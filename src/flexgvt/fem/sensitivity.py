@@ -365,21 +365,18 @@ def modal_state_terms(system, x: np.ndarray, R: np.ndarray, lam: float, phi: np.
             continue
         ne, p = nodes.shape
         ph = full[nodes].reshape(ne, 6 * p, m)
-        Hb = [np.zeros((ne, 6 * p, 6 * p)) for _ in range(m)] if vectors else None
+        Hb = np.zeros((m, ne, 6 * p, 6 * p)) if vectors else None
         for a, c, dK, dM in _element_state_derivatives(fn, x[nodes], R[nodes], h_t, h_r):
-            col = 6 * a + c
             Kphi = dK @ ph  # batched (e, d, d) @ (e, d, m)
             np.add.at(gK[:, c], nodes[:, a], np.sum(ph * Kphi, axis=1))
             if dM is not None:
                 Mphi = dM @ ph
                 np.add.at(gM[:, c], nodes[:, a], np.sum(ph * Mphi, axis=1))
             if vectors:
-                KTphi = np.swapaxes(dK, 1, 2) @ ph
-                for i in range(m):
-                    v = 0.5 * (Kphi[:, :, i] + KTphi[:, :, i])
-                    if dM is not None:
-                        v = v - eigenvalues[i] * Mphi[:, :, i]
-                    Hb[i][:, :, col] = v
+                v = 0.5 * (Kphi + np.swapaxes(dK, 1, 2) @ ph)
+                if dM is not None:
+                    v -= eigenvalues[None, None, :] * Mphi
+                Hb[:, :, :, 6 * a + c] = np.moveaxis(v, 2, 0)
         if vectors:
             for i in range(m):
                 H_blocks[i].append(Hb[i])
