@@ -59,7 +59,8 @@ def element_coefficients(E, G, pa: dict, pb: dict, L: np.ndarray) -> np.ndarray:
     flexibility, int (1 - s)^2 / EI, int s^2 / EI, -int s (1 - s) / EI [s = x / L] plus the shear
     term int 1 / (G As) / L^2 on all four, and EA, GJ as 1 / int (1 / EA) dx / L, integrated by
     3-point Gauss (Nastran CBEAM's rule; it equals the uniform element when the ends agree).
-    Complex-safe (complex-step derivatives)."""
+    Complex-safe (complex-step derivatives). Uniform elements (pb is pa) also take E, G and the
+    properties as per-element arrays (n,)."""
     L = np.asarray(L)
     n = len(L)
     out = np.zeros((n, 8), dtype=np.result_type(E, G, *pa.values(), *pb.values(), L, float))
@@ -67,7 +68,8 @@ def element_coefficients(E, G, pa: dict, pb: dict, L: np.ndarray) -> np.ndarray:
         out[:, 0] = E * pa["A"]
         out[:, 1] = G * pa["J"]
         for col, (I, As) in ((2, ("Iy", "Az")), (4, ("Iz", "Ay"))):
-            phi = 12 * E * pa[I] / (G * pa[As] * L**2) if pa[As] != 0 else np.zeros(n)
+            shear = np.asarray(pa[As]) != 0  # per element when the properties are per-element arrays
+            phi = np.where(shear, 12 * E * pa[I] / (G * np.where(shear, pa[As], 1.0) * L**2), 0.0)
             out[:, col], out[:, col + 1] = bending_coefficients(E * pa[I], phi, L)
         return out
     s, w = GAUSS3_POINTS, GAUSS3_WEIGHTS

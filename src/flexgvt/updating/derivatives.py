@@ -33,7 +33,7 @@ truncation-bound by the members' stretch along straight lines in the state).
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 
 import numpy as np
 import scipy.sparse as sp
@@ -42,8 +42,8 @@ import scipy.sparse.linalg as spla
 from ..errors import SolverError
 from ..fem.beam_basis import N_VALUES, beam_basis, local_unit_masses, mass_values
 from ..fem.linsolve import superlu
-from ..fem.sensitivity import ValueChange, group_derivatives, modal_state_terms, value_derivative
-from ..fem.system import group_values
+from ..fem.sensitivity import ValueChange, groups_derivatives, modal_state_terms, value_derivative
+from ..fem.system import compile_model, group_values
 from ..model import RectangularSection
 from .variables import Parametrisation
 
@@ -108,7 +108,7 @@ class StateDerivatives:
     """Total derivatives at one configuration's state, per design variable k: du[:, k] (reduced),
     and the partial dK/dp_k, dM/dp_k (reduced; dK of the consistent tangent) held as ``matrices``
     {k: (dK, dM)} for variables outside the beam basis, and as basis @ (DK, DM) columns for the
-    beam variables. The modes use them through ``quadratic`` and ``products`` only.
+    beam variables. The modes use them only through ``quadratic``, ``products`` and ``bilinear``.
     includes_state: dK, dM hold the change along du too (else: modal_terms)."""
 
     du: np.ndarray
@@ -172,22 +172,34 @@ def _interleave(DK: sp.csc_matrix, DM: sp.csc_matrix) -> sp.csr_matrix:
     return sp.vstack([DK, DM]).tocsr()[perm]
 
 
-def value_change(par: Parametrisation, model, x: np.ndarray, k: int, configuration: str) -> ValueChange:
-    """What variable k changes in the compiled values of ``configuration``, per unit of its
-    normalised value, with ``model`` (the working copy) at design point x."""
-    b = par.bindings[k]
-    v = b.variable
-    if v.kind == "beam":
-        starts = np.cumsum([0] + [len(g.ids) for g in model.beams])
-        rows, dsec, drhoA, drhoI = [], [], [], []
-        h = _SECTION_STEP
+def _beam_changes(par: Parametrisation, model, x: np.ndarray, ks) -> dict:
+    """{k: ValueChange} of beam variables ks: one vectorised complex-step evaluation for all those
+    it covers (E, G, rho; a rectangle's width and height), a four-point rule on the section
+    formulas for the others."""
+    starts = np.cumsum([0] + [len(g.ids) for g in model.beams])
+    lengths = compile_model(model).beams.L0  # cached for the model's revision
+    items, where = [], []
+    for k in ks:
+        b = par.bindings[k]
         for idx in b.indices:
             group = model.beams[idx]
-            L = np.linalg.norm(np.diff(model.xyz[model.index_of(group.nodes)], axis=1)[:, 0], axis=1)
-            if _complex_step_applies(group, v.attribute):  # exact, one evaluation
+            if _complex_step_applies(group, b.variable.attribute):
+                items.append((group, b.variable.attribute, lengths[starts[idx]:starts[idx + 1]]))
+                where.append((k, idx))
+    exact = dict(zip(where, groups_derivatives(items)))
+    out = {}
+    h = _SECTION_STEP
+    for k in ks:
+        b = par.bindings[k]
+        v = b.variable
+        rows, dsec, drhoA, drhoI = [], [], [], []
+        for idx in b.indices:
+            group = model.beams[idx]
+            if (k, idx) in exact:
                 dp = v.scale if v.shifts else b.initial[b.indices.index(idx)]
-                acc = [dp * a for a in group_derivatives(group, v.attribute, L)]
+                acc = [dp * a for a in exact[(k, idx)]]
             else:  # any section formula: four-point rule
+                L = lengths[starts[idx]:starts[idx + 1]]
                 acc = None
                 for off, w in zip((2 * h, h, -h, -2 * h), (-1 / 12, 8 / 12, -8 / 12, 1 / 12)):
                     mat, sec = par.beam_entities(group, b, idx, x[k] + off)
@@ -197,7 +209,17 @@ def value_change(par: Parametrisation, model, x: np.ndarray, k: int, configurati
             dsec.append(acc[0])
             drhoA.append(acc[1])
             drhoI.append(acc[2])
-        return ValueChange(beams=(np.concatenate(rows), np.vstack(dsec), np.concatenate(drhoA), np.vstack(drhoI)))
+        out[k] = ValueChange(beams=(np.concatenate(rows), np.vstack(dsec), np.concatenate(drhoA), np.vstack(drhoI)))
+    return out
+
+
+def value_change(par: Parametrisation, model, x: np.ndarray, k: int, configuration: str) -> ValueChange:
+    """What variable k changes in the compiled values of ``configuration``, per unit of its
+    normalised value, with ``model`` (the working copy) at design point x."""
+    b = par.bindings[k]
+    v = b.variable
+    if v.kind == "beam":
+        return _beam_changes(par, model, x, [k])[k]
     if v.kind == "mass" and v.per_configuration:
         mine = [i for c, i in b.indices if c == configuration]
         if not mine:
@@ -266,8 +288,9 @@ def partial_derivatives(par: Parametrisation, model, x: np.ndarray, state, k: in
 def shared_changes(par: Parametrisation, model, x: np.ndarray) -> DesignChanges:
     """Every variable's ValueChange that does not depend on the configuration (None for those on
     configuration items), with the beam variables' value-derivative matrices."""
-    return DesignChanges.of([None if b.variable.per_configuration else value_change(par, model, x, k, "")
-                             for k, b in enumerate(par.bindings)])
+    beams = _beam_changes(par, model, x, [k for k, b in enumerate(par.bindings) if b.variable.kind == "beam"])
+    return DesignChanges.of([beams[k] if k in beams else None if b.variable.per_configuration
+                             else value_change(par, model, x, k, "") for k, b in enumerate(par.bindings)])
 
 
 def state_direction(system, state, v: np.ndarray):
@@ -435,20 +458,5 @@ def _pinned(A: sp.spmatrix, k: int) -> sp.csc_matrix:
     return (A + sp.csc_matrix(([1.0], ([k], [k])), shape=A.shape)).tocsc()
 
 
-def sensor_matrix_direction(sensors, state, v: np.ndarray, follow: bool):
-    """d(sensor matrix)/dp along the reduced state derivative v (sensors turn with the nodes they
-    sit on when they follow the structure); zero otherwise."""
-    system = state.system
-    if not follow or not np.any(v):
-        return None
-    scale = max(np.abs(v[system.rotation_mask]).max(initial=0.0), 1e-300)
-    h = _STATE_STEP / scale
-    out = []
-    for sign in (1.0, -1.0):
-        xs, Rs = system.update(state.positions, state.rotations, sign * h * v)
-        out.append(sensors.matrix(state.node_ids, replace(state, positions=xs, rotations=Rs), follow=True))
-    return (out[0] - out[1]) / (2 * h)
-
-
 __all__ = ["DesignChanges", "StateDerivatives", "eigenvalue_derivatives", "eigenvector_derivatives",
-           "partial_derivatives", "sensor_matrix_direction", "state_derivatives", "state_direction"]
+           "partial_derivatives", "state_derivatives", "state_direction"]

@@ -158,6 +158,7 @@ class UpdatingProblem:
         self.static_settings = static_settings
         self.follow_sensors = follow_sensors
         self.work = model.copy(f"{model.name} (updating)")
+        self._work_at = None  # (x, configurations) the working model is set to
         self.states: dict[str, object] = {}
         # Pairing reference without measured shapes: per configuration, the paired analytical shapes
         # at the point where its frequencies fitted best so far, and that fit.
@@ -216,13 +217,13 @@ class UpdatingProblem:
             return hit
         t0 = time.perf_counter()
         if hit is not None and not self.workers:  # the states are at hand: only the Jacobian is missing
-            self.par.apply(self.work, x)
+            self._set_work(x)
             point = self._assemble(x, hit.configurations, True)
             point.seconds = hit.seconds + time.perf_counter() - t0
             self._cache[key] = point
             return point
         try:
-            configs = self.par.apply(self.work, x)
+            configs = self._set_work(x)
         except ModelError as exc:  # e.g. a negative modulus from an unbounded step
             raise DesignPointFailure(f"design point outside the physical range: {exc}") from exc
         if self.workers:
@@ -235,6 +236,16 @@ class UpdatingProblem:
             self._cache.clear()
         self._cache[key] = point
         return point
+
+    def _set_work(self, x: np.ndarray) -> dict[str, Configuration]:
+        """Set the working model to x (left alone when it is there already: an unchanged revision
+        keeps its compiled arrays) and return the configurations at x."""
+        if self._work_at is not None and np.array_equal(self._work_at[0], x):
+            return self._work_at[1]
+        self._work_at = None  # a failed apply may leave the model half set
+        configs = self.par.apply(self.work, x)
+        self._work_at = (x.copy(), configs)
+        return configs
 
     def _remote(self, x: np.ndarray, gradient: bool) -> dict[str, ConfigurationPoint]:
         """Every configuration evaluated by its worker at once (they run in parallel)."""
