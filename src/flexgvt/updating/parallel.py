@@ -9,11 +9,30 @@ docs/benchmarks.md for where the parallel evaluation starts to pay.
 
 from __future__ import annotations
 
+import functools
 from contextlib import contextmanager
 
+import numba
 import numpy as np
 
 from ..errors import ModelError
+from ..fem.linsolve import serial_blas
+
+
+def single_threaded(function):
+    """Run ``function`` with one numba thread and one BLAS thread: the worker processes share the
+    machine's cores, and a kernel's threads spin-waiting beside another worker's starve both."""
+    function = serial_blas(function)
+
+    @functools.wraps(function)
+    def wrapper(*args, **kwargs):
+        before = numba.get_num_threads()
+        numba.set_num_threads(1)
+        try:
+            return function(*args, **kwargs)
+        finally:
+            numba.set_num_threads(before)
+    return wrapper
 
 
 class ConfigurationWorker:
@@ -26,6 +45,7 @@ class ConfigurationWorker:
         self.problem = UpdatingProblem(model, [configuration], [measured], variables, None, objective, n_modes,
                                        static_settings, follow_sensors)
 
+    @single_threaded
     def evaluate(self, x, gradient: bool) -> dict:
         from .problem import DesignPointFailure
         try:

@@ -10,6 +10,7 @@ import numpy as np
 from ..errors import ModelError, SolverError
 from ..model import Configuration, Model
 from .optimise import minimise, starting_points
+from .parallel import single_threaded
 from .problem import UpdatingProblem
 from .store import fingerprint
 from .result import UpdateResult, configuration_tables, identifiability, variable_table
@@ -139,6 +140,7 @@ def _unsolved_start(start, x0, method: str, exc: Exception) -> dict:
             "resumed": False, "objective": np.inf, "x0": np.asarray(x0).tolist(), "unsolved": True}
 
 
+@single_threaded
 def _remote_start(problem, x0, method, max_iterations, tolerance) -> dict:
     """One multi-start run in a worker (a copy of the problem travels with the task)."""
     try:
