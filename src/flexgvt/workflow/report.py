@@ -32,6 +32,18 @@ def _measured_points(project, item, state):
     return np.asarray(xyz), shapes
 
 
+def _stop_note(up) -> str:
+    """The optimiser's message, and at the evaluation limit how far the objective still moved."""
+    objective = [float(h["objective"]) for h in up.history]
+    if "maximum number" not in str(up.message).lower() or len(objective) < 2:
+        return str(up.message)
+    k = min(10, len(objective) - 1)
+    before, last = objective[-1 - k], objective[-1]
+    fall = 100 * (before - last) / before if before > 0 else 0.0
+    return (f"stopped at the evaluation limit (max_iterations); the objective fell {fall:.2g} % over its last {k} "
+            "iterations" + (", still falling: raise max_iterations" if fall > 5 else ""))
+
+
 def _section(res, name: str):
     from ..report import ConfigurationSection, ModeShape, StabilisationData
     project, up = res.project, res.update
@@ -98,7 +110,7 @@ def build_report_content(res):
         summary.append((f"test data {name}", f"{len(item.frequencies_hz)} modes from {item.source}"))
     variables, history = [], []
     if up is not None:
-        summary += [("updating", f"{len(project.variables)} variables, {up.method}: {up.message}"),
+        summary += [("updating", f"{len(project.variables)} variables, {up.method}: {_stop_note(up)}"),
                     ("objective", f"{up.initial.objective:.4g} -> {up.final.objective:.4g} in "
                                   f"{len(up.history) - 1} iterations ({up.solves} solves, {up.seconds:.1f} s)")]
         for r in up.variables:
