@@ -209,21 +209,35 @@ def test_mac_and_cross_orthogonality_rows_with_sensors_turning_with_the_structur
         assert np.allclose(p.constraint_jacobian, -p.jacobian[mac_rows] / objective.mac, rtol=1e-12, atol=1e-15)
 
 
-def test_gradients_of_a_model_with_rigid_links_and_an_offset_mass():
-    """A rigid link carries a pod's mass off the strip: the linked path (state direction by a
-    four-point difference along each du, links' reduction) against finite differences."""
+@pytest.mark.parametrize("shapes", [False, True], ids=["frequencies-static", "mac-xor"])
+def test_gradients_of_a_model_with_rigid_links(shapes):
+    """A rigid link carries a pod off the strip, and an arm (a beam with a mass at its end) hangs from
+    the pod: the links' own terms (T and the link forces turning with the independent node) in the
+    state part of the modes' derivatives, and in the shapes' with MAC and cross-orthogonality."""
+    from flexgvt.correlation import Sensors
     case = fg.cases.cantilever_strip(n_elements=30)
     model = case.model
     tip = int(case.references["tip_node"])
     xyz = model.xyz[model.index_of([tip])[0]]
-    pod = model.add_nodes([xyz + np.array([0.03, 0.0, -0.02])])
-    model.add_rigid_link(tip, pod)
-    model.add_mass(int(pod[0]), 0.02)
+    pod, arm = model.add_nodes([xyz + np.array([0.03, 0.0, -0.02]), xyz + np.array([0.03, 0.05, -0.03])])
+    model.add_rigid_link(tip, [pod])
+    model.add_mass(int(pod), 0.02)
+    model.add_beams([[pod, arm]], fg.Material("steel", E=200e9, nu=0.3, rho=7800.0),
+                    fg.RectangularSection(width=0.004, height=0.004), name="arm")
+    model.add_mass(int(arm), 0.01)
+    ids = case.model.node_ids[:31]
+    sensors = Sensors.uniaxial(ids[5::5], (0, 0, 1), np.tile([0.02, 0.0, 0.0], (6, 1)))
     cfgs = [case.configurations[n] for n in ("unloaded", "flatwise_2g")]
-    data = [up.Measured(c.name, fg.solve_modes(fg.solve_static(model, c), 5, label=False).frequencies_hz * 1.01,
-                        static={(tip, 3): -0.05} if c.gravity else {}) for c in cfgs]
-    variables = [up.beam("E2", "region2", "E"), up.beam("t1", "region1", "thickness"), up.mass("pod", [0])]
-    problem = up.UpdatingProblem(model, cfgs, data, variables, objective=up.Objective(static=1.0),
-                                 static_settings=TIGHT)
-    assert problem.evaluate(np.ones(3)).configurations["flatwise_2g"].state.system.has_links
-    _check(problem, np.array([1.02, 0.98, 1.03]))
+    data = []
+    for c in cfgs:
+        state = fg.solve_static(model, c)
+        modes = fg.solve_modes(state, 5, label=False)
+        measured = np.asarray(sensors.matrix(state.node_ids, state) @ modes.matrix()).T if shapes else None
+        data.append(up.Measured(c.name, modes.frequencies_hz * 1.01, measured, sensors if shapes else None,
+                                static={} if shapes or not c.gravity else {(tip, 3): -0.05}))
+    variables = [up.beam("E2", "region2", "E"), up.beam("t1", "region1", "thickness"), up.mass("pod", [0]),
+                 up.beam("arm", "arm", "rho")]
+    objective = up.Objective(mac=1.0, orthogonality=1.0) if shapes else up.Objective(static=1.0)
+    problem = up.UpdatingProblem(model, cfgs, data, variables, objective=objective, static_settings=TIGHT)
+    assert problem.evaluate(np.ones(4)).configurations["flatwise_2g"].state.system.has_links
+    _check(problem, np.array([1.02, 0.98, 1.03, 1.05]))

@@ -24,7 +24,7 @@ from .beam import (
     nodal_weights,
 )
 from .points import cord_forces, mass_gravity, mass_matrix, spring_forces
-from .rotations import spin
+from .rotations import skew, spin
 from .static import State
 
 BEAM_PARAMETERS = ("E", "G", "rho", "width", "height")
@@ -347,10 +347,12 @@ def modal_state_terms(system, x: np.ndarray, R: np.ndarray, lam: float, phi: np.
     exploded nodes: 12 DOFs x 4 points = 48 beam-kernel calls, whatever the number of design
     variables. Systems with rigid or interpolation links are not handled here (their reduction
     depends on the state too)."""
-    if system.has_links:
-        raise ModelError("modal_state_terms: systems with links need the per-direction derivative")
+    if not rigid_links_only(system):
+        raise ModelError("modal_state_terms: systems with interpolation links or linear constraints need the "
+                         "per-direction derivative")
     n, m = system.n_nodes, phi.shape[1]
-    full = system.expand(phi).reshape(n, 6, m)
+    T = system.transformation(x, R) if system.has_links else None
+    full = system.expand(phi, T).reshape(n, 6, m)
     # Steps of 1e-4 of the shortest element (translations) and 1e-4 rad: the stretch of a short
     # element changes its axial force at EA/L, so a step scaled on the structure's size would
     # strain it by percents.
@@ -419,6 +421,68 @@ def modal_state_terms(system, x: np.ndarray, R: np.ndarray, lam: float, phi: np.
         if vectors:
             for i in range(m):
                 H_blocks[i].append(Hb[i])
-    free = system.dof_map >= 0
     H = [system.pattern.assemble(blocks) for blocks in H_blocks] if vectors else None
-    return ModalStateTerms(gK.reshape(6 * n, m)[free].T, gM.reshape(6 * n, m)[free].T, H)
+    if T is None:
+        free = system.dof_map >= 0
+        return ModalStateTerms(gK.reshape(6 * n, m)[free].T, gM.reshape(6 * n, m)[free].T, H)
+    # Rigid links: the element part over all DOFs, reduced (u_full moves by T du), plus the links'
+    # own terms (T and the links' geometric stiffness turn with the independent nodes).
+    CK, CM = _rigid_link_terms(system, x, R, lam, phi, full.reshape(6 * n, m), T)
+    gK = np.stack([T.T @ gK.reshape(6 * n, m)[:, i] + CK[i].T @ phi[:, i] for i in range(m)])
+    gM = np.stack([T.T @ gM.reshape(6 * n, m)[:, i] + CM[i].T @ phi[:, i] for i in range(m)])
+    if vectors:
+        H = [(T.T @ H[i] @ T + CK[i] - eigenvalues[i] * CM[i]).tocsc() for i in range(m)]
+    return ModalStateTerms(gK, gM, H)
+
+
+def rigid_links_only(system) -> bool:
+    """True when the system's only constraints are rigid links (or none): modal_state_terms handles it."""
+    return len(system.cm.interp) == 0 and len(system.cm.mpc_dependent) == 0
+
+
+def _rigid_link_terms(system, x, R, lam, phi, full, T):
+    """Per mode i, the rigid links' part of d(sym K_red phi_i)/du and d(M_red phi_i)/du (reduced,
+    sparse): K_red = T^T K T + G(f), M_red = T^T M T, where T and the links' geometric term G turn
+    with each independent node i and G carries the link forces f of the dependents (see
+    System._reduce_with_links). For a dependent d at the rotated offset r from its node, a spin
+    dtheta of the node moves r by dtheta x r, so (a: the mode's rotation at the node, z: the full
+    (A phi)'s force at d, A = sym K or M, t the tied translations):
+      d(T^T z) = skew(z) skew(r) dtheta                      (rows and columns: the node's rotations)
+      T^T A dT phi, dT phi at d = -skew(a) skew(r) dtheta    (columns: the node's rotations)
+      d(sym G phi) = B (K T du)_d + 1/2 (skew(f) skew(a) + skew(f x a)) skew(r) dtheta,
+      B = -1/2 (skew(r x a) + skew(r) skew(a))               (rows: the node's rotations)."""
+    n_red, m = phi.shape[0], phi.shape[1]
+    r_full, K_full, M_full = system.full_state(x, R, lam)
+    K_sym = (0.5 * (K_full + K_full.T)).tocsc()
+    deps, ind, r = system.link_offsets(R)
+    tied = system.cm.link_dofs[deps, :3].astype(float)  # (k, 3)
+    rot = system.dof_map[6 * ind[:, None] + 3 + np.arange(3)]  # (k, 3) reduced, -1 where held
+    trans = 6 * deps[:, None] + np.arange(3)  # (k, 3) full rows of the dependents' translations
+    f = r_full.reshape(-1, 6)[deps, :3] * tied
+    Sr = skew(r)
+    n_full = full.shape[0]
+
+    def block(values, rows, cols, shape):
+        """Sum of (k, 3, 3) blocks at rows (k, 3) x cols (k, 3), entries with a negative index dropped."""
+        rr = np.repeat(rows, 3, axis=1).reshape(-1, 3, 3)
+        cc = np.tile(cols, (1, 3)).reshape(-1, 3, 3)
+        keep = (rr >= 0) & (cc >= 0)
+        return sp.csc_matrix((values[keep], (rr[keep], cc[keep])), shape=shape)
+
+    CK, CM = [], []
+    for i in range(m):
+        a = full[:, i].reshape(-1, 6)[ind, 3:]  # (k, 3) the mode's rotation at each dependent's node
+        Sa = skew(a)
+        out = []
+        for A in (K_sym, M_full):
+            z = (A @ full[:, i]).reshape(-1, 6)[deps, :3] * tied
+            C = block(skew(z) @ Sr, rot, rot, (n_red, n_red))
+            P = block(-tied[:, :, None] * (Sa @ Sr), trans, rot, (n_full, n_red))  # dT phi per spin
+            C = C + T.T @ (A @ P)
+            out.append(C)
+        B = -0.5 * (skew(np.cross(r, a)) + Sr @ Sa) * tied[:, None, :]  # (k, 3 rot rows, 3 force comps)
+        Q = block(np.swapaxes(B, 1, 2), trans, rot, (n_full, n_red))  # Q^T = B on the force rows
+        CK.append((out[0] + Q.T @ (K_full @ T) + block(0.5 * (skew(f) @ Sa + skew(np.cross(f, a))) @ Sr, rot, rot,
+                                                         (n_red, n_red))).tocsc())
+        CM.append(out[1].tocsc())
+    return CK, CM

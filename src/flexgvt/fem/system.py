@@ -552,8 +552,35 @@ class System:
         stress-dependent part of the tangent (see solve_static's predictor); forces stay exact.
         """
         ref = reference.beam_forces if reference is not None else None
-        gb, Kb, local = beam_forces(x, R, self.cm.beams, tangent, reference_forces=ref)
+        (gb, gm, gc, gs), (Kb, Km, Kc, Ks), local, tension, length = self._element_terms(x, R, lam, tangent, ref)
         N = local[:, 0]
+        if not self.has_links:  # straight into the reduced vectors
+            internal = np.zeros(self.n_free)
+            for dofs, g in zip(self._blocks, (gb, gm, gc, gs)):
+                if len(g):
+                    _scatter_reduced(dofs, np.ascontiguousarray(g, dtype=float), self.dof_map, internal)
+            blocks = [Kb, Km, Kc, Ks] if tangent and not assemble else None
+            K = self.pattern.assemble([Kb, Km, Kc, Ks]) if tangent and assemble else None
+            return Evaluation(internal, lam * self._applied_reduced, K, N, tension, length, blocks, local)
+        g_full = self._scatter([gb, gm, gc, gs])
+        f_full = lam * self.applied
+        T = self.transformation(x, R)
+        K = None
+        if tangent:
+            K = self._reduce_with_links(self.pattern.assemble([Kb, Km, Kc, Ks]), T, x, R, g_full - f_full)
+        return Evaluation(self.reduce_vector(g_full, T), self.reduce_vector(f_full, T), K, N, tension, length,
+                          None, local)
+
+    def full_state(self, x: np.ndarray, R: np.ndarray, lam: float) -> tuple:
+        """Residual (6n,), consistent tangent and mass matrix over all DOFs, no constraint applied
+        (systems with links: their pattern spans every DOF)."""
+        g, K, _, _, _ = self._element_terms(x, R, lam, True, None)
+        return self._scatter(g) - lam * self.applied, self.pattern.assemble(K), \
+            self.pattern.assemble(self._mass_values(x, R))
+
+    def _element_terms(self, x, R, lam, tangent, reference_forces):
+        """Element forces and tangents of the beams, point masses, cords and springs."""
+        gb, Kb, local = beam_forces(x, R, self.cm.beams, tangent, reference_forces=reference_forces)
         m = self.masses
         gm, Km = mass_gravity(R[m.nodes], m.offset, lam * self.mass_weight) if len(m.nodes) else \
             (np.zeros((0, 6)), np.zeros((0, 6, 6)))
@@ -574,22 +601,7 @@ class System:
             gs[ground, :6] = 0.0
             Ks[ground, :6, :] = 0.0
             Ks[ground, :, :6] = 0.0
-        if not self.has_links:  # straight into the reduced vectors
-            internal = np.zeros(self.n_free)
-            for dofs, g in zip(self._blocks, (gb, gm, gc, gs)):
-                if len(g):
-                    _scatter_reduced(dofs, np.ascontiguousarray(g, dtype=float), self.dof_map, internal)
-            blocks = [Kb, Km, Kc, Ks] if tangent and not assemble else None
-            K = self.pattern.assemble([Kb, Km, Kc, Ks]) if tangent and assemble else None
-            return Evaluation(internal, lam * self._applied_reduced, K, N, tension, length, blocks, local)
-        g_full = self._scatter([gb, gm, gc, gs])
-        f_full = lam * self.applied
-        T = self.transformation(x, R)
-        K = None
-        if tangent:
-            K = self._reduce_with_links(self.pattern.assemble([Kb, Km, Kc, Ks]), T, x, R, g_full - f_full)
-        return Evaluation(self.reduce_vector(g_full, T), self.reduce_vector(f_full, T), K, N, tension, length,
-                          None, local)
+        return (gb, gm, gc, gs), (Kb, Km, Kc, Ks), local, tension, length
 
     @cached_property
     def _applied_reduced(self) -> np.ndarray:

@@ -42,7 +42,7 @@ import scipy.sparse.linalg as spla
 from ..errors import SolverError
 from ..fem.beam_basis import N_VALUES, beam_basis, local_unit_masses, mass_values
 from ..fem.linsolve import superlu
-from ..fem.sensitivity import ValueChange, groups_derivatives, modal_state_terms, value_derivative
+from ..fem.sensitivity import ValueChange, groups_derivatives, modal_state_terms, rigid_links_only, value_derivative
 from ..fem.system import compile_model, group_values
 from ..model import RectangularSection
 from .variables import Parametrisation
@@ -336,7 +336,7 @@ def state_derivatives(par: Parametrisation, model, x: np.ndarray, state, tangent
     system = state.system
     n = len(par)
     design = changes if changes is not None else shared_changes(par, model, x)
-    per_direction = system.has_links if per_direction is None else per_direction
+    per_direction = not rigid_links_only(system) if per_direction is None else per_direction
     batched = design.batched if not per_direction and not system.has_links else np.zeros(n, bool)
     dR = np.zeros((system.n_free, n))
     basis = None
