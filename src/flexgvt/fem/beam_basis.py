@@ -56,7 +56,8 @@ class BeamBasis:
     of the consistent tangent per unit coefficient (all that quadratic forms and the modes' products
     need); f (k, 8, 12): applied gravity load per unit mass value; M (k, 8, 12, 12): mass matrix
     per unit mass value; dofs (k, 12): the element DOFs' full indices (6 node + component);
-    reduced (k, 12): their reduced indices (-1 where fixed); n_free: the number of reduced DOFs."""
+    reduced (k, 12): their reduced indices (-1 where fixed, or tied by a link); n_free, n_full: the
+    numbers of reduced DOFs and of all DOFs."""
 
     rows: np.ndarray
     g: np.ndarray
@@ -66,24 +67,26 @@ class BeamBasis:
     dofs: np.ndarray
     reduced: np.ndarray
     n_free: int
+    n_full: int
     _layout: dict = field(default_factory=dict, repr=False, compare=False)
 
     def element_values(self, full: np.ndarray) -> np.ndarray:
         """(k, 12, ...) element values of full-DOF vectors (6 n_nodes, ...)."""
         return full[self.dofs]
 
-    def scatter(self, values: np.ndarray) -> sp.csc_matrix:
+    def scatter(self, values: np.ndarray, full: bool = False) -> sp.csc_matrix:
         """(n_free, c k) matrix whose column (e, j) is values[e, j] (12,) on element e's reduced DOFs,
-        for values (k, c, 12)."""
+        for values (k, c, 12); full: on all DOFs ((6 n_nodes, c k), systems with links)."""
         k, c = values.shape[:2]
-        if c not in self._layout:
-            keep = self.reduced >= 0
-            rows = np.broadcast_to(self.reduced[:, None, :], (k, c, 12))
+        if (c, full) not in self._layout:
+            target = self.dofs if full else self.reduced
+            keep = target >= 0
+            rows = np.broadcast_to(target[:, None, :], (k, c, 12))
             mask = np.broadcast_to(keep[:, None, :], rows.shape)
             counts = np.broadcast_to(keep.sum(axis=1)[:, None], (k, c)).ravel()
-            self._layout[c] = (mask, rows[mask], np.r_[0, np.cumsum(counts)])
-        mask, indices, indptr = self._layout[c]
-        return sp.csc_matrix((values[mask], indices, indptr), shape=(self.n_free, k * c))
+            self._layout[(c, full)] = (mask, rows[mask], np.r_[0, np.cumsum(counts)])
+        mask, indices, indptr = self._layout[(c, full)]
+        return sp.csc_matrix((values[mask], indices, indptr), shape=(self.n_full if full else self.n_free, k * c))
 
     def quadratic(self, ph: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(8 k, m) element quadratic forms ph_i^T K[e, j] ph_i and ph_i^T M[e, j] ph_i of element
@@ -95,15 +98,16 @@ class BeamBasis:
         qM = np.sum(MP * ph[:, None], axis=2)
         return qK.reshape(-1, m), qM.reshape(-1, m)
 
-    def products(self, ph: np.ndarray, lam: float) -> sp.csc_matrix:
+    def products(self, ph: np.ndarray, lam: float, full: bool = False) -> sp.csc_matrix:
         """(n_free, 16 k) matrix of K[e, j] ph (columns (e, j), j < 8) and -lam M[e, j] ph (j >= 8)
-        on the reduced DOFs, for element values ph (k, 12) of one mode with eigenvalue lam."""
+        on the reduced DOFs (full: on all DOFs), for element values ph (k, 12) of one mode with
+        eigenvalue lam."""
         k = len(ph)
         out = np.empty((k, 2 * N_VALUES, 12))
         out[:, :N_VALUES] = (self.K.reshape(k, N_VALUES * 12, 12) @ ph[:, :, None]).reshape(k, N_VALUES, 12)
         out[:, N_VALUES:] = (self.M.reshape(k, N_VALUES * 12, 12) @ ph[:, :, None]).reshape(k, N_VALUES, 12)
         out[:, N_VALUES:] *= -lam
-        return self.scatter(out)
+        return self.scatter(out, full)
 
     def bilinear(self, ph: np.ndarray, w: np.ndarray, lam: float) -> np.ndarray:
         """(16 k, n_out) element bilinear forms w_o^T K[e, j] ph (j < 8) and -lam w_o^T M[e, j] ph
@@ -150,7 +154,7 @@ def beam_basis(system, x: np.ndarray, R: np.ndarray, lam: float, rows: np.ndarra
         f[:, j, 0:3] = lam * w1[:, None] * gvec[None, :]
         f[:, j, 6:9] = lam * w2[:, None] * gvec[None, :]
     dofs = (6 * sub.nodes[:, :, None] + np.arange(6)[None, None, :]).reshape(k, 12)
-    return BeamBasis(rows, g, K, f, M, dofs, system.dof_map[dofs], system.n_free)
+    return BeamBasis(rows, g, K, f, M, dofs, system.dof_map[dofs], system.n_free, 6 * system.n_nodes)
 
 
 __all__ = ["BeamBasis", "N_VALUES", "beam_basis", "local_unit_masses", "mass_values"]

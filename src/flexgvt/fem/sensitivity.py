@@ -440,6 +440,13 @@ def rigid_links_only(system) -> bool:
     return len(system.cm.interp) == 0 and len(system.cm.mpc_dependent) == 0
 
 
+def link_force_blocks(r: np.ndarray, tied: np.ndarray, a: np.ndarray) -> np.ndarray:
+    """(k, 3, 3) B with sym(G(f)) phi = B f at the independent nodes' rotations: how the links'
+    geometric term (System._reduce_with_links) acting on a mode with rotation a (k, 3) at the
+    node changes with the force f (k, 3) at each dependent (offset r, tied translations ``tied``)."""
+    return -0.5 * (skew(np.cross(r, a)) + skew(r) @ skew(a)) * tied[:, None, :]
+
+
 def _rigid_link_terms(system, x, R, lam, phi, full, T):
     """Per mode i, the rigid links' part of d(sym K_red phi_i)/du and d(M_red phi_i)/du (reduced,
     sparse): K_red = T^T K T + G(f), M_red = T^T M T, where T and the links' geometric term G turn
@@ -480,7 +487,7 @@ def _rigid_link_terms(system, x, R, lam, phi, full, T):
             P = block(-tied[:, :, None] * (Sa @ Sr), trans, rot, (n_full, n_red))  # dT phi per spin
             C = C + T.T @ (A @ P)
             out.append(C)
-        B = -0.5 * (skew(np.cross(r, a)) + Sr @ Sa) * tied[:, None, :]  # (k, 3 rot rows, 3 force comps)
+        B = link_force_blocks(r, tied, a)
         Q = block(np.swapaxes(B, 1, 2), trans, rot, (n_full, n_red))  # Q^T = B on the force rows
         CK.append((out[0] + Q.T @ (K_full @ T) + block(0.5 * (skew(f) @ Sa + skew(np.cross(f, a))) @ Sr, rot, rot,
                                                          (n_red, n_red))).tocsc())

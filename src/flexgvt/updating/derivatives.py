@@ -42,7 +42,8 @@ import scipy.sparse.linalg as spla
 from ..errors import SolverError
 from ..fem.beam_basis import N_VALUES, beam_basis, local_unit_masses, mass_values
 from ..fem.linsolve import superlu
-from ..fem.sensitivity import ValueChange, groups_derivatives, modal_state_terms, rigid_links_only, value_derivative
+from ..fem.sensitivity import (ValueChange, groups_derivatives, link_force_blocks, modal_state_terms,
+                               rigid_links_only, value_derivative)
 from ..fem.system import compile_model, group_values
 from ..model import RectangularSection
 from .variables import Parametrisation
@@ -118,16 +119,25 @@ class StateDerivatives:
     DK: sp.csc_matrix | None = None
     DM: sp.csc_matrix | None = None
     includes_state: bool = True
+    T: sp.csr_matrix | None = None  # rigid links: the full <- reduced map at the state
+    dr_full: np.ndarray | None = None  # rigid links: the beam variables' d(residual) over all DOFs (6 n, n_var)
+    _rotations: np.ndarray | None = None  # rigid links: the nodes' rotations at the state
     _cache: dict = field(default_factory=dict, repr=False)
+
+    def _full(self, v: np.ndarray) -> np.ndarray:
+        return self.system.expand(v, self.T)
 
     def quadratic(self, phi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(m, n_var) phi_i^T dK_k phi_i and phi_i^T dM_k phi_i of reduced modes phi (n_free, m)."""
         m, n = phi.shape[1], self.du.shape[1]
         qK, qM = np.zeros((m, n)), np.zeros((m, n))
         if self.basis is not None:
-            eK, eM = self.basis.quadratic(self.basis.element_values(self.system.expand(phi)))
+            full = self._full(phi)
+            eK, eM = self.basis.quadratic(self.basis.element_values(full))
             qK += np.asarray(self.DK.T @ eK).T
             qM += np.asarray(self.DM.T @ eM).T
+            for i in range(m) if self.T is not None else ():
+                qK[i] += self._link_forms(full[:, i], full[:, i:i + 1])[0]
         for k, (Kk, Mk) in self.matrices.items():
             qK[:, k] = np.einsum("ij,ij->j", phi, Kk @ phi)
             qM[:, k] = np.einsum("ij,ij->j", phi, Mk @ phi)
@@ -138,8 +148,17 @@ class StateDerivatives:
         n_free, n = self.du.shape
         out = np.zeros((n_free, n))
         if self.basis is not None:
-            G = self.basis.products(self.basis.element_values(self.system.expand(phi)), lam)
-            out += (G @ self.D).toarray()
+            full = self._full(phi)
+            links = self.T is not None
+            G = self.basis.products(self.basis.element_values(full), lam, full=links)
+            out += (self.T.T @ (G @ self.D)).toarray() if links else (G @ self.D).toarray()
+            if links:  # the links' geometric term: B f at the independent nodes' rotations
+                ind, r, tied, trans = self._links
+                B = link_force_blocks(r, tied, full.reshape(-1, 6)[ind, 3:])
+                rot = self.system.dof_map[6 * ind[:, None] + 3 + np.arange(3)]
+                contrib = B @ self.dr_full[trans]  # (k, 3, n_var)
+                keep = rot >= 0
+                np.add.at(out, rot[keep], contrib[keep])
         for k, (Kk, Mk) in self.matrices.items():
             out[:, k] = 0.5 * (Kk @ phi + Kk.T @ phi) - lam * (Mk @ phi)
         return out
@@ -150,11 +169,31 @@ class StateDerivatives:
         out = np.zeros((W.shape[1], self.du.shape[1]))
         if self.basis is not None:
             b = self.basis
-            out += np.asarray(self.D.T @ b.bilinear(b.element_values(self.system.expand(phi)),
-                                                      b.element_values(self.system.expand(W)), lam)).T
+            full, Wf = self._full(phi), self._full(W)
+            out += np.asarray(self.D.T @ b.bilinear(b.element_values(full), b.element_values(Wf), lam)).T
+            if self.T is not None:
+                out += self._link_forms(full, Wf)
         for k, (Kk, Mk) in self.matrices.items():
             out[:, k] = W.T @ (0.5 * (Kk @ phi + Kk.T @ phi) - lam * (Mk @ phi))
         return out
+
+    @property
+    def _links(self):
+        """(independent nodes, rotated offsets, tied translations, the dependents' translation DOFs)."""
+        if "links" not in self._cache:
+            deps, ind, r = self.system.link_offsets(self._rotations)
+            self._cache["links"] = (ind, r, self.system.cm.link_dofs[deps, :3].astype(float),
+                                    6 * deps[:, None] + np.arange(3))
+        return self._cache["links"]
+
+    def _link_forms(self, full: np.ndarray, Wf: np.ndarray) -> np.ndarray:
+        """(n_out, n_var) w^T sym(G(dr_k)) phi of the links' geometric term, for a mode over all
+        DOFs ``full`` (6 n,) and vectors Wf (6 n, n_out) over all DOFs."""
+        ind, r, tied, trans = self._links
+        B = link_force_blocks(r, tied, full.reshape(-1, 6)[ind, 3:])  # (k, 3, 3)
+        wa = Wf.reshape(-1, 6, Wf.shape[1])[ind, 3:]  # (k, 3, n_out)
+        v = np.swapaxes(B, 1, 2) @ wa  # (k, 3 force comps, n_out)
+        return v.reshape(-1, Wf.shape[1]).T @ self.dr_full[trans.ravel()]
 
     @property
     def D(self) -> sp.csr_matrix:
@@ -337,13 +376,18 @@ def state_derivatives(par: Parametrisation, model, x: np.ndarray, state, tangent
     n = len(par)
     design = changes if changes is not None else shared_changes(par, model, x)
     per_direction = not rigid_links_only(system) if per_direction is None else per_direction
-    batched = design.batched if not per_direction and not system.has_links else np.zeros(n, bool)
+    batched = design.batched if not per_direction else np.zeros(n, bool)
     dR = np.zeros((system.n_free, n))
-    basis = None
+    basis = T = dr_full = None
     if batched.any():
         basis = beam_basis(system, state.positions, state.rotations, state.load_factor, design.rows,
                            design.local_units(system.cm.beams))
-        dR += (basis.scatter(basis.g) @ design.DK - basis.scatter(basis.f) @ design.DM).toarray()
+        if system.has_links:  # rigid links: over all DOFs, then reduced
+            T = system.transformation(state.positions, state.rotations)
+            dr_full = (basis.scatter(basis.g, True) @ design.DK - basis.scatter(basis.f, True) @ design.DM).toarray()
+            dR += T.T @ dr_full
+        else:
+            dR += (basis.scatter(basis.g) @ design.DK - basis.scatter(basis.f) @ design.DM).toarray()
     matrices = {}
     for k in np.flatnonzero(~batched):
         r, Kk, Mk = partial_derivatives(par, model, x, state, k, design.changes[k])
@@ -367,7 +411,8 @@ def state_derivatives(par: Parametrisation, model, x: np.ndarray, state, tangent
                 matrices[k] = (_add(Kk, Ku), _add(Mk, Mu))
     return StateDerivatives(du, matrices, system, basis, design.DK if basis is not None else None,
                             design.DM if basis is not None else None,
-                            includes_state=per_direction or not np.any(du))
+                            includes_state=per_direction or not np.any(du), T=T, dr_full=dr_full,
+                            _rotations=state.rotations)
 
 
 def modal_terms(d: StateDerivatives, state, phi: np.ndarray, lam: np.ndarray, vectors: bool):
