@@ -71,55 +71,70 @@ def run_finite_differences(setup):
             "solves": problem.n_solves, "gradients": out.njev, "f_err": f_err, "x_err": x_err}
 
 
+def _strip(regions, pods):
+    """The 144-beam strip in ``regions`` groups, with ``pods`` masses hung on rigid links."""
+    n = 144  # divisible by every region count
+    model = fg.Model("strip")
+    ids = model.add_nodes(np.c_[np.zeros(n + 1), np.linspace(0, 1.5, n + 1), np.zeros(n + 1)])
+    k = n // regions
+    for r in range(regions):
+        model.add_beams(np.c_[ids[r * k:(r + 1) * k], ids[r * k + 1:(r + 1) * k + 1]],
+                        fg.Material(f"Al{r}", E=70e9, nu=0.33, rho=2700.0),
+                        fg.RectangularSection(width=0.05, height=0.003), rotary_inertia=False, name=f"r{r}")
+    for j in np.linspace(0, n, pods + 1)[1:].astype(int):
+        pod = model.add_nodes([[0.03, 1.5 * j / n, -0.02]])
+        model.add_rigid_link(int(ids[j]), pod)
+        model.add_mass(int(pod[0]), 0.005)
+    return model, ids
+
+
 def gradient_cost(regions_list=(3, 6, 12, 24), repeats=7):
     """Time of one objective evaluation (all configurations solved, warm-started) and of its full
     Jacobian, for 4 variables per region: frequencies alone, then frequencies and MAC of shapes at
-    39 sensors (13 triaxial points)."""
+    39 sensors (13 triaxial points), then frequencies alone with four pods on rigid links."""
     from flexgvt.correlation import Sensors
     rows = []
     for regions in regions_list:
-        n = 144  # divisible by every region count
-        model = fg.Model("strip")
-        ids = model.add_nodes(np.c_[np.zeros(n + 1), np.linspace(0, 1.5, n + 1), np.zeros(n + 1)])
-        k = n // regions
-        for r in range(regions):
-            model.add_beams(np.c_[ids[r * k:(r + 1) * k], ids[r * k + 1:(r + 1) * k + 1]],
-                            fg.Material(f"Al{r}", E=70e9, nu=0.33, rho=2700.0),
-                            fg.RectangularSection(width=0.05, height=0.003), rotary_inertia=False, name=f"r{r}")
-        cfgs = [fg.Configuration(name, fixed={int(ids[0]): "123456"}, gravity=g)
-                for name, g in (("unloaded", 0.0), ("self_weight", 1.0), ("flatwise_3g", 3.0))]
-        variables = [up.beam(f"{a}{r}", f"r{r}", a) for r in range(regions) for a in ("rho", "E", "width", "thickness")]
-        sensors = Sensors.triaxial(ids[::12])
-        modes = {c.name: fg.solve_modes(fg.solve_static(model, c), 8, label=False) for c in cfgs}
-        row = {"variables": len(variables)}
-        for key, objective in (("freq", up.Objective()), ("mac", up.Objective(mac=0.1))):
-            data = []
-            for c in cfgs:
-                m = modes[c.name]
-                shapes = None
-                if key == "mac":
-                    S = sensors.matrix(m.state.node_ids, m.state)
-                    shapes = np.array([S @ sh.reshape(-1) for sh in m.shapes])
-                data.append(up.Measured(c.name, m.frequencies_hz * 1.01, shapes, sensors if key == "mac" else None))
-            problem = up.UpdatingProblem(model, cfgs, data, variables, objective=objective)
-            x = problem.x0.copy()
-            problem.evaluate(x, gradient=True)
-            t_eval, t_grad = [], []
-            for _ in range(repeats):
-                x = x * (1 + 1e-4)
-                t0 = time.perf_counter()
-                problem.evaluate(x)
-                t1 = time.perf_counter()
-                problem.evaluate(x, gradient=True)
-                t2 = time.perf_counter()
-                t_eval.append(t1 - t0)
-                t_grad.append(t2 - t1)
-            row[f"{key}_eval_ms"] = 1e3 * min(t_eval)
-            row[f"{key}_grad_ms"] = 1e3 * min(t_grad)
-            row[f"{key}_grad_median_ms"] = 1e3 * float(np.median(t_grad))
+        row = {"variables": 4 * regions}
+        for key, pods in (("freq", 0), ("mac", 0), ("links", 4)):
+            _run_cost(row, key, regions, pods, repeats, Sensors)
         rows.append(row)
         print(row, flush=True)
     return rows
+
+
+def _run_cost(row, key, regions, pods, repeats, Sensors):
+    """Adds key's evaluation and Jacobian times (minimum and median, ms) to ``row``."""
+    model, ids = _strip(regions, pods)
+    cfgs = [fg.Configuration(name, fixed={int(ids[0]): "123456"}, gravity=g)
+            for name, g in (("unloaded", 0.0), ("self_weight", 1.0), ("flatwise_3g", 3.0))]
+    variables = [up.beam(f"{a}{r}", f"r{r}", a) for r in range(regions) for a in ("rho", "E", "width", "thickness")]
+    sensors = Sensors.triaxial(ids[::12])
+    data = []
+    for c in cfgs:
+        m = fg.solve_modes(fg.solve_static(model, c), 8, label=False)
+        shapes = None
+        if key == "mac":
+            S = sensors.matrix(m.state.node_ids, m.state)
+            shapes = np.array([S @ sh.reshape(-1) for sh in m.shapes])
+        data.append(up.Measured(c.name, m.frequencies_hz * 1.01, shapes, sensors if key == "mac" else None))
+    objective = up.Objective(mac=0.1) if key == "mac" else up.Objective()
+    problem = up.UpdatingProblem(model, cfgs, data, variables, objective=objective)
+    x = problem.x0.copy()
+    problem.evaluate(x, gradient=True)
+    t_eval, t_grad = [], []
+    for _ in range(repeats):
+        x = x * (1 + 1e-4)
+        t0 = time.perf_counter()
+        problem.evaluate(x)
+        t1 = time.perf_counter()
+        problem.evaluate(x, gradient=True)
+        t2 = time.perf_counter()
+        t_eval.append(t1 - t0)
+        t_grad.append(t2 - t1)
+    row[f"{key}_eval_ms"] = 1e3 * min(t_eval)
+    row[f"{key}_grad_ms"] = 1e3 * min(t_grad)
+    row[f"{key}_grad_median_ms"] = 1e3 * float(np.median(t_grad))
 
 
 def crossover(sizes=(150, 600, 2400), repeats=3):
@@ -205,14 +220,18 @@ def main():
               "modes; the Jacobian = every variable's exact partial derivatives (beam variables through element "
               "blocks per unit beam value, all variables at once), du/dp through the factorised tangent, the "
               "tangent's and mass matrix's change along du/dp, eigenvalue derivatives and, with MAC terms, the "
-              "paired shapes' MAC derivatives (Nelson's method, one adjoint solve per mode).", "",
+              "paired shapes' MAC derivatives (Nelson's method, one adjoint solve per mode). Last columns: the "
+              "same strip with four 5 g pods on rigid links (frequencies).", "",
               "| variables | evaluation | Jacobian, frequencies | / evaluation | Jacobian, frequencies + MAC "
-              "(39 sensors) | / evaluation |", "|---:|---:|---:|---:|---:|---:|"]
+              "(39 sensors) | / evaluation | evaluation, rigid links | Jacobian, rigid links | / evaluation |",
+              "|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
     for c in cost:
         lines.append(f"| {c['variables']} | {c['freq_eval_ms']:.0f} ms | {c['freq_grad_ms']:.0f} ms "
                      f"({c['freq_grad_median_ms']:.0f}) | **{c['freq_grad_ms'] / c['freq_eval_ms']:.1f}** | "
                      f"{c['mac_grad_ms']:.0f} ms ({c['mac_grad_median_ms']:.0f}) | "
-                     f"**{c['mac_grad_ms'] / c['mac_eval_ms']:.1f}** |")
+                     f"**{c['mac_grad_ms'] / c['mac_eval_ms']:.1f}** | {c['links_eval_ms']:.0f} ms | "
+                     f"{c['links_grad_ms']:.0f} ms ({c['links_grad_median_ms']:.0f}) | "
+                     f"**{c['links_grad_ms'] / c['links_eval_ms']:.1f}** |")
     lines += ["", "Parallel evaluation (`processes=2`: each configuration a Dask actor in one of two worker "
               "processes) against serial, one design point with its Jacobian (three configurations, 12 variables; "
               "minima of 3 after warm-up). Starting the local cluster is timed apart.", "",
