@@ -468,6 +468,7 @@ def _rigid_link_terms(system, x, R, lam, phi, full, T):
     f = r_full.reshape(-1, 6)[deps, :3] * tied
     Sr = skew(r)
     n_full = full.shape[0]
+    KT = (K_full @ T).tocsr()
 
     def block(values, rows, cols, shape):
         """Sum of (k, 3, 3) blocks at rows (k, 3) x cols (k, 3), entries with a negative index dropped."""
@@ -489,7 +490,7 @@ def _rigid_link_terms(system, x, R, lam, phi, full, T):
             out.append(C)
         B = link_force_blocks(r, tied, a)
         Q = block(np.swapaxes(B, 1, 2), trans, rot, (n_full, n_red))  # Q^T = B on the force rows
-        CK.append((out[0] + Q.T @ (K_full @ T) + block(0.5 * (skew(f) @ Sa + skew(np.cross(f, a))) @ Sr, rot, rot,
+        CK.append((out[0] + Q.T @ KT + block(0.5 * (skew(f) @ Sa + skew(np.cross(f, a))) @ Sr, rot, rot,
                                                          (n_red, n_red))).tocsc())
         CM.append(out[1].tocsc())
     return CK, CM
