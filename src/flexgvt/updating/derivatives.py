@@ -13,14 +13,18 @@ variables go through fem.beam_basis: element blocks per unit beam value, evaluat
 combined with the sparse matrices of every variable's value derivatives, so their cost does not
 grow with their number; no per-variable matrix is assembled (the modes need only quadratic forms
 and products with the mode shapes). Other variables use fem.sensitivity.value_derivative on the
-items they change. A beam group's values are differentiated by a four-point rule on the section
-formulas (truncation ~1e-12), masses (linear) and their offsets (quadratic) by an exact central
-difference, cord attachment offsets by a four-point rule on the cord's forces.
+items they change. A beam group's values are differentiated by complex step (E, G, rho, a
+rectangle's width and height, all variables in one vectorised evaluation) or by a four-point rule
+on other section formulas (truncation ~1e-12), masses (linear) and their offsets (quadratic) by an
+exact central difference, cord attachment offsets by a four-point rule on the cord's forces.
 
 The state part (dK/du)[du/dp] of the modes' derivatives comes from element-level derivatives with
 exploded nodes (fem.sensitivity.modal_state_terms: 48 kernel calls whatever the number of
-variables); systems with rigid or interpolation links use a four-point difference of the tangent
-along each du/dp instead (state_direction), h |du| = 1e-3 rad or 1e-3 of the structure's size.
+variables), with rigid links' own terms in closed form; systems with interpolation links or linear
+constraints use a four-point difference of the tangent along each du/dp instead (state_direction),
+h |du| = 1e-3 rad or 1e-3 of the structure's size. Mode-shape derivatives are projected on what
+the objective reads (the sensors, or one MAC per mode) and solved by the adjoint when that has
+fewer rows than there are variables.
 
 Accuracy limit: du solves K du = -dR, and K of a flexible structure is ill-conditioned (cond
 ~1e9-1e10: axial EA/L against bending and suspension stiffness); the round-off of its stiff
@@ -370,8 +374,8 @@ def state_derivatives(par: Parametrisation, model, x: np.ndarray, state, tangent
     tangent: the (full, possibly unsymmetric) reduced tangent at ``state``, factorised once.
     changes: shared_changes at x (computed here when None). The tangent's and mass matrix's change
     along du/dp is added per variable (four-point difference along each du, `state_direction`)
-    only for systems with links (per_direction=None) or when asked; otherwise `modal_terms` gives
-    it for the modes, whatever the number of variables."""
+    only for systems with interpolation links or linear constraints (per_direction=None) or when
+    asked; otherwise `modal_terms` gives it for the modes, whatever the number of variables."""
     system = state.system
     n = len(par)
     design = changes if changes is not None else shared_changes(par, model, x)
