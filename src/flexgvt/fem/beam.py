@@ -36,6 +36,12 @@ class BeamData:
     arch: np.ndarray  # (n,) 1.0 for beams (shallow-arch axial strain), 0.0 for rods (chord strain only)
     lumped_axial: np.ndarray | None = None  # (n,) bool: axial and torsional mass lumped (None: as ``lumped``)
 
+    def take(self, rows: np.ndarray) -> "BeamData":
+        """The elements ``rows`` only."""
+        return BeamData(self.nodes[rows], self.E0[rows], self.L0[rows], self.stiffness[rows],
+                        self.mass_per_length[rows], self.inertia_per_length[rows], self.lumped[rows], self.arch[rows],
+                        None if self.lumped_axial is None else self.lumped_axial[rows])
+
 
 # 3-point Gauss rule on [0, 1]: Nastran's CBEAM integrates a tapered element's flexibility with it
 # (the glider deck fmondsp.dat's modes to 3e-7, tests/io/test_nastran_f06_decks.py).

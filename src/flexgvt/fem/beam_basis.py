@@ -30,7 +30,7 @@ def mass_values(mass_per_length: np.ndarray, inertia_per_length: np.ndarray) -> 
 def local_unit_masses(beams: BeamData, rows: np.ndarray) -> np.ndarray:
     """(k, 8, 12, 12) element-axes mass matrices of elements ``rows`` per unit of each mass value
     (they do not depend on the state)."""
-    sub = _subset(beams, rows)
+    sub = beams.take(rows)
     k = len(rows)
     out = np.empty((k, N_VALUES, 12, 12))
     for j in range(N_VALUES):
@@ -39,13 +39,6 @@ def local_unit_masses(beams: BeamData, rows: np.ndarray) -> np.ndarray:
         data = replace(sub, mass_per_length=unit[:, :2], inertia_per_length=unit[:, 2:].reshape(k, 2, 3))
         out[:, j] = local_mass_matrices(data)
     return out
-
-
-def _subset(b: BeamData, rows: np.ndarray) -> BeamData:
-    return replace(b, nodes=b.nodes[rows], E0=b.E0[rows], L0=b.L0[rows], stiffness=b.stiffness[rows],
-                   mass_per_length=b.mass_per_length[rows], inertia_per_length=b.inertia_per_length[rows],
-                   lumped=b.lumped[rows], arch=b.arch[rows],
-                   lumped_axial=None if b.lumped_axial is None else b.lumped_axial[rows])
 
 
 @dataclass(frozen=True)
@@ -132,7 +125,7 @@ def beam_basis(system, x: np.ndarray, R: np.ndarray, lam: float, rows: np.ndarra
     """BeamBasis of ``system``'s beam elements ``rows`` at positions x, rotations R and load factor lam;
     local_units: local_unit_masses of those rows; stiffness=False leaves g and K empty (mass only)."""
     rows = np.asarray(rows, int)
-    sub = _subset(system.cm.beams, rows)
+    sub = system.cm.beams.take(rows)
     k = len(rows)
     g = np.zeros((k, N_VALUES, 12))
     K = np.zeros((k, N_VALUES, 12, 12))

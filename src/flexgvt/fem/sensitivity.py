@@ -194,14 +194,6 @@ def _add_cords(g_full: np.ndarray, system, rows: np.ndarray, g: np.ndarray) -> N
     np.add.at(g_full, system.cord_nodes_b[rows], g[:, 6:])
 
 
-def _beam_subset(b, rows, dcoefficients):
-    """BeamData of elements ``rows`` carrying the derivative of the kernel coefficients."""
-    return replace(b, nodes=b.nodes[rows], E0=b.E0[rows], L0=b.L0[rows], stiffness=np.ascontiguousarray(dcoefficients),
-                   mass_per_length=b.mass_per_length[rows], inertia_per_length=b.inertia_per_length[rows],
-                   lumped=b.lumped[rows], arch=b.arch[rows],
-                   lumped_axial=None if b.lumped_axial is None else b.lumped_axial[rows])
-
-
 def value_derivative(system, x: np.ndarray, R: np.ndarray, lam: float, change: ValueChange,
                      full_mass: bool = False):
     """Exact d(residual) (reduced), dK (reduced, the consistent tangent's derivative) and dM (reduced,
@@ -218,7 +210,7 @@ def value_derivative(system, x: np.ndarray, R: np.ndarray, lam: float, change: V
     if change.beams is not None:
         rows, dcoeff, drhoA, drhoI = change.beams
         rows = np.asarray(rows, int)
-        sub = _beam_subset(system.cm.beams, rows, np.asarray(dcoeff, float))
+        sub = replace(system.cm.beams.take(rows), stiffness=np.ascontiguousarray(dcoeff, dtype=float))
         if np.any(sub.stiffness):  # E, G, section: the stiffness changes (not rho)
             g, K, _ = beam_forces(x, R, sub, True)
             p.data_subset(0, rows, K, K_data)

@@ -572,11 +572,9 @@ class System:
                           None, local)
 
     def full_state(self, x: np.ndarray, R: np.ndarray, lam: float) -> tuple:
-        """Residual (6n,), consistent tangent and mass matrix over all DOFs, no constraint applied
-        (systems with links: their pattern spans every DOF)."""
+        """Residual (6n,), consistent tangent and mass matrix over all DOFs, no constraint applied."""
         g, K, _, _, _ = self._element_terms(x, R, lam, True, None)
-        return self._scatter(g) - lam * self.applied, self.pattern.assemble(K), \
-            self.pattern.assemble(self._mass_values(x, R))
+        return self._scatter(g) - lam * self.applied, self.full_pattern.assemble(K), self.full_mass_matrix(x, R)
 
     def _element_terms(self, x, R, lam, tangent, reference_forces):
         """Element forces and tangents of the beams, point masses, cords and springs."""
