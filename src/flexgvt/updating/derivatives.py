@@ -140,8 +140,9 @@ class StateDerivatives:
             eK, eM = self.basis.quadratic(self.basis.element_values(full))
             qK += np.asarray(self.DK.T @ eK).T
             qM += np.asarray(self.DM.T @ eM).T
-            for i in range(m) if self.T is not None else ():
-                qK[i] += self._link_forms(full[:, i], full[:, i:i + 1])[0]
+            if self.T is not None:  # the links' geometric term carries the change of the link forces
+                for i in range(m):
+                    qK[i] += self._link_forms(full[:, i], full[:, i:i + 1])[0]
         for k, (Kk, Mk) in self.matrices.items():
             qK[:, k] = np.einsum("ij,ij->j", phi, Kk @ phi)
             qM[:, k] = np.einsum("ij,ij->j", phi, Mk @ phi)
