@@ -10,6 +10,8 @@ estimate (a systematic 4e-7 on the static deflection's slope with offset masses 
 where the finite differences converge to 1e-9): hence a floor of 3e-6.
 """
 
+import dataclasses
+
 import numpy as np
 import pytest
 
@@ -241,4 +243,40 @@ def test_gradients_of_a_model_with_rigid_links(shapes):
                  "mac": up.Objective(mac=1.0, mac_min=0.5)}[shapes]
     problem = up.UpdatingProblem(model, cfgs, data, variables, objective=objective, static_settings=TIGHT)
     assert problem.evaluate(np.ones(4)).configurations["flatwise_2g"].state.system.has_links
+    _check(problem, np.array([1.02, 0.98, 1.03, 1.05]))
+
+
+@pytest.mark.parametrize("shapes", [False, True], ids=["frequencies-static", "mac-only-adjoint"])
+def test_gradients_of_a_model_with_a_linear_constraint_and_a_rigid_link(shapes):
+    """A Nastran-style MPC ties a ballast node's vertical motion to a strip node's (its other DOFs
+    held), beside a rigid link carrying a pod: the constraint's constant rows of T with the rigid
+    link's own terms, against finite differences."""
+    case = fg.cases.cantilever_strip(n_elements=30)
+    model = case.model
+    tip = int(case.references["tip_node"])
+    mid = int(model.node_ids[20])
+    xyz = model.xyz[model.index_of([tip, mid])]
+    pod, ballast = model.add_nodes([xyz[0] + np.array([0.03, 0.0, -0.02]), xyz[1] + np.array([0.0, 0.0, -0.05])])
+    model.add_rigid_link(tip, [pod])
+    model.add_mass(int(pod), 0.02)
+    model.add_mass(int(ballast), 0.03)
+    model.add_constraint([(int(ballast), 3, 1.0), (mid, 3, -0.8), (tip, 3, -0.2)])
+    cfgs = [dataclasses.replace(case.configurations[n], fixed={**case.configurations[n].fixed, int(ballast): "12456"})
+            for n in ("unloaded", "flatwise_2g")]
+    ids = model.node_ids[:31]
+    from flexgvt.correlation import Sensors
+    sensors = Sensors.uniaxial(ids[5::5], (0, 0, 1))
+    data = []
+    for c in cfgs:
+        state = fg.solve_static(model, c)
+        modes = fg.solve_modes(state, 5, label=False)
+        measured = np.asarray(sensors.matrix(state.node_ids, state) @ modes.matrix()).T if shapes else None
+        data.append(up.Measured(c.name, modes.frequencies_hz * 1.01, measured, sensors if shapes else None,
+                                static={} if shapes or not c.gravity else {(tip, 3): -0.05}))
+    variables = [up.beam("E2", "region2", "E"), up.beam("t1", "region1", "thickness"), up.mass("ballast", [1]),
+                 up.beam("rho3", "region3", "rho")]
+    objective = up.Objective(mac=1.0) if shapes else up.Objective(static=1.0)
+    problem = up.UpdatingProblem(model, cfgs, data, variables, objective=objective, static_settings=TIGHT)
+    system = problem.evaluate(np.ones(4)).configurations["flatwise_2g"].state.system
+    assert len(system.cm.mpc_dependent) == 1 and system.dependent.any()
     _check(problem, np.array([1.02, 0.98, 1.03, 1.05]))

@@ -339,9 +339,8 @@ def modal_state_terms(system, x: np.ndarray, R: np.ndarray, lam: float, phi: np.
     exploded nodes: 12 DOFs x 4 points = 48 beam-kernel calls, whatever the number of design
     variables. Systems with rigid or interpolation links are not handled here (their reduction
     depends on the state too)."""
-    if not rigid_links_only(system):
-        raise ModelError("modal_state_terms: systems with interpolation links or linear constraints need the "
-                         "per-direction derivative")
+    if not closed_form_links(system):
+        raise ModelError("modal_state_terms: systems with interpolation links need the per-direction derivative")
     n, m = system.n_nodes, phi.shape[1]
     T = system.transformation(x, R) if system.has_links else None
     full = system.expand(phi, T).reshape(n, 6, m)
@@ -417,8 +416,9 @@ def modal_state_terms(system, x: np.ndarray, R: np.ndarray, lam: float, phi: np.
     if T is None:
         free = system.dof_map >= 0
         return ModalStateTerms(gK.reshape(6 * n, m)[free].T, gM.reshape(6 * n, m)[free].T, H)
-    # Rigid links: the element part over all DOFs, reduced (u_full moves by T du), plus the links'
-    # own terms (T and the links' geometric stiffness turn with the independent nodes).
+    # Links: the element part over all DOFs, reduced (u_full moves by T du), plus the rigid links'
+    # own terms (T and the links' geometric stiffness turn with the independent nodes; a linear
+    # constraint's rows of T are constant).
     CK, CM = _rigid_link_terms(system, x, R, lam, phi, full.reshape(6 * n, m), T)
     gK = np.stack([T.T @ gK.reshape(6 * n, m)[:, i] + CK[i].T @ phi[:, i] for i in range(m)])
     gM = np.stack([T.T @ gM.reshape(6 * n, m)[:, i] + CM[i].T @ phi[:, i] for i in range(m)])
@@ -427,9 +427,10 @@ def modal_state_terms(system, x: np.ndarray, R: np.ndarray, lam: float, phi: np.
     return ModalStateTerms(gK, gM, H)
 
 
-def rigid_links_only(system) -> bool:
-    """True when the system's only constraints are rigid links (or none): modal_state_terms handles it."""
-    return len(system.cm.interp) == 0 and len(system.cm.mpc_dependent) == 0
+def closed_form_links(system) -> bool:
+    """True when modal_state_terms handles the system's constraints: rigid links (their own terms in
+    closed form) and linear constraints (a constant map), but no interpolation links."""
+    return len(system.cm.interp) == 0
 
 
 def link_force_blocks(r: np.ndarray, tied: np.ndarray, a: np.ndarray) -> np.ndarray:

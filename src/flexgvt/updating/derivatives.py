@@ -20,9 +20,9 @@ exact central difference, cord attachment offsets by a four-point rule on the co
 
 The state part (dK/du)[du/dp] of the modes' derivatives comes from element-level derivatives with
 exploded nodes (fem.sensitivity.modal_state_terms: 48 kernel calls whatever the number of
-variables), with rigid links' own terms in closed form; systems with interpolation links or linear
-constraints use a four-point difference of the tangent along each du/dp instead (state_direction),
-h |du| = 1e-3 rad or 1e-3 of the structure's size. Mode-shape derivatives are projected on what
+variables), with rigid links' own terms in closed form (linear constraints need none: their map is
+constant); systems with interpolation links use a four-point difference of the tangent along each
+du/dp instead (state_direction), h |du| = 1e-3 rad or 1e-3 of the structure's size. Mode-shape derivatives are projected on what
 the objective reads (the sensors, or one MAC per mode) and solved by the adjoint when that has
 fewer rows than there are variables.
 
@@ -46,8 +46,8 @@ import scipy.sparse.linalg as spla
 from ..errors import SolverError
 from ..fem.beam_basis import N_VALUES, beam_basis, local_unit_masses, mass_values
 from ..fem.linsolve import superlu
-from ..fem.sensitivity import (ValueChange, groups_derivatives, link_force_blocks, modal_state_terms,
-                               rigid_links_only, value_derivative)
+from ..fem.sensitivity import (ValueChange, closed_form_links, groups_derivatives, link_force_blocks,
+                               modal_state_terms, value_derivative)
 from ..fem.system import compile_model, group_values
 from ..model import RectangularSection
 from .variables import Parametrisation
@@ -375,12 +375,12 @@ def state_derivatives(par: Parametrisation, model, x: np.ndarray, state, tangent
     tangent: the (full, possibly unsymmetric) reduced tangent at ``state``, factorised once.
     changes: shared_changes at x (computed here when None). The tangent's and mass matrix's change
     along du/dp is added per variable (four-point difference along each du, `state_direction`)
-    only for systems with interpolation links or linear constraints (per_direction=None) or when
-    asked; otherwise `modal_terms` gives it for the modes, whatever the number of variables."""
+    only for systems with interpolation links (per_direction=None) or when asked; otherwise
+    `modal_terms` gives it for the modes, whatever the number of variables."""
     system = state.system
     n = len(par)
     design = changes if changes is not None else shared_changes(par, model, x)
-    per_direction = not rigid_links_only(system) if per_direction is None else per_direction
+    per_direction = not closed_form_links(system) if per_direction is None else per_direction
     batched = design.batched if not per_direction else np.zeros(n, bool)
     dR = np.zeros((system.n_free, n))
     basis = T = dr_full = None
