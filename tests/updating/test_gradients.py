@@ -280,3 +280,25 @@ def test_gradients_of_a_model_with_a_linear_constraint_and_a_rigid_link(shapes):
     system = problem.evaluate(np.ones(4)).configurations["flatwise_2g"].state.system
     assert len(system.cm.mpc_dependent) == 1 and system.dependent.any()
     _check(problem, np.array([1.02, 0.98, 1.03, 1.05]))
+
+
+def test_gradients_of_a_model_with_an_interpolation_link():
+    """An RBE3-style interpolation link carries a ballast mass from three strip nodes (not in a line):
+    the per-direction difference of the tangent along each du/dp, against finite differences."""
+    case = fg.cases.cantilever_strip(n_elements=30)
+    model = case.model
+    ids = model.node_ids
+    xyz = model.xyz[model.index_of([int(ids[20])])[0]]
+    side = model.add_nodes([xyz + np.array([0.04, 0.0, 0.0])])
+    model.add_beams([[int(ids[20]), int(side[0])]], fg.Material("steel", E=200e9, nu=0.3, rho=7800.0),
+                    fg.RectangularSection(width=0.004, height=0.004), name="rib")
+    ballast = model.add_nodes([xyz + np.array([0.02, 0.01, -0.03])])
+    model.add_interpolation(int(ballast[0]), [int(ids[19]), int(ids[21]), int(side[0])])
+    model.add_mass(int(ballast[0]), 0.02, inertia=np.diag([1e-6, 1e-6, 1e-6]))
+    cfgs = [case.configurations[n] for n in ("unloaded", "flatwise_2g")]
+    data = [up.Measured(c.name, fg.solve_modes(fg.solve_static(model, c), 5, label=False).frequencies_hz * 1.01)
+            for c in cfgs]
+    variables = [up.beam("E2", "region2", "E"), up.beam("t1", "region1", "thickness"), up.mass("ballast", [0])]
+    problem = up.UpdatingProblem(model, cfgs, data, variables, static_settings=TIGHT)
+    assert len(problem.evaluate(np.ones(3)).configurations["flatwise_2g"].state.system.cm.interp) == 1
+    _check(problem, np.array([1.02, 0.98, 1.03]))
