@@ -241,7 +241,9 @@ def test_gradients_of_a_model_with_rigid_links(shapes):
                  up.beam("arm", "arm", "rho")]
     objective = {None: up.Objective(static=1.0), "xor": up.Objective(mac=1.0, orthogonality=1.0),
                  "mac": up.Objective(mac=1.0, mac_min=0.5)}[shapes]
-    problem = up.UpdatingProblem(model, cfgs, data, variables, objective=objective, static_settings=TIGHT)
+    mp = fg.mass_properties(model)  # the mass rows through the element blocks on a linked model
+    target = up.MassTarget(mass=mp.mass * 1.01, cg=(0.01, 0.8, 0.0), inertia=tuple(np.diag(mp.inertia) * 0.98))
+    problem = up.UpdatingProblem(model, cfgs, data, variables, target, objective=objective, static_settings=TIGHT)
     assert problem.evaluate(np.ones(4)).configurations["flatwise_2g"].state.system.has_links
     _check(problem, np.array([1.02, 0.98, 1.03, 1.05]))
 
