@@ -303,15 +303,20 @@ class ModalStateTerms:
     H: list | None
 
 
-def _element_state_derivatives(fn, xn, Rn, h_t, h_r):
+def _element_state_derivatives(fn, xn, Rn, h_t, h_r, translation_invariant: bool = False):
     """Yield (node, component, dK, dM): derivatives of element blocks (K, M) = fn(x, R) with respect
     to each DOF (dx or spatial spin) of each of their nodes, every element at once (their nodes are
     exploded: xn (n, p, 3), Rn (n, p, 3, 3)). Four-point central differences: a two-point rule
     left 0.5 % errors in the first mode's slope of the strip under self-weight (the stretch of a
-    short element is steeply nonlinear in its end positions)."""
+    short element is steeply nonlinear in its end positions). translation_invariant (two-node
+    elements whose blocks depend on x2 - x1 only, as the corotational beam's): the first node's
+    translation derivatives are the second's, negated."""
     p = xn.shape[1]
+    mirror = translation_invariant and p == 2
     for a in range(p):
         for c in range(6):
+            if mirror and a == 0 and c < 3:
+                continue  # yielded with the second node's below
             h = h_t if c < 3 else h_r
             dK = dM = 0.0
             for off, w in zip((2 * h, h, -h, -2 * h), (-1 / 12, 8 / 12, -8 / 12, 1 / 12)):
@@ -329,6 +334,8 @@ def _element_state_derivatives(fn, xn, Rn, h_t, h_r):
                 if M is not None:
                     dM = dM + (w / h) * M
             yield a, c, dK, (dM if M is not None else None)
+            if mirror and a == 1 and c < 3:
+                yield 0, c, -dK, (-dM if M is not None else None)
 
 
 def modal_state_terms(system, x: np.ndarray, R: np.ndarray, lam: float, phi: np.ndarray, eigenvalues: np.ndarray,
@@ -361,9 +368,10 @@ def modal_state_terms(system, x: np.ndarray, R: np.ndarray, lam: float, phi: np.
     ia = np.where(ground, s.b, s.a)
     l0 = system.cord_l0_at(lam)
 
+    exploded = replace(b, nodes=np.arange(2 * len(b.L0), dtype=np.int64).reshape(-1, 2))  # element e: nodes 2e, 2e+1
+
     def beam_fn(xs, Rs):
-        ne = len(xs)
-        data = replace(b, nodes=np.arange(2 * ne, dtype=np.int64).reshape(ne, 2))
+        data = exploded
         xf, Rf = xs.reshape(-1, 3), Rs.reshape(-1, 3, 3)
         _, K, _ = beam_forces(xf, Rf, data, True)
         return K, beam_mass_matrices(xf, Rf, data, system.cm.beam_local_mass)
@@ -398,7 +406,7 @@ def modal_state_terms(system, x: np.ndarray, R: np.ndarray, lam: float, phi: np.
         ne, p = nodes.shape
         ph = full[nodes].reshape(ne, 6 * p, m)
         Hb = np.zeros((m, ne, 6 * p, 6 * p)) if vectors else None
-        for a, c, dK, dM in _element_state_derivatives(fn, x[nodes], R[nodes], h_t, h_r):
+        for a, c, dK, dM in _element_state_derivatives(fn, x[nodes], R[nodes], h_t, h_r, fn is beam_fn):
             Kphi = dK @ ph  # batched (e, d, d) @ (e, d, m)
             np.add.at(gK[:, c], nodes[:, a], np.sum(ph * Kphi, axis=1))
             if dM is not None:
