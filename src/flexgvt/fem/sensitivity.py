@@ -343,9 +343,9 @@ def modal_state_terms(system, x: np.ndarray, R: np.ndarray, lam: float, phi: np.
     """ModalStateTerms of the modes ``phi`` (n_free, m) with ``eigenvalues`` (m,) at the state (x, R),
     load factor lam. Each element's tangent and mass depend only on its own nodes, so every element's
     derivative with respect to each of its DOFs comes from one evaluation of all elements with
-    exploded nodes: 12 DOFs x 4 points = 48 beam-kernel calls, whatever the number of design
-    variables. Systems with rigid or interpolation links are not handled here (their reduction
-    depends on the state too)."""
+    exploded nodes: 9 DOFs x 4 points = 36 beam-kernel calls (the first node's translations mirror
+    the second's), whatever the number of design variables. Rigid links add their own terms in
+    closed form (_rigid_link_terms); interpolation links are not handled here."""
     if not closed_form_links(system):
         raise ModelError("modal_state_terms: systems with interpolation links need the per-direction derivative")
     n, m = system.n_nodes, phi.shape[1]

@@ -19,7 +19,7 @@ on other section formulas (truncation ~1e-12), masses (linear) and their offsets
 exact central difference, cord attachment offsets by a four-point rule on the cord's forces.
 
 The state part (dK/du)[du/dp] of the modes' derivatives comes from element-level derivatives with
-exploded nodes (fem.sensitivity.modal_state_terms: 48 kernel calls whatever the number of
+exploded nodes (fem.sensitivity.modal_state_terms: 36 kernel calls whatever the number of
 variables), with rigid links' own terms in closed form (linear constraints need none: their map is
 constant); systems with interpolation links use a four-point difference of the tangent along each
 du/dp instead (state_direction), h |du| = 1e-3 rad or 1e-3 of the structure's size. Mode-shape derivatives are projected on what
