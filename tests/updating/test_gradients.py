@@ -211,6 +211,19 @@ def test_mac_and_cross_orthogonality_rows_with_sensors_turning_with_the_structur
         assert np.allclose(p.constraint_jacobian, -p.jacobian[mac_rows] / objective.mac, rtol=1e-12, atol=1e-15)
 
 
+def _linked_data(model, cfgs, sensors, tip):
+    """Surrogate data of the linked models: 5 frequencies 1 % off, with the shapes at ``sensors``
+    when given, else the tip's deflection in the loaded configurations."""
+    data = []
+    for c in cfgs:
+        state = fg.solve_static(model, c)
+        modes = fg.solve_modes(state, 5, label=False)
+        measured = None if sensors is None else np.asarray(sensors.matrix(state.node_ids, state) @ modes.matrix()).T
+        data.append(up.Measured(c.name, modes.frequencies_hz * 1.01, measured, sensors,
+                                static={} if sensors is not None or not c.gravity else {(tip, 3): -0.05}))
+    return data
+
+
 @pytest.mark.parametrize("shapes", [None, "xor", "mac"], ids=["frequencies-static", "mac-xor", "mac-only-adjoint"])
 def test_gradients_of_a_model_with_rigid_links(shapes):
     """A rigid link carries a pod off the strip, and an arm (a beam with a mass at its end) hangs from
@@ -230,13 +243,7 @@ def test_gradients_of_a_model_with_rigid_links(shapes):
     ids = case.model.node_ids[:31]
     sensors = Sensors.uniaxial(ids[5::5], (0, 0, 1), np.tile([0.02, 0.0, 0.0], (6, 1)))
     cfgs = [case.configurations[n] for n in ("unloaded", "flatwise_2g")]
-    data = []
-    for c in cfgs:
-        state = fg.solve_static(model, c)
-        modes = fg.solve_modes(state, 5, label=False)
-        measured = np.asarray(sensors.matrix(state.node_ids, state) @ modes.matrix()).T if shapes else None
-        data.append(up.Measured(c.name, modes.frequencies_hz * 1.01, measured, sensors if shapes else None,
-                                static={} if shapes or not c.gravity else {(tip, 3): -0.05}))
+    data = _linked_data(model, cfgs, sensors if shapes else None, tip)
     variables = [up.beam("E2", "region2", "E"), up.beam("t1", "region1", "thickness"), up.mass("pod", [0]),
                  up.beam("arm", "arm", "rho")]
     objective = {None: up.Objective(static=1.0), "xor": up.Objective(mac=1.0, orthogonality=1.0),
@@ -268,13 +275,7 @@ def test_gradients_of_a_model_with_a_linear_constraint_and_a_rigid_link(shapes):
     ids = model.node_ids[:31]
     from flexgvt.correlation import Sensors
     sensors = Sensors.uniaxial(ids[5::5], (0, 0, 1))
-    data = []
-    for c in cfgs:
-        state = fg.solve_static(model, c)
-        modes = fg.solve_modes(state, 5, label=False)
-        measured = np.asarray(sensors.matrix(state.node_ids, state) @ modes.matrix()).T if shapes else None
-        data.append(up.Measured(c.name, modes.frequencies_hz * 1.01, measured, sensors if shapes else None,
-                                static={} if shapes or not c.gravity else {(tip, 3): -0.05}))
+    data = _linked_data(model, cfgs, sensors if shapes else None, tip)
     variables = [up.beam("E2", "region2", "E"), up.beam("t1", "region1", "thickness"), up.mass("ballast", [1]),
                  up.beam("rho3", "region3", "rho")]
     objective = up.Objective(mac=1.0) if shapes else up.Objective(static=1.0)

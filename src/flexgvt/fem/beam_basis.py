@@ -95,23 +95,22 @@ class BeamBasis:
         """(n_free, 16 k) matrix of K[e, j] ph (columns (e, j), j < 8) and -lam M[e, j] ph (j >= 8)
         on the reduced DOFs (full: on all DOFs), for element values ph (k, 12) of one mode with
         eigenvalue lam."""
-        k = len(ph)
-        out = np.empty((k, 2 * N_VALUES, 12))
-        out[:, :N_VALUES] = (self.K.reshape(k, N_VALUES * 12, 12) @ ph[:, :, None]).reshape(k, N_VALUES, 12)
-        out[:, N_VALUES:] = (self.M.reshape(k, N_VALUES * 12, 12) @ ph[:, :, None]).reshape(k, N_VALUES, 12)
-        out[:, N_VALUES:] *= -lam
-        return self.scatter(out, full)
+        return self.scatter(self._element_products(ph, lam), full)
 
     def bilinear(self, ph: np.ndarray, w: np.ndarray, lam: float) -> np.ndarray:
         """(16 k, n_out) element bilinear forms w_o^T K[e, j] ph (j < 8) and -lam w_o^T M[e, j] ph
         (j >= 8), in the column order of ``products``, for element values ph (k, 12) of one mode and
         w (k, 12, n_out)."""
+        return (self._element_products(ph, lam) @ w).reshape(len(ph) * 2 * N_VALUES, -1)
+
+    def _element_products(self, ph: np.ndarray, lam: float) -> np.ndarray:
+        """(k, 16, 12): K[e, j] ph then -lam M[e, j] ph per element."""
         k = len(ph)
         out = np.empty((k, 2 * N_VALUES, 12))
         out[:, :N_VALUES] = (self.K.reshape(k, N_VALUES * 12, 12) @ ph[:, :, None]).reshape(k, N_VALUES, 12)
         out[:, N_VALUES:] = (self.M.reshape(k, N_VALUES * 12, 12) @ ph[:, :, None]).reshape(k, N_VALUES, 12)
         out[:, N_VALUES:] *= -lam
-        return (out @ w).reshape(k * 2 * N_VALUES, -1)
+        return out
 
     def bilinear_mass(self, ph: np.ndarray) -> np.ndarray:
         """(8 k, m, m) element mass bilinear forms ph^T M[e, j] ph of element values ph (k, 12, m)."""
