@@ -1,16 +1,22 @@
 """The updating Jacobian (frequencies including the change of the deformed state, static
 deflections, mass properties) against central finite differences of the whole solve.
 
-The finite differences are Richardson-extrapolated (steps h and h/2) with tight static
-tolerances; each entry must agree within 1e-6 of its column's scale or within the finite
-difference's own error estimate 3 |D(h) - D(h/2)|, whichever is larger (on the loaded strip's
-first, strongly coupled mode the difference itself is only good to ~1e-5). Measured on the strip
-with offset masses: median 4e-8; 4 of 189 entries above 1e-6, the worst 1.2e-6 beyond the
-estimate (a systematic 4e-7 on the static deflection's slope with offset masses under load,
-where the finite differences converge to 1e-9): hence a floor of 3e-6.
+The finite differences are Richardson-extrapolated (steps h and h/2). Each entry must agree
+within the larger of: ``floor`` of its column's scale, the extrapolation's truncation estimate
+3 |D(h) - D(h/2)|, and five standard deviations of the finite difference's own noise. That
+noise is measured, not assumed: the five evaluations per variable (x0, +-h/2, +-h) give a
+fourth difference whose truncation (h^4 times the fourth derivative) is far below round-off, so
+it is the residuals' noise times sqrt(70); pooled over the variables it gives each residual's
+noise, and the Richardson value carries 1.9 times that over h. Measured here (static solves to
+their round-off floor, see fem.static): relative frequency noise 1e-11 to 2e-8 (the lowest
+loaded modes of a thin strip, whose stress stiffening follows the axial forces), static
+deflections 1e-15, so at h = 2e-3 the noise term is a few 1e-5 of a column's scale at most.
+The floor of 3e-6: on the strip with offset masses under load, a systematic 4e-7 on the static
+deflection's slope where the finite differences converge to 1e-9.
 """
 
 import dataclasses
+import os
 
 import numpy as np
 import pytest
@@ -23,25 +29,32 @@ TIGHT = fg.StaticSettings(tolerance=1e-13)
 
 
 def _check(problem, x0, h=2e-3, floor=3e-6):
-    J = problem.evaluate(x0, gradient=True).jacobian.copy()
-
-    def central(step):
-        out = np.zeros_like(J)
-        for k in range(len(x0)):
-            xp, xm = x0.copy(), x0.copy()
-            xp[k] += step
-            xm[k] -= step
-            out[:, k] = (problem.evaluate(xp).residuals - problem.evaluate(xm).residuals) / (2 * step)
-        return out
-
-    d1, d2 = central(h), central(h / 2)
+    """Assert the analytic Jacobian at x0 against Richardson-extrapolated central differences,
+    each entry within max(floor x column scale, truncation estimate, 5 sigma of measured noise).
+    Returns (J, fd, scale, margin): margin is the largest |J - fd| / allowed (below 1 to pass)."""
+    point = problem.evaluate(x0, gradient=True)
+    J, r0 = point.jacobian.copy(), point.residuals.copy()
+    n = len(x0)
+    runs = {}
+    for step in (h, h / 2, -h / 2, -h):
+        runs[step] = np.empty((len(r0), n))
+        for k in range(n):
+            x = x0.copy()
+            x[k] += step
+            runs[step][:, k] = problem.evaluate(x).residuals
+    d1 = (runs[h] - runs[-h]) / (2 * h)
+    d2 = (runs[h / 2] - runs[-h / 2]) / h
     fd = (4 * d2 - d1) / 3
+    delta4 = runs[-h] - 4 * runs[-h / 2] + 6 * r0[:, None] - 4 * runs[h / 2] + runs[h]
+    noise = np.sqrt(np.mean(delta4**2, axis=1, keepdims=True) / 70.0)  # per residual
     scale = np.maximum(np.abs(fd).max(axis=0, keepdims=True), 1e-12)
-    allowed = np.maximum(floor * scale, 3 * np.abs(d2 - d1))
-    bad = np.abs(J - fd) > allowed
+    allowed = np.maximum(np.maximum(floor * scale, 3 * np.abs(d2 - d1)), np.maximum(5 * 1.9 * noise / h, 1e-14))
+    ratio = np.abs(J - fd) / allowed
+    bad = ratio > 1
+    print(f"fd-margin {os.environ.get('PYTEST_CURRENT_TEST', '?').split(' ')[0]} {ratio.max():.3f}")
     assert not bad.any(), (f"Jacobian entries off: {np.argwhere(bad)[:5].tolist()}; "
-                           f"analytic {J[bad][:5]}, finite difference {fd[bad][:5]}")
-    return J, fd, scale
+                           f"analytic {J[bad][:5]}, finite difference {fd[bad][:5]}, allowed {allowed[bad][:5]}")
+    return J, fd, scale, float(ratio.max())
 
 
 def test_beam_and_mass_variables_over_loaded_configurations():
@@ -65,7 +78,7 @@ def test_beam_and_mass_variables_over_loaded_configurations():
     problem = up.UpdatingProblem(model, cfgs, data, variables, target, up.Objective(static=1.0),
                                  static_settings=TIGHT)
     x0 = np.array([1.02, 0.97, 1.01, 0.99, 1.03, 1.05, 1.5])
-    J, fd, scale = _check(problem, x0)
+    J, fd, scale, _ = _check(problem, x0)
     # The state's own change matters: holding it fixed would miss much of the loaded modes' slopes.
     assert np.abs(J).max() > 0
 
@@ -117,7 +130,7 @@ def test_configuration_masses_attachment_hardware_on_the_hung_strip():
     x0 = np.array([1.3, 1.5, 1.5, 1.01])
     point = problem.evaluate(x0)
     cond = max(np.linalg.cond(p.tangent.toarray()) for p in point.configurations.values())
-    J, fd, scale = _check(problem, x0, floor=max(3e-6, np.finfo(float).eps * cond * 1e5))
+    J, fd, scale, _ = _check(problem, x0, floor=max(3e-6, np.finfo(float).eps * cond * 1e5))
     # Each configuration's rows move only with the variables that reach its items.
     n_out = len(data[0].frequencies_hz)
     assert np.abs(J[:n_out, 2]).max() > 1e-5 and np.abs(J[n_out:, 2]).max() == 0.0
@@ -153,7 +166,9 @@ def test_objective_gradient_of_the_scalar_methods_is_twice_jt_r():
          for h in (2e-3, 1e-3)}
     # Measured 2e-5: the first mode's slope under self-weight carries the ~5e-5 conditioning limit
     # of the state's derivative (see flexgvt.updating.derivatives).
-    np.testing.assert_allclose(g, (4 * d[1e-3] - d[2e-3]) / 3, rtol=1e-4)
+    fd = (4 * d[1e-3] - d[2e-3]) / 3
+    print(f"fd-margin objective-gradient {np.max(np.abs(g - fd) / (1e-4 * np.abs(fd))):.3f}")
+    np.testing.assert_allclose(g, fd, rtol=1e-4)
 
 
 @pytest.mark.parametrize("attribute", ["E", "width", "thickness"])
