@@ -272,13 +272,24 @@ def _hold_then_release(model: Model, configuration: Configuration, system: Syste
 
 
 def _stable(state: State) -> bool:
-    """No mode of the state's tangent (symmetric part) with the mass matrix below -(2 pi 0.01 Hz)^2."""
+    """No mode of the state's tangent (symmetric part) with the mass matrix below -(2 pi 0.01 Hz)^2.
+
+    DOFs without mass (rotations of point masses without inertia) get a small mass for this check
+    only: the number of negative eigenvalues is K's own whatever the positive mass (Sylvester's
+    law of inertia), and with that mass a neutral massless motion whose stiffness is round-off
+    (+-eps |K|) stays above the limit instead of passing for an instability by the sign of its
+    last digit, while a negative stiffness 100 times above round-off still falls below it."""
     from .modes import real_modes
     system, x, R = state.system, state.positions, state.rotations
     M = system.mass_matrix(x, R)
     K = system.newton_matrix(system.evaluate(x, R, state.load_factor, assemble=False), M, 0.0)
+    limit = (2 * np.pi * 0.01) ** 2
+    massless = np.asarray(abs(M).sum(axis=1)).ravel() == 0
+    if massless.any():
+        fill = 100 * np.finfo(float).eps * max(abs(K).max(), 1e-300) / limit
+        M = (M + sp.diags(np.where(massless, fill, 0.0))).tocsc()
     lam, _ = real_modes(K, M, 1, shift=-1.0)
-    return bool(lam[0] > -(2 * np.pi * 0.01) ** 2)
+    return bool(lam[0] > -limit)
 
 
 def _total_weight(system: System) -> float:
