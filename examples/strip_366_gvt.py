@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
 import sys
 from pathlib import Path
 
@@ -35,13 +36,18 @@ def measured_tables(path: Path | None) -> dict:
         return fg.data.load("strip_366_gvt")
     gvt = fg.data.read(path)
     for c in ("outboard", "inboard"):
-        entry = gvt.get(c)
-        lists = [entry.get(k) if isinstance(entry, dict) else None for k in ("undamped_hz", "original_tuned_model_hz")]
-        if not all(isinstance(v, list) and v and all(isinstance(f, (int, float)) and f > 0 for f in v) for v in lists) \
-                or len(lists[0]) != len(lists[1]):
+        entry = gvt.get(c) if isinstance(gvt.get(c), dict) else {}
+        measured, tuned = (entry.get(k) for k in ("undamped_hz", "original_tuned_model_hz"))
+        if not (_frequencies(measured) and _frequencies(tuned) and len(measured) == len(tuned)):
             raise FileFormatError(f"{path}: '{c}' must hold 'undamped_hz' and 'original_tuned_model_hz', lists of "
                                   "positive frequencies [Hz] of one length (the form of fg.data.load('strip_366_gvt'))")
     return gvt
+
+
+def _frequencies(values) -> bool:
+    """A non-empty list of finite positive numbers."""
+    return isinstance(values, list) and len(values) > 0 and all(
+        isinstance(f, (int, float)) and not isinstance(f, bool) and math.isfinite(f) and f > 0 for f in values)
 
 
 def variables() -> list:

@@ -75,3 +75,23 @@ def test_bad_data_is_one_line(script, tmp_path, monkeypatch, capsys):
         err = capsys.readouterr().err
         assert exit_.value.code == 2 and err.startswith(f"error: {path}") and err.count("\n") == 1, (name, err)
         assert not (tmp_path / "o").exists()
+
+
+@pytest.mark.parametrize("script, table", [("strip_366_gvt.py", "strip_366_gvt"), ("xhale_lab/run.py", "xhale_lab_gvt")])
+def test_own_table(script, table, tmp_path):
+    """--data takes a table of the shipped one's form; a frequency that is not a finite positive
+    number is refused with the file named."""
+    import flexgvt as fg
+    from flexgvt.errors import FileFormatError
+    measured_tables = _load(EXAMPLES / script).measured_tables
+    shipped = fg.data.load(table)
+    assert measured_tables(None) == shipped
+    path = tmp_path / "mine.json"
+    path.write_text(json.dumps(shipped))
+    assert measured_tables(path) == shipped
+    key = "undamped_hz" if table == "strip_366_gvt" else "measured_hz"
+    for bad in (float("nan"), -1.0, True, "1.2"):
+        shipped["inboard"][key][3] = bad
+        path.write_text(json.dumps(shipped))
+        with pytest.raises(FileFormatError, match=f"mine.json: 'inboard' must hold '?{key}"):
+            measured_tables(path)

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
 import sys
 from pathlib import Path
 
@@ -36,14 +37,19 @@ def measured_tables(path: Path | None) -> dict:
         raise FileFormatError(f"{path}: 'labels' must be a list of mode labels (the form of "
                               "fg.data.load('xhale_lab_gvt'))")
     for c in ("outboard", "inboard"):
-        entry = lab.get(c)
+        entry = lab.get(c) if isinstance(lab.get(c), dict) else {}
         for k in ("measured_hz", "original_initial_fem_hz", "original_updated_fem_hz"):
-            v = entry.get(k) if isinstance(entry, dict) else None
-            if not (isinstance(v, list) and len(v) == len(labels)
-                    and all(isinstance(f, (int, float)) and f > 0 for f in v)):
+            v = entry.get(k)
+            if not (_frequencies(v) and len(v) == len(labels)):
                 raise FileFormatError(f"{path}: '{c}' must hold '{k}', {len(labels)} positive frequencies [Hz] "
                                       "(one per label; the form of fg.data.load('xhale_lab_gvt'))")
     return lab
+
+
+def _frequencies(values) -> bool:
+    """A non-empty list of finite positive numbers."""
+    return isinstance(values, list) and len(values) > 0 and all(
+        isinstance(f, (int, float)) and not isinstance(f, bool) and math.isfinite(f) and f > 0 for f in values)
 
 
 def main(argv=None) -> dict:
