@@ -48,7 +48,7 @@ SETTINGS_SUPERLU = fg.StaticSettings(increments=INCREMENTS, max_increment_growth
 EIG_TOL = 1e-12  # the floor's eigensolve converges the Ritz values as tightly as flexgvt's own (ARPACK's
 # default, machine precision, costs the 1,000-element problem 53 shift-invert solves instead of 42)
 
-# The strip of METHOD.md 5.3 (1.5 m x 50 mm x 3 mm aluminium) as one uniform cantilever. Euler-Bernoulli
+# The strip of docs/method.md section 5 case 3 (1.5 m x 50 mm x 3 mm aluminium), one uniform cantilever. Euler-Bernoulli
 # section (shear=False) so that the physics is the same as OpenSees' elasticBeamColumn; no bending
 # rotary inertia (as the strip case); torsional inertia rho*Ip kept. Self-weight gives a tip
 # deflection of about 20 % of the span: a genuinely nonlinear solve.
@@ -696,7 +696,7 @@ def render(results, prof, cpu, ncores, vers, libs, warmup, t_first, t_import, sp
              "the higher torsion modes are 0.8-2.6 % higher in OpenSees. Cause, measured: OpenSees keeps the "
              "element mass (torsional inertia) in undeformed axes. flexgvt's stiffness with its mass matrix frozen in "
              "undeformed axes gives 70.61 and 120.15 Hz for modes 7 and 9, against OpenSees' 70.69 and 120.50 Hz "
-             "(flexgvt, mass rotating with the section: 69.44 and 117.60 Hz), which is METHOD.md section 6's "
+             "(flexgvt, mass rotating with the section: 69.44 and 117.60 Hz), which is docs/method.md section 6's "
              "pitfall. flexgvt's prestress coupling is checked independently: the lateral-torsional buckling load of "
              "the tip-loaded strip agrees with Timoshenko's closed form within 0.5 % "
              "(tests/fem/test_prestress.py).")

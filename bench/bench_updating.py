@@ -1,4 +1,4 @@
-"""Updating benchmark: the cantilever verification protocol (METHOD.md section 4) end to end per
+"""Updating benchmark: the cantilever verification protocol (docs/method.md section 4) end to end per
 optimiser, against the same protocol driven by SciPy's finite differences through the solver, and
 the cost of the analytic gradient against the number of design variables.
 

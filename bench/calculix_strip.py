@@ -1,4 +1,4 @@
-"""Continuum reference for the mass-frame question (issue 23): the cantilever strip of METHOD.md
+"""Continuum reference for the mass-frame question (issue 23): the cantilever strip of docs/method.md
 case 3 (1.5 m x 50 mm x 3 mm aluminium) as CalculiX S8R shells (or C3D20R bricks with --bricks N
 layers), unloaded and after a geometrically
 nonlinear -1 g step, and the ratios f(-1 g) / f(unloaded) of the mode each -1 g mode grows from

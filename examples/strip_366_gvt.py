@@ -1,10 +1,10 @@
-"""The real GVT of the 3.66 m aluminium strip (METHOD.md section 5 case 2; measured frequencies in
-../shared/data/strip_366_gvt.json): the strip as tested (26 accelerometers as offset masses, the
+"""The real GVT of the 3.66 m aluminium strip (docs/method.md section 5 case 2; measured frequencies
+shipped with flexgvt: fg.data.load("strip_366_gvt")): the strip as tested (26 accelerometers as offset masses, the
 suspension points as characterised), updated on the outboard and inboard layouts at once with
 physically bounded variables (E, thickness, width, accelerometer mass and chordwise position,
 suspension stiffness, attachment hardware mass and height, the four attachment positions).
 
-    python examples/strip_366_gvt.py --out strip-gvt --json strip-gvt.json
+    python examples/strip_366_gvt.py --out strip-gvt --json strip-gvt.json [--data my_table.json]
 
 The measured tables hold frequencies only; the accelerometers measured out of plane, so the first
 pairing takes only the analytical modes those 26 sensors see (Measured.observed_by), and modes
@@ -17,6 +17,8 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -24,8 +26,28 @@ import numpy as np
 import flexgvt as fg
 from flexgvt import updating as up
 from flexgvt.correlation import Sensor, Sensors
+from flexgvt.errors import FileFormatError, FlexGVTError
 
-DATA = Path(__file__).resolve().parents[2] / "shared" / "data" / "strip_366_gvt.json"
+
+def measured_tables(path: Path | None) -> dict:
+    """The measured table: the shipped one, or ``path`` in its form ('outboard' and 'inboard', each
+    with lists 'undamped_hz' and 'original_tuned_model_hz' [Hz] of one length)."""
+    if path is None:
+        return fg.data.load("strip_366_gvt")
+    gvt = fg.data.read(path)
+    for c in ("outboard", "inboard"):
+        entry = gvt.get(c) if isinstance(gvt.get(c), dict) else {}
+        measured, tuned = (entry.get(k) for k in ("undamped_hz", "original_tuned_model_hz"))
+        if not (_frequencies(measured) and _frequencies(tuned) and len(measured) == len(tuned)):
+            raise FileFormatError(f"{path}: '{c}' must hold 'undamped_hz' and 'original_tuned_model_hz', lists of "
+                                  "positive frequencies [Hz] of one length (the form of fg.data.load('strip_366_gvt'))")
+    return gvt
+
+
+def _frequencies(values) -> bool:
+    """A non-empty list of finite positive numbers."""
+    return isinstance(values, list) and len(values) > 0 and all(
+        isinstance(f, (int, float)) and not isinstance(f, bool) and math.isfinite(f) and f > 0 for f in values)
 
 
 def variables() -> list:
@@ -96,10 +118,11 @@ def main(argv=None) -> dict:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--out", type=Path, default=Path("strip-gvt-output"), help="folder for the figure")
     parser.add_argument("--json", type=Path, default=None, help="write the tables as JSON")
-    parser.add_argument("--data", type=Path, default=DATA, help="strip_366_gvt.json")
+    parser.add_argument("--data", type=Path, default=None,
+                        help="measured table (.json, the form of the shipped one; default: fg.data.load('strip_366_gvt'))")
     parser.add_argument("--max-iterations", type=int, default=100)
     args = parser.parse_args(argv)
-    gvt = json.loads(args.data.read_text())
+    gvt = measured_tables(args.data)
     case = fg.cases.strip_366()
     model = case.model
     sensors = Sensors([Sensor(node, direction, offset, name) for name, (node, offset, direction) in case.sensors.items()])
@@ -193,4 +216,8 @@ def _figure(tables: dict, path: Path) -> None:
 
 
 if __name__ == "__main__":
-    main()
+    try:
+        main()
+    except FlexGVTError as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        sys.exit(2)

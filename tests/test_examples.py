@@ -1,13 +1,15 @@
-"""Every example in examples/ runs (with --out and --json) and gives what its docstring says."""
+"""Every example in examples/ runs (with --out and --json, on the measured tables shipped in
+flexgvt.data) and gives what its docstring says; a bad --data is one line and exit status 2."""
 
 import importlib.util
 import json
+import runpy
+import sys
 from pathlib import Path
 
 import pytest
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
-SHARED = Path(__file__).resolve().parents[2] / "shared" / "data"
 
 
 def _load(path: Path):
@@ -23,13 +25,13 @@ def test_every_example_is_tested():
 
 
 def test_xhale_lab(tmp_path):
-    data = SHARED / "xhale_lab_gvt.json"
-    if not data.is_file():
-        pytest.skip(f"{data} not found (the measured tables ship beside the repository)")
     out = _load(EXAMPLES / "xhale_lab" / "run.py").main(["--out", str(tmp_path / "o"), "--json",
                                                           str(tmp_path / "x.json"), "--no-report"])
     saved = json.loads((tmp_path / "x.json").read_text())
     assert set(saved) == {"configurations", "rms_error_percent", "prediction", "variables", "timings_s", "files"}
+    # The project written reads its own copy of the shipped table.
+    assert json.loads((tmp_path / "o" / "xhale_lab_gvt.json").read_text()) == __import__("flexgvt").data.load("xhale_lab_gvt")
+    assert 'modes = "xhale_lab_gvt.json"' in (tmp_path / "o" / "project.toml").read_text()
     for c, s in out["rms_error_percent"].items():
         # Updating on both layouts at once lowers the error in each; it ends within 1 % (rms) of the
         # original work's updated Nastran model.
@@ -39,9 +41,6 @@ def test_xhale_lab(tmp_path):
 
 
 def test_strip_366_gvt(tmp_path):
-    data = SHARED / "strip_366_gvt.json"
-    if not data.is_file():
-        pytest.skip(f"{data} not found (the measured tables ship beside the repository)")
     out = _load(EXAMPLES / "strip_366_gvt.py").main(["--out", str(tmp_path / "o"), "--json", str(tmp_path / "s.json"),
                                                      "--max-iterations", "10"])
     saved = json.loads((tmp_path / "s.json").read_text())
@@ -56,3 +55,43 @@ def test_strip_366_gvt(tmp_path):
     # not, so one layout errs by at least 2.5 %; the 8th bending agrees in both.
     floors = {r["label"]: r["floor_percent"] for r in saved["layout_consistency"]}
     assert floors["2 OOP"] > 2.0 and floors["8 OOP"] < 0.5
+
+
+@pytest.mark.parametrize("script", ["strip_366_gvt.py", "xhale_lab/run.py"])
+def test_bad_data_is_one_line(script, tmp_path, monkeypatch, capsys):
+    """A --data that is missing, not JSON or not in the shipped table's form: one line on stderr and
+    exit status 2, before any computation (nothing written to --out)."""
+    bad = {"missing.json": None, "broken.json": '{"outboard": [1.2, ', "binary.json": b"\x89PNG\r\n\x1a\n\x00",
+           "wrong.json": '{"outboard": {"undamped_hz": "1.2"}, "labels": ["1 OOP"]}'}
+    for name, content in bad.items():
+        path = tmp_path / name
+        if isinstance(content, bytes):
+            path.write_bytes(content)
+        elif content is not None:
+            path.write_text(content)
+        monkeypatch.setattr(sys, "argv", [script, "--data", str(path), "--out", str(tmp_path / "o")])
+        with pytest.raises(SystemExit) as exit_:
+            runpy.run_path(str(EXAMPLES / script), run_name="__main__")
+        err = capsys.readouterr().err
+        assert exit_.value.code == 2 and err.startswith(f"error: {path}") and err.count("\n") == 1, (name, err)
+        assert not (tmp_path / "o").exists()
+
+
+@pytest.mark.parametrize("script, table", [("strip_366_gvt.py", "strip_366_gvt"), ("xhale_lab/run.py", "xhale_lab_gvt")])
+def test_own_table(script, table, tmp_path):
+    """--data takes a table of the shipped one's form; a frequency that is not a finite positive
+    number is refused with the file named."""
+    import flexgvt as fg
+    from flexgvt.errors import FileFormatError
+    measured_tables = _load(EXAMPLES / script).measured_tables
+    shipped = fg.data.load(table)
+    assert measured_tables(None) == shipped
+    path = tmp_path / "mine.json"
+    path.write_text(json.dumps(shipped))
+    assert measured_tables(path) == shipped
+    key = "undamped_hz" if table == "strip_366_gvt" else "measured_hz"
+    for bad in (float("nan"), -1.0, True, "1.2"):
+        shipped["inboard"][key][3] = bad
+        path.write_text(json.dumps(shipped))
+        with pytest.raises(FileFormatError, match=f"mine.json: 'inboard' must hold '?{key}"):
+            measured_tables(path)

@@ -1,41 +1,72 @@
-"""The X-HALE lab GVT (measured, ../shared/data/xhale_lab_gvt.json): update the X-HALE-like model on
+"""The X-HALE lab GVT (measured, shipped: fg.data.load("xhale_lab_gvt")): update the X-HALE-like model on
 both suspension layouts at once (30 variables, the original work's set), then predict the
 free-flying modes with the suspension removed and on the 20 m bungees of the free-flying test.
 
-    python examples/xhale_lab/run.py --out xhale-lab --json xhale-lab.json
+    python examples/xhale_lab/run.py --out xhale-lab --json xhale-lab.json [--data my_table.json]
 
 The measured tables hold frequencies only (no shapes): modes are paired by frequency at the
 initial model and followed by MAC between design points. The table compares each configuration
-with the original work's initial and updated Nastran models.
+with the original work's initial and updated Nastran models. The project written to --out reads
+the measured table from its own copy there (xhale_lab_gvt.json), so `flexgvt run` reruns it.
 """
 
 from __future__ import annotations
 
 import argparse
 import json
+import math
+import sys
 from pathlib import Path
 
 import numpy as np
 
+import flexgvt as fg
+from flexgvt.errors import FileFormatError, FlexGVTError
 from flexgvt.workflow import example_project, load_project, run
 
-DATA = Path(__file__).resolve().parents[3] / "shared" / "data" / "xhale_lab_gvt.json"
+
+def measured_tables(path: Path | None) -> dict:
+    """The measured table: the shipped one, or ``path`` in its form ('labels', and per layout
+    'outboard' and 'inboard' the lists 'measured_hz', 'original_initial_fem_hz' and
+    'original_updated_fem_hz' [Hz], all of the labels' length)."""
+    if path is None:
+        return fg.data.load("xhale_lab_gvt")
+    lab = fg.data.read(path)
+    labels = lab.get("labels")
+    if not isinstance(labels, list) or not labels or not all(isinstance(s, str) for s in labels):
+        raise FileFormatError(f"{path}: 'labels' must be a list of mode labels (the form of "
+                              "fg.data.load('xhale_lab_gvt'))")
+    for c in ("outboard", "inboard"):
+        entry = lab.get(c) if isinstance(lab.get(c), dict) else {}
+        for k in ("measured_hz", "original_initial_fem_hz", "original_updated_fem_hz"):
+            v = entry.get(k)
+            if not (_frequencies(v) and len(v) == len(labels)):
+                raise FileFormatError(f"{path}: '{c}' must hold '{k}', {len(labels)} positive frequencies [Hz] "
+                                      "(one per label; the form of fg.data.load('xhale_lab_gvt'))")
+    return lab
+
+
+def _frequencies(values) -> bool:
+    """A non-empty list of finite positive numbers."""
+    return isinstance(values, list) and len(values) > 0 and all(
+        isinstance(f, (int, float)) and not isinstance(f, bool) and math.isfinite(f) and f > 0 for f in values)
 
 
 def main(argv=None) -> dict:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--out", type=Path, default=Path("xhale-lab-output"), help="folder for the project and results")
     parser.add_argument("--json", type=Path, default=None, help="write the tables as JSON")
-    parser.add_argument("--data", type=Path, default=DATA, help="the measured tables (xhale_lab_gvt.json)")
+    parser.add_argument("--data", type=Path, default=None,
+                        help="measured table (.json, the form of the shipped one; default: fg.data.load('xhale_lab_gvt'))")
     parser.add_argument("--no-report", action="store_true", help="skip the HTML report")
     args = parser.parse_args(argv)
 
-    lab = json.loads(args.data.read_text())
+    lab = measured_tables(args.data)
     labels = lab["labels"]
     args.out.mkdir(parents=True, exist_ok=True)
-    data = args.data.resolve()
+    (args.out / "xhale_lab_gvt.json").write_text(json.dumps(lab, indent=1))
     text = example_project("xhale", name="X-HALE lab GVT (measured), both layouts at once",
-                           modes={c: (str(data), f"{c}", labels) for c in ("outboard", "inboard")})
+                           modes={c: ("xhale_lab_gvt.json", f"{c}", labels) for c in ("outboard", "inboard")})
     (args.out / "project.toml").write_text(text)
     project = load_project(args.out / "project.toml")
     res = run(project, log=print, report=not args.no_report)
@@ -78,4 +109,8 @@ def main(argv=None) -> dict:
 
 
 if __name__ == "__main__":
-    main()
+    try:
+        main()
+    except FlexGVTError as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        sys.exit(2)

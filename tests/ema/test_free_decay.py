@@ -15,7 +15,7 @@ def decay(fn, zeta, t, amp=1.0, phase=0.4):
 
 @pytest.mark.parametrize("fn, zeta", [(0.40, 0.07), (0.41, 0.11), (1.07, 0.045), (0.28, 0.047)])
 def test_time_record_of_a_suspension_block(fn, zeta):
-    """METHOD.md section 2's suspension tests: 0.28-1.07 Hz, 4.5-11 % damping; DC accelerometer at
+    """docs/method.md section 2's suspension tests: 0.28-1.07 Hz, 4.5-11 % damping; DC accelerometer at
     50 Hz for 20 s with 2 % noise."""
     rng = np.random.default_rng(int(fn * 100))
     t = np.arange(0, 20, 0.02)

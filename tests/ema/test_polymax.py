@@ -1,4 +1,4 @@
-"""PolyMAX + LSFD on synthetic GVTs with known modes (METHOD section 3's hard cases)."""
+"""PolyMAX + LSFD on synthetic GVTs with known modes (docs/method.md section 3: the hard cases)."""
 
 import numpy as np
 import pytest

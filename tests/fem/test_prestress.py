@@ -79,7 +79,7 @@ def test_plunge_and_pitch_of_a_rigid_strip_on_two_springs():
 
 
 def test_support_structure_system_damped_modes_match_method_formulas():
-    """METHOD.md section 2: two masses on supports joined by the structure; complex modes give
+    """docs/method.md section 2: two masses on supports joined by the structure; complex modes give
     w_sup, z_sup (in phase) and w_m, z_m (out of phase)."""
     m, k_sup, c_sup, k_st, c_st = 0.8, 5.06, 0.28, 40.0, 0.05
     model = fg.Model("support-structure")

@@ -94,7 +94,7 @@ ENDDATA
 
 
 def test_suspended_strip_static_and_prestressed_modes_match_python(tmp_path):
-    """Self-weight on two soft springs (METHOD section 2 figures): nonlinear static and modes about it."""
+    """Self-weight on two soft springs (docs/method.md section 2 figures): nonlinear static and modes about it."""
     n, length = 20, 3.66
     x = np.linspace(-length / 2, length / 2, n + 1)
     mid, tip3 = n // 2 + 1, n - 1

@@ -8,7 +8,7 @@ import flexgvt as fg
 from flexgvt import suspension as su
 from flexgvt.errors import ModelError
 
-# METHOD.md section 2, measured: (M [kg], f [Hz], zeta, K [N/m], C [N s/m]) as published.
+# docs/method.md section 2, measured: (M [kg], f [Hz], zeta, K [N/m], C [N s/m]) as published.
 PUBLISHED = [("1.5 m strip, spring + pulley", 0.375, 1.07, 0.045, 17.0, 0.229),
              ("3.66 m strip, left", 0.80, 0.40, 0.07, 5.06, 0.28),
              ("3.66 m strip, right", 0.80, 0.41, 0.11, 5.19, 0.45),
@@ -67,7 +67,7 @@ def test_a_block_from_its_frf():
 
 
 def test_spring_networks_and_bungees():
-    assert su.series(*[195.0] * 10) == pytest.approx(19.5)  # METHOD.md: ten 195 N/m springs
+    assert su.series(*[195.0] * 10) == pytest.approx(19.5)  # docs/method.md: ten 195 N/m springs
     assert su.series(*[su.parallel(10.53, 10.53)] * 3) == pytest.approx(7.02)  # three sections of two
     # A bungee: 1 m test piece, 10 N per 0.1 m -> EA = 100 N; 20 m of it: 5 N/m.
     b = su.Bungee.from_load_extension([0, 10, 20], [0, 0.1, 0.2], 1.0, mass_per_length=0.02, allowed_strain=1.0)
@@ -124,7 +124,7 @@ def test_hung_strip_bows_and_removing_the_suspension_recovers_free_free():
     mid = up_state.node(case.model.node_ids[len(case.model.node_ids) // 2])
     rise_out = up_state.positions[ends, 2].mean() - up_state.positions[mid, 2]
     rise_in = down_state.positions[ends, 2].mean() - down_state.positions[mid, 2]
-    assert 0.4 < rise_out < 0.8  # METHOD.md: ends about 0.6 m above the middle, outboard
+    assert 0.4 < rise_out < 0.8  # docs/method.md: ends about 0.6 m above the middle, outboard
     assert rise_in < 0  # inboard: bows downward
     out = su.remove_suspension(case.model, case.configurations["outboard"], n_modes=12)
     inb = su.remove_suspension(case.model, case.configurations["inboard"], n_modes=12)
@@ -133,7 +133,7 @@ def test_hung_strip_bows_and_removing_the_suspension_recovers_free_free():
     np.testing.assert_allclose(out.free.frequencies_hz[:12], reference.frequencies_hz, rtol=1e-6, atol=1e-6)  # ARPACK
     assert np.sum(out.free.frequencies_hz == 0) == 6
     first = out.rows[0]
-    assert first["free_hz"] == pytest.approx(1.23, rel=0.05)  # METHOD.md: free-free first bending ~1.23 Hz
+    assert first["free_hz"] == pytest.approx(1.23, rel=0.05)  # docs/method.md: free-free first bending ~1.23 Hz
     # The hung strip's first bending mode mixes with its pitch pendulum mode 1 % above it: +9.5 %.
     assert first["suspended_mac"] > 0.9 and 5 < first["suspended_shift_percent"] < 15
     bending = [r for r in out.rows if "OOP" in r["label"]]

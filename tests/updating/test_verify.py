@@ -1,4 +1,4 @@
-"""The verification protocol of METHOD.md section 4 on the cantilever strip (150 beams, 12
+"""The verification protocol of docs/method.md section 4 on the cantilever strip (150 beams, 12
 variables, three configurations up to 3 g), several seeds; and `flexgvt verify` as a user runs it."""
 
 import json

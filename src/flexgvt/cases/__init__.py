@@ -1,4 +1,4 @@
-"""Built-in structures of METHOD.md section 5, each with its model and named configurations:
+"""Built-in structures of docs/method.md section 5, each with its model and named configurations:
 cantilever_strip, strip_366, hale_wing and the X-HALE-like flying wing xhale (module xhale).
 
     case = flexgvt.cases.cantilever_strip()
@@ -46,7 +46,7 @@ def _line(model: Model, start, end, n: int) -> np.ndarray:
 
 
 def cantilever_strip(n_elements: int = 150, E: float = 70e9, rho: float = 2700.0) -> Case:
-    """Aluminium strip 1.5 m x 50 mm x 3 mm clamped at y = 0, in three equal regions (METHOD 5.3).
+    """Aluminium strip 1.5 m x 50 mm x 3 mm clamped at y = 0, in three equal regions (docs/method.md section 5 case 3).
 
     Span along y, width along x (chord), thickness along z; gravity along -z bends it flatwise.
     Bending rotary inertia is left out as the thin-strip reference solutions do.
@@ -75,12 +75,12 @@ ACCELEROMETER_CHORD_OFFSET = 0.020
 
 
 def strip_366(n_elements: int = 122, accelerometers: bool = True) -> Case:
-    """Very flexible aluminium strip 3.66 m x 50.8 mm x 3.20 mm, 1.60 kg, E = 68.9 GPa (METHOD 5.2).
+    """Very flexible aluminium strip 3.66 m x 50.8 mm x 3.20 mm, 1.60 kg, E 68.9 GPa (docs/method.md section 5 case 2).
 
     Span along y centred at 0, chord along x, thickness along z. 26 accelerometers in 13 span
     stations, two per station at +-20 mm chordwise on the top surface (2.5 g each, assumed).
     Configurations: free_free (no gravity, no supports), outboard (cords 0.31 m from the ends),
-    inboard (cords 1.22 m from the ends); suspension points as characterised in METHOD 2:
+    inboard (cords 1.22 m from the ends); suspension points as characterised in docs/method.md section 2:
     left K = 5.06 N/m, C = 0.28 N s/m; right K = 5.19 N/m, C = 0.45 N s/m; anchors 3 m above.
     """
     L, b, t, mass = 3.66, 0.0508, 0.0032, 1.60

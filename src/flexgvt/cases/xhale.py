@@ -1,4 +1,4 @@
-"""X-HALE-like very flexible flying wing (METHOD.md section 5 case 6); see ``xhale``."""
+"""X-HALE-like very flexible flying wing (docs/method.md section 5 case 6); see ``xhale``."""
 
 from __future__ import annotations
 
@@ -287,7 +287,7 @@ def _sensors(model: Model, info: dict) -> dict:
 
 
 def xhale(n_per_section: int = 8, as_built: bool = False, seed: int = 0):
-    """X-HALE-like very flexible flying wing on its lab suspension (METHOD.md 5 case 6). SI units.
+    """X-HALE-like very flexible flying wing on its lab suspension (docs/method.md section 5 case 6). SI units.
 
     Axes: x chordwise aft, y spanwise right, z up, gravity -z. Six 1 m wing sections (beam groups
     wing_L3 ... wing_R3, y from -3 to 3, outer two at 10 deg dihedral, tips at y = +-2.985 m,

@@ -43,7 +43,7 @@ def identify(mass: float = typer.Option(..., help="block mass [kg]: the mass the
              peaks: Optional[str] = typer.Option(None, help="comma-separated times [s] of successive peaks"),
              out: Optional[Path] = typer.Option(None, help="folder for the figure"),
              json_path: Optional[Path] = typer.Option(None, "--json", help="write the identified point as JSON")):
-    """Stiffness and damping of a suspension point from a block test (METHOD.md section 2)."""
+    """Stiffness and damping of a suspension point from a block test (docs/method.md section 2)."""
     from ..suspension import identify_block
     try:
         kwargs = {}

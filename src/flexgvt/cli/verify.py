@@ -1,4 +1,4 @@
-"""`flexgvt verify CASE`: the updating verification protocol of METHOD.md section 4."""
+"""`flexgvt verify CASE`: the updating verification protocol of docs/method.md section 4."""
 
 from __future__ import annotations
 
@@ -16,7 +16,7 @@ from ..errors import FlexGVTError
 
 def register(app: typer.Typer, console: Console) -> None:
     @app.command()
-    def verify(case: str = typer.Argument("cantilever", help="built-in case: cantilever (METHOD.md case 3)"),
+    def verify(case: str = typer.Argument("cantilever", help="cantilever (docs/method.md section 5 case 3)"),
                seed: int = typer.Option(1, help="seed of the +-5 % mistuning"),
                method: str = typer.Option("least_squares", help="least_squares, trf, lm, slsqp, trust-constr or "
                                           "nelder-mead"),

@@ -1,6 +1,6 @@
 """Free-decay identification: frequency and damping, with standard uncertainties, from a time
 record of a hand- or hammer-excited body, or from the times (and amplitudes) of successive peaks
-such as a stopwatch gives. Used to characterise suspension points (METHOD.md section 2)."""
+such as a stopwatch gives. Used to characterise suspension points (docs/method.md section 2)."""
 
 from __future__ import annotations
 

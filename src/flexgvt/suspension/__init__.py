@@ -1,4 +1,4 @@
-"""Suspension: characterise each suspension point, model it, and remove it (METHOD.md sections 2-3).
+"""Suspension: characterise each suspension point, model it, and remove it (docs/method.md sections 2-3).
 
     point = fg.suspension.identify_block(mass=0.80, frequency_hz=0.40, damping_ratio=0.07)
     point.stiffness, point.damping                      # 5.08 N/m, 0.28 N s/m

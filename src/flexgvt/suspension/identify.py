@@ -1,4 +1,4 @@
-"""A suspension point characterised as its own one-DOF system (METHOD.md section 2).
+"""A suspension point characterised as its own one-DOF system (docs/method.md section 2).
 
 Hang a rigid block of the mass the point carries on the same string, spring, adapters and
 pulley, excite it, identify its damped frequency and damping ratio, then

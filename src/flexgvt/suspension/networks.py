@@ -1,4 +1,4 @@
-"""Springs, bungee cords and pulleys: what a suspension line is made of (METHOD.md section 2).
+"""Springs, bungee cords and pulleys: what a suspension line is made of (docs/method.md section 2).
 
 Rates combine in series (1/k = sum 1/k_i) and in parallel (k = sum k_i); a bungee cord is a
 spring k = EA / l with EA from a load-extension test of a short piece; each element carries an

@@ -79,7 +79,7 @@ def plan_suspension(model: Model, layouts, n_modes: int = 10, energy_limit: floa
     """Predict each layout's hung test and rank them: acceptable layouts first, then by separation.
 
     Every elastic mode gets its frequency shift from free-free and the share of its energy in the
-    suspension (METHOD.md: a separation below 10x always contaminates very flexible aircraft; the
+    suspension (docs/method.md: a separation below 10x always contaminates very flexible aircraft; the
     row says by how much): 'contaminated' when that share passes ``energy_limit`` or the shift
     ``shift_limit_percent``. A line loaded or stretched past its allowance is a problem of the layout
     (a spring that would yield), not an error."""

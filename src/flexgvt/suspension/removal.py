@@ -1,6 +1,6 @@
 """Removing the suspension: the same model with no suspension (free-free, its six rigid-body modes
 at zero) and, optionally, with a softer proposed suspension, beside the tested configuration;
-every elastic mode's shift caused by the suspension, paired by MAC (METHOD.md section 3 step 4)."""
+every elastic mode's shift caused by the suspension, paired by MAC (docs/method.md section 3 step 4)."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""The support-structure system of METHOD.md section 2: two equal masses m joined by the structure
+"""The support-structure system of docs/method.md section 2: two equal masses m joined by the structure
 (k_st, c_st), each hung on a support (k_sup, c_sup). The true structural frequency and damping
 from the suspended ones, as a quick check before the full model is built."""
 
@@ -24,7 +24,7 @@ class SupportCorrection:
 
 def support_correction(measured_hz: float, measured_damping: float, support_hz: float,
                        support_damping: float) -> SupportCorrection:
-    """w_st^2 = w_m^2 - w_sup^2; z_st w_st = z_m w_m - z_sup w_sup (METHOD.md section 2).
+    """w_st^2 = w_m^2 - w_sup^2; z_st w_st = z_m w_m - z_sup w_sup (docs/method.md section 2).
 
     measured_*: the suspended elastic mode; support_*: the suspension mode alone (k_sup/m,
     c_sup/(2 m w_sup)), e.g. from a block test (SuspensionPoint.frequency_hz, .damping_ratio)."""

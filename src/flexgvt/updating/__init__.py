@@ -1,4 +1,4 @@
-"""FE model updating against several deformed configurations at once (METHOD.md section 4).
+"""FE model updating against several deformed configurations at once (docs/method.md section 4).
 
     v = [fg.updating.beam(f"E{r}", f"region{r}", "E") for r in (1, 2, 3)]
     data = [fg.updating.Measured("self_weight", frequencies_hz=[...]), ...]

@@ -1,5 +1,5 @@
 """What the model is updated against: measured modes per configuration, mass properties, static
-deflections, and the weights and limits of the objective (METHOD.md section 4)."""
+deflections, and the weights and limits of the objective (docs/method.md section 4)."""
 
 from __future__ import annotations
 

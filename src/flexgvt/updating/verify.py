@@ -1,4 +1,4 @@
-"""The numerical verification protocol of METHOD.md section 4.
+"""The numerical verification protocol of docs/method.md section 4.
 
 A reference model is mistuned (each design variable scaled by a seeded uniform factor within
 +-5 %) to make the initial model; the reference's frequencies, shapes at the sensors, mass
@@ -92,7 +92,7 @@ def _surrogate(model, configs, sensors, n_modes, tip):
 
 def verify(case: str = "cantilever", seed: int = 1, n_modes: int = 8, method: str = "least_squares",
            mistuning: float = 0.05, bounds: float = 0.10) -> Verification:
-    """Run the protocol on a built-in case ('cantilever': METHOD.md case 3, 150 beams, 12 variables,
+    """Run the protocol on a built-in case ('cantilever': docs/method.md section 5 case 3, 150 beams, 12 variables,
     training configurations unloaded, self-weight and 3 g, unseen 2 g)."""
     if case not in CASES:
         raise ModelError(f"verify: unknown case '{case}'; choose one of {CASES}")

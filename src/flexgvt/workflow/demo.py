@@ -1,4 +1,4 @@
-"""`flexgvt demo`: the whole method on the X-HALE-like aircraft (METHOD.md sections 3-5).
+"""`flexgvt demo`: the whole method on the X-HALE-like aircraft (docs/method.md sections 3-5).
 
 A synthetic GVT of the "as-built" airframe (per-section stiffness and mass differences) in both
 suspension layouts -> PolyMAX identification -> updating of the nominal model on both at once ->

@@ -23,7 +23,7 @@ case = "{case}"            # a built-in model (flexgvt.cases); or bdf = "wing.bd
 # units = "SI"             # the deck's unit system, with bdf (SI, mm-t-s, in-lbf-s, ...)
 # [model.options]          # keyword arguments of the built-in case, e.g. n_per_section = 8
 
-# Suspension points characterised on a block (METHOD.md section 2): stiffness and damping from the
+# Suspension points characterised on a block (docs/method.md section 2): stiffness and damping from the
 # block's mass, damped frequency and damping ratio (lists = repeated tests, averaged).
 [[suspension_tests]]
 name = "left"
