@@ -103,7 +103,7 @@ class ResultsStore:
 
     def __init__(self, path: str | Path, lock: bool = True):
         self.path = Path(path)
-        self._lock = _acquire(Path(f"{self.path}.lock"), self.path) if lock else None
+        self._lock = acquire_lock(Path(f"{self.path}.lock"), self.path) if lock else None
         try:
             self._db = sqlite3.connect(str(self.path), isolation_level=None, timeout=30.0)
             self._db.executescript(_SCHEMA)
@@ -227,7 +227,7 @@ class ResultsStore:
         self.close()
 
 
-def _acquire(lock: Path, what: Path):
+def acquire_lock(lock: Path, what: Path):
     """An exclusive OS lock on ``lock`` (created beside ``what``), held by the returned open file;
     StoreLockedError at once, naming the holder, when another process has it."""
     if fcntl is None:  # pragma: no cover
