@@ -71,7 +71,8 @@ def _run(problem, model, method, starts, seed, max_iterations, tolerance, store,
         if done is not None:  # finished before: its answer, evaluated from where the run evaluated it
             ref = reference if done["reference"] is None else as_reference(problem, unpack(done["reference"]))
             problem.set_pairing_reference(ref)
-            runs.append({"x": done["x"], "history": store.history(run), "message": done["message"], "success": True,
+            runs.append({"x": done["x"], "history": store.history(run), "message": done["message"],
+                         "success": done["success"],
                          "evaluations": 0, "failures": [], "method": done["method"], "resumed": True,
                          "objective": problem.evaluate(done["x"]).objective, "x0": np.asarray(x0).tolist(),
                          "reference": ref if done["reference"] is not None else
@@ -96,7 +97,8 @@ def _run(problem, model, method, starts, seed, max_iterations, tolerance, store,
         out["x0"] = np.asarray(x0).tolist()
         if store is not None:
             store.finish(run, out["x"], out["objective"], out["method"], str(out["message"]),
-                         reference=pack(reference_arrays(out["reference"])), iterations=len(out["history"]))
+                         reference=pack(reference_arrays(out["reference"])), iterations=len(out["history"]),
+                         success=bool(out["success"]))
             out["history"] = store.history(run)
         runs.append(out)
     for run, item in enumerate(runs):

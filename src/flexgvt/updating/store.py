@@ -55,7 +55,7 @@ CREATE TABLE IF NOT EXISTS evaluations (
     problem TEXT NOT NULL, run INTEGER NOT NULL, seq INTEGER NOT NULL, x BLOB NOT NULL, gradient INTEGER NOT NULL,
     data BLOB NOT NULL, continuation BLOB, PRIMARY KEY (problem, run, seq));
 CREATE TABLE IF NOT EXISTS finals (problem TEXT NOT NULL, run INTEGER NOT NULL, reference BLOB NOT NULL,
-    PRIMARY KEY (problem, run));
+    success INTEGER NOT NULL, PRIMARY KEY (problem, run));
 """
 
 
@@ -179,12 +179,13 @@ class ResultsStore:
                              (self.problem, run, iteration))
 
     def finish(self, run: int, x: np.ndarray, objective: float, method: str, message: str,
-               reference: bytes | None = None, iterations: int | None = None) -> None:
+               reference: bytes | None = None, iterations: int | None = None, success: bool = True) -> None:
         """The run's answer, and the continuation it is evaluated from (``reference``, packed), so
         that reading it back computes the same numbers; iterates beyond ``iterations`` are dropped."""
         with self._db:
             if reference is not None:
-                self._db.execute("INSERT OR REPLACE INTO finals VALUES (?, ?, ?)", (self.problem, run, reference))
+                self._db.execute("INSERT OR REPLACE INTO finals VALUES (?, ?, ?, ?)",
+                                 (self.problem, run, reference, int(success)))
             if iterations is not None:
                 self._db.execute("DELETE FROM iterations WHERE problem = ? AND run = ? AND iteration >= ?",
                                  (self.problem, run, iterations))
@@ -200,10 +201,10 @@ class ResultsStore:
                                "AND finished IS NOT NULL", (self.problem, run)).fetchone()
         if row is None:
             return None
-        ref = self._db.execute("SELECT reference FROM finals WHERE problem = ? AND run = ?",
+        ref = self._db.execute("SELECT reference, success FROM finals WHERE problem = ? AND run = ?",
                                (self.problem, run)).fetchone()
         return {"x": np.array(json.loads(row[0]), float), "objective": row[1], "method": row[2], "message": row[3],
-                "reference": None if ref is None else bytes(ref[0])}
+                "reference": None if ref is None else bytes(ref[0]), "success": True if ref is None else bool(ref[1])}
 
     def history(self, run: int = 0) -> list[dict]:
         rows = self._db.execute("SELECT iteration, x, objective, frequencies, mac FROM iterations WHERE problem = ? "
