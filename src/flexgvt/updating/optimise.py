@@ -133,7 +133,7 @@ class _Driver:
         if "failure" in data:
             self.failures.append((x.copy(), str(data["failure"])))
             return None
-        p = row.get("point") or _Replayed(x.copy(), data)
+        p = row.pop("point", None) or _Replayed(x.copy(), data)  # the record keeps no structures (memory)
         merit = p.objective + _PENALTY * float(np.sum(np.maximum(0.0, -p.constraints) ** 2))
         par = self.problem.par
         inside = bool(np.all(p.x >= par.lower - 1e-12) and np.all(p.x <= par.upper + 1e-12))
@@ -168,7 +168,7 @@ class _Driver:
     def _compute(self, seq: int, x: np.ndarray, key: bytes, gradient: bool) -> dict:
         before = [r for r in self.rows if r["key"] == key]
         if before and (before[-1]["gradient"] or not gradient):  # asked before: the same answer
-            row = {**before[-1], "continuation": None, "point": before[-1].get("point")}
+            row = {**before[-1], "continuation": None}
         elif before:  # solved before without a Jacobian: its Jacobian, about that very solve
             hit = self.problem._cache.get(key)
             if hit is not None:  # the solve is at hand (evaluate leaves the continuation alone then)

@@ -42,6 +42,9 @@ def safe_name(name: str) -> str:
     return f"{base}-{hashlib.sha256(name.encode('utf-8', 'surrogatepass')).hexdigest()[:8]}"
 
 
+_TEMPORARY = re.compile(r"\..+\.\d+\.tmp(\.[^.]*)?")
+
+
 def _temporary(path: Path) -> Path:
     """A temporary name beside ``path`` with its suffix (writers that look at it still see it)."""
     return path.with_name(f".{path.stem}.{os.getpid()}.tmp{path.suffix}")
@@ -79,7 +82,7 @@ def remove_temporaries(*folders: Path) -> None:
     """Delete the temporary files a killed run left in ``folders`` (this process holds the run lock)."""
     for folder in folders:
         for tmp in Path(folder).glob(".*.tmp*"):
-            if tmp.is_file():
+            if tmp.is_file() and _TEMPORARY.fullmatch(tmp.name):
                 tmp.unlink(missing_ok=True)
         for tmp in Path(folder).glob(".report-*"):
             if tmp.is_dir():
