@@ -159,8 +159,9 @@ def test_kills_during_identification_optimisation_and_outputs_then_rerun_give_th
     _kill_when(_start(project), lambda: _evaluations(db) >= 4, "during optimisation")
     stored = _evaluations(db)
     assert 4 <= stored and not (out / "updated.bdf").exists()
-    # 3. output writing: the first output file is there, results.json is not
-    _kill_when(_start(project), lambda: (out / "updated.bdf").exists(), "while writing the outputs")
+    # 3. output writing: as soon as the first output file is being written (its temporary exists)
+    _kill_when(_start(project), lambda: any(out.glob(".updated.*.tmp.bdf")) or (out / "updated.bdf").exists(),
+               "while writing the outputs")
     assert not (out / "results.json").exists()
     # The rerun reads the identification and the finished optimisation back and writes the outputs.
     last = _start(project)

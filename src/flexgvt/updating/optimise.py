@@ -219,7 +219,6 @@ class _Driver:
         if self.callback is not None:
             self.callback(row)
 
-
     # ---------------------------------------------------------------- least squares
     def residuals(self, x):
         p = self.point(x)

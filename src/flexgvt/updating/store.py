@@ -98,8 +98,10 @@ def fingerprint(problem, method: str) -> tuple[str, np.ndarray]:
 
 
 class ResultsStore:
-    """SQLite file holding runs and their iterates (x, objective, per-configuration frequencies and
-    MAC of the paired modes)."""
+    """SQLite file holding runs, their iterates (x, objective, per-configuration frequencies and
+    MAC of the paired modes) and evaluations. Held by one process at a time (StoreLockedError
+    otherwise); lock=False opens it without the lock, to read a store a run is writing (use
+    history() only: a second writer would interleave with the run)."""
 
     def __init__(self, path: str | Path, lock: bool = True):
         self.path = Path(path)

@@ -90,7 +90,8 @@ def identify_all(project: Project, store: Path | None = None, log: Callable[[str
                 log(f"identification '{spec.name}': {len(item.frequencies_hz)} modes (from the store)")
                 continue
             if why:
-                log(f"identification '{spec.name}': the stored result {cache.name} is unusable ({why}); identifying again")
+                log(f"identification '{spec.name}': the stored result {cache.name} is unusable ({why}); "
+                    "identifying again")
         t0 = time.perf_counter()
         item = identify(project, spec.name)
         item.diagram = diagram(item)
@@ -169,7 +170,6 @@ def run(project: Project | str | Path, log: Callable[[str], None] | None = None,
         report: bool | None = None) -> RunResult:
     """Run a project end to end; results and outputs go to its output folder. log: a callable that
     receives one line per step and per optimiser iteration (the CLI prints them)."""
-    from ..updating import ResultsStore
     from ..updating.store import acquire_lock
     log = log or (lambda s: None)
     t_all = time.perf_counter()
@@ -182,14 +182,16 @@ def run(project: Project | str | Path, log: Callable[[str], None] | None = None,
     # process dies), so a second run refuses at once instead of interleaving its history.
     lock = acquire_lock(store / "run.lock", out)
     try:
-        return _run(project, out, store, log, report, t_all, ResultsStore)
+        return _run_locked(project, out, store, log, report, t_all)
     finally:
         if lock is not None:
             lock.close()
 
 
-def _run(project, out, store, log, report, t_all, ResultsStore) -> RunResult:
-    remove_temporaries(out, store)
+def _run_locked(project: Project, out: Path, store: Path, log, report, t_all: float) -> RunResult:
+    """run() once it holds the project's lock."""
+    from ..updating import ResultsStore
+    remove_temporaries(out, store)  # a killed run's; this process holds the lock
     timings: dict[str, float] = {}
     resumed: list[str] = []
 
