@@ -20,7 +20,7 @@ from ..errors import FlexGVTError
 from ..updating.result import jsonable
 from .identification import Identified, _from_json, identify
 from .outputs import remove_temporaries, safe_name, write_json_atomic, write_text_atomic
-from .project import Project, load_project
+from .project import Project, ProjectError, load_project
 from .steps import Prediction, check, predict, update_model
 
 
@@ -177,7 +177,11 @@ def run(project: Project | str | Path, log: Callable[[str], None] | None = None,
         project = load_project(project)
     out = project.output
     store = out / "store"
-    store.mkdir(parents=True, exist_ok=True)
+    try:
+        store.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise ProjectError(f"{project.path}: cannot create the output folder {store} ({exc.strerror}); set "
+                           "[outputs] directory to a writable folder") from None
     # One run of a project at a time: held until this run returns (the system releases it if the
     # process dies), so a second run refuses at once instead of interleaving its history.
     lock = acquire_lock(store / "run.lock", out)
