@@ -95,3 +95,30 @@ def test_the_store_is_held_by_one_process_at_a_time(tmp_path):
         holder.wait()
     with up.ResultsStore(path):  # the killed holder's lock went with it
         pass
+
+
+def test_a_record_made_with_other_data_is_not_replayed(tmp_path):
+    """Data within the store's matching tolerance (1e-6) but not bit-identical: the run is found,
+    but its recorded evaluations (computed from the other data) are dropped, not replayed."""
+    from test_update import _strip_problem
+
+    class Stop(Exception):
+        pass
+
+    def stop(row):
+        if row["iteration"] >= 2:
+            raise Stop
+
+    case, initial, cfgs, variables, data, target, truth = _strip_problem(n_elements=12, names=("unloaded", "self_weight"),
+                                                                         attributes=("E", "rho"))
+    store = up.ResultsStore(tmp_path / "run.sqlite")
+    try:
+        up.update(initial, cfgs, data, variables, mass_target=target, store=store, callback=stop)
+    except Stop:  # an interruption
+        pass
+    nudged = [up.Measured(m.configuration, m.frequencies_hz * (1 + 1e-9)) for m in data]
+    resumed = up.update(initial, cfgs, nudged, variables, mass_target=target, store=store)
+    fresh = up.update(initial, cfgs, nudged, variables, mass_target=target)
+    assert not resumed.starts[0]["resumed"]
+    np.testing.assert_array_equal(resumed.x, fresh.x)
+    store.close()

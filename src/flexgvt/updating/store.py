@@ -113,6 +113,7 @@ class ResultsStore:
             self._release()
             raise FileFormatError(f"{self.path}: not a flexgvt results store ({exc}); give a new file name") from None
         self.problem = ""
+        self.exact = True  # the bound problem's numbers are the stored ones bit for bit (replay allowed)
 
     def bind(self, key: tuple[str, np.ndarray]) -> str:
         """Select the stored problem with this structure and these numbers (to rtol 1e-6), or
@@ -124,8 +125,10 @@ class ResultsStore:
             stored = np.array(json.loads(data), float)
             if stored.shape == numbers.shape and np.allclose(stored, numbers, rtol=1e-6, atol=0.0):
                 self.problem = problem
+                self.exact = bool(np.array_equal(stored, numbers))
                 return problem
         self.problem = f"{structure}-{len(rows)}"
+        self.exact = True
         with self._db:
             self._db.execute("INSERT INTO problems VALUES (?, ?, ?)",
                              (self.problem, structure, json.dumps(numbers.tolist())))
@@ -156,7 +159,12 @@ class ResultsStore:
 
     def evaluations(self, run: int) -> list[dict]:
         """The stored evaluations of ``run`` in order (up to the first gap): seq, x (bytes), gradient,
-        data (arrays), continuation (bytes or None). A row that cannot be read ends the list."""
+        data (arrays), continuation (bytes or None). A row that cannot be read ends the list. None
+        are returned (and those stored are dropped) when the bound problem's numbers match the
+        stored ones only to the tolerance of bind: answers computed from other data are not replayed."""
+        if not self.exact:
+            self.discard(run, 0, 0)
+            return []
         rows = self._db.execute("SELECT seq, x, gradient, data, continuation FROM evaluations WHERE problem = ? "
                                 "AND run = ? ORDER BY seq", (self.problem, run)).fetchall()
         out = []
