@@ -109,8 +109,8 @@ def test_a_record_made_with_other_data_is_not_replayed(tmp_path):
         if row["iteration"] >= 2:
             raise Stop
 
-    case, initial, cfgs, variables, data, target, truth = _strip_problem(n_elements=12, names=("unloaded", "self_weight"),
-                                                                         attributes=("E", "rho"))
+    case, initial, cfgs, variables, data, target, truth = _strip_problem(
+        n_elements=12, names=("unloaded", "self_weight"), attributes=("E", "rho"))
     store = up.ResultsStore(tmp_path / "run.sqlite")
     try:
         up.update(initial, cfgs, data, variables, mass_target=target, store=store, callback=stop)
