@@ -9,10 +9,10 @@ import numpy as np
 
 from ..errors import ModelError, SolverError
 from ..model import Configuration, Model
-from .optimise import minimise, starting_points
+from .optimise import as_reference, minimise, reference_arrays, starting_points
 from .parallel import single_threaded
 from .problem import UpdatingProblem
-from .store import fingerprint
+from .store import fingerprint, pack, unpack
 from .result import UpdateResult, configuration_tables, identifiability, variable_table
 from .targets import MassTarget, Measured, Objective
 from .variables import Variable
@@ -68,32 +68,37 @@ def _run(problem, model, method, starts, seed, max_iterations, tolerance, store,
     runs = []
     for run, x0 in enumerate(starting_points(problem, max(1, starts), seed)):
         done = store.finished(run) if store is not None else None
-        if done is not None:  # finished before: its answer, no optimisation
-            runs.append({"x": done["x"], "history": store.history(run), "message": done["message"], "success": True,
+        if done is not None:  # finished before: its answer, evaluated from where the run evaluated it
+            ref = reference if done["reference"] is None else as_reference(problem, unpack(done["reference"]))
+            problem.set_pairing_reference(ref)
+            runs.append({"x": done["x"], "history": store.history(run), "message": done["message"],
+                         "success": done["success"],
                          "evaluations": 0, "failures": [], "method": done["method"], "resumed": True,
                          "objective": problem.evaluate(done["x"]).objective, "x0": np.asarray(x0).tolist(),
-                         "reference": problem.reference_of(problem.evaluate(done["x"]))})
+                         "reference": ref if done["reference"] is not None else
+                         problem.reference_of(problem.evaluate(done["x"]))})
             continue
-        resume = store.best(run) if store is not None else None
-        start = x0 if resume is None else resume
         if client is not None and starts > 1:  # independent runs as parallel tasks, collected below
-            runs.append(client.submit(_remote_start, problem, start, method, max_iterations, tolerance, pure=False))
+            runs.append(client.submit(_remote_start, problem, x0, method, max_iterations, tolerance, pure=False))
             continue
+        # An interrupted run starts again from x0 too: the store answers the evaluations it recorded.
         problem.set_pairing_reference(reference)
         try:
-            out = minimise(problem, start, method, store=store, run=run, max_iterations=max_iterations,
+            out = minimise(problem, x0, method, store=store, run=run, max_iterations=max_iterations,
                            tolerance=tolerance, callback=callback)
         except SolverError as exc:
             if run == 0:  # the user's own starting point: nothing to compare with, say why
                 raise
-            runs.append(_unsolved_start(start, x0, method, exc))  # the other starts go on
+            runs.append(_unsolved_start(x0, x0, method, exc))  # the other starts go on
             continue
         problem.set_pairing_reference(out["reference"])
         out["objective"] = problem.evaluate(out["x"]).objective
-        out["resumed"] = resume is not None
+        out["resumed"] = out.get("replayed", 0) > 0
         out["x0"] = np.asarray(x0).tolist()
         if store is not None:
-            store.finish(run, out["x"], out["objective"], out["method"], str(out["message"]))
+            store.finish(run, out["x"], out["objective"], out["method"], str(out["message"]),
+                         reference=pack(reference_arrays(out["reference"])), iterations=len(out["history"]),
+                         success=bool(out["success"]))
             out["history"] = store.history(run)
         runs.append(out)
     for run, item in enumerate(runs):

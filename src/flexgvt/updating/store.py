@@ -1,21 +1,46 @@
-"""The results store: an updating run's history in SQLite, one transaction per accepted iterate,
-so that an interrupted run resumes where it stopped and reaches the same answer.
+"""The results store: an updating run's history in SQLite, so that an interrupted run resumes
+where it stopped and reaches the same answer as an uninterrupted one, bit for bit.
 
     store = fg.updating.ResultsStore("run.sqlite")
     result = fg.updating.update(model, configs, data, variables, store=store)   # rerun: resumes
+
+Every evaluation the optimiser asks for is stored in its own transaction: the design point, what
+the optimiser received (residuals, constraints, their Jacobians, exact float64 bytes) and, when
+the structure was solved, the continuation it left behind (each configuration's equilibrium, the
+next solve's warm start, and the pairing references). A rerun starts the optimiser from the same
+point again and answers its requests from the store while they match the record (the optimiser is
+deterministic, so they do), then restores the continuation of the last stored evaluation and
+computes on: the trajectory, the iteration budget and the answer are those of an uninterrupted run.
+A finished run keeps the continuation its answer was evaluated from, so reading it back evaluates
+the same numbers (frequencies, Jacobian, uncertainties) as the run that computed them.
+
+The store is locked (an OS file lock on ``<store>.lock``, released by the system when its process
+ends, also on a kill) for as long as it is open: a second process gets StoreLockedError at once.
 """
 
 from __future__ import annotations
 
 import hashlib
+import io
 import json
+import os
+import socket
 import sqlite3
 import time
 from pathlib import Path
 
 import numpy as np
 
-from ..errors import FileFormatError
+from ..errors import FileFormatError, FlexGVTError
+
+try:
+    import fcntl
+except ImportError:  # pragma: no cover - Windows: no advisory lock, the store is used unlocked
+    fcntl = None
+
+
+class StoreLockedError(FlexGVTError):
+    """Another process holds the results store (a run of the same project is going on)."""
 
 _SCHEMA = """
 CREATE TABLE IF NOT EXISTS problems (problem TEXT PRIMARY KEY, structure TEXT NOT NULL, data TEXT NOT NULL);
@@ -26,7 +51,25 @@ CREATE TABLE IF NOT EXISTS iterations (
     problem TEXT NOT NULL, run INTEGER NOT NULL, iteration INTEGER NOT NULL, x TEXT NOT NULL,
     objective REAL NOT NULL, frequencies TEXT, mac TEXT, residuals TEXT, time REAL,
     PRIMARY KEY (problem, run, iteration));
+CREATE TABLE IF NOT EXISTS evaluations (
+    problem TEXT NOT NULL, run INTEGER NOT NULL, seq INTEGER NOT NULL, x BLOB NOT NULL, gradient INTEGER NOT NULL,
+    data BLOB NOT NULL, continuation BLOB, PRIMARY KEY (problem, run, seq));
+CREATE TABLE IF NOT EXISTS finals (problem TEXT NOT NULL, run INTEGER NOT NULL, reference BLOB NOT NULL,
+    success INTEGER NOT NULL, PRIMARY KEY (problem, run));
 """
+
+
+def pack(arrays: dict[str, np.ndarray]) -> bytes:
+    """Arrays as .npz bytes (exact float64; read back without pickle)."""
+    buf = io.BytesIO()
+    np.savez(buf, **{k: np.asarray(v) for k, v in arrays.items()})
+    return buf.getvalue()
+
+
+def unpack(blob: bytes) -> dict[str, np.ndarray]:
+    with np.load(io.BytesIO(blob), allow_pickle=False) as z:
+        return {k: z[k] for k in z.files}
+
 
 
 def fingerprint(problem, method: str) -> tuple[str, np.ndarray]:
@@ -55,17 +98,22 @@ def fingerprint(problem, method: str) -> tuple[str, np.ndarray]:
 
 
 class ResultsStore:
-    """SQLite file holding runs and their iterates (x, objective, per-configuration frequencies and
-    MAC of the paired modes)."""
+    """SQLite file holding runs, their iterates (x, objective, per-configuration frequencies and
+    MAC of the paired modes) and evaluations. Held by one process at a time (StoreLockedError
+    otherwise); lock=False opens it without the lock, to read a store a run is writing (use
+    history() only: a second writer would interleave with the run)."""
 
-    def __init__(self, path: str | Path):
+    def __init__(self, path: str | Path, lock: bool = True):
         self.path = Path(path)
+        self._lock = acquire_lock(Path(f"{self.path}.lock"), self.path) if lock else None
         try:
             self._db = sqlite3.connect(str(self.path), isolation_level=None, timeout=30.0)
             self._db.executescript(_SCHEMA)
         except sqlite3.DatabaseError as exc:
+            self._release()
             raise FileFormatError(f"{self.path}: not a flexgvt results store ({exc}); give a new file name") from None
         self.problem = ""
+        self.exact = True  # the bound problem's numbers are the stored ones bit for bit (replay allowed)
 
     def bind(self, key: tuple[str, np.ndarray]) -> str:
         """Select the stored problem with this structure and these numbers (to rtol 1e-6), or
@@ -77,31 +125,80 @@ class ResultsStore:
             stored = np.array(json.loads(data), float)
             if stored.shape == numbers.shape and np.allclose(stored, numbers, rtol=1e-6, atol=0.0):
                 self.problem = problem
+                self.exact = bool(np.array_equal(stored, numbers))
                 return problem
         self.problem = f"{structure}-{len(rows)}"
+        self.exact = True
         with self._db:
             self._db.execute("INSERT INTO problems VALUES (?, ?, ?)",
                              (self.problem, structure, json.dumps(numbers.tolist())))
         return self.problem
 
     def record(self, run: int, row: dict) -> None:
-        """One iterate, in its own transaction (an interruption never leaves half a row)."""
+        """One iterate (row["iteration"] is its number: a replayed iterate rewrites its own row), in
+        its own transaction (an interruption never leaves half a row)."""
         with self._db:
             self._db.execute("INSERT OR IGNORE INTO runs (problem, run, started) VALUES (?, ?, ?)",
                              (self.problem, run, time.time()))
             self._db.execute(
                 "INSERT OR REPLACE INTO iterations VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?)",
-                (self.problem, run, self._next(run), json.dumps(row["x"]), row["objective"],
+                (self.problem, run, int(row["iteration"]), json.dumps(row["x"]), row["objective"],
                  json.dumps(row["frequencies_hz"]), json.dumps(row["mac"]), json.dumps(row["residuals"]),
                  row["time_s"]))
 
-    def _next(self, run: int) -> int:
-        got = self._db.execute("SELECT MAX(iteration) FROM iterations WHERE problem = ? AND run = ?",
-                               (self.problem, run)).fetchone()[0]
-        return 0 if got is None else got + 1
-
-    def finish(self, run: int, x: np.ndarray, objective: float, method: str, message: str) -> None:
+    def record_evaluation(self, run: int, seq: int, x: np.ndarray, gradient: bool, data: dict,
+                          continuation: bytes | None) -> None:
+        """Evaluation number ``seq`` of ``run``: what the optimiser received (``data``: arrays) and the
+        continuation after it (None when nothing was solved), in one transaction."""
         with self._db:
+            self._db.execute("INSERT OR IGNORE INTO runs (problem, run, started) VALUES (?, ?, ?)",
+                             (self.problem, run, time.time()))
+            self._db.execute("INSERT OR REPLACE INTO evaluations VALUES (?, ?, ?, ?, ?, ?, ?)",
+                             (self.problem, run, seq, np.asarray(x, float).tobytes(), int(gradient), pack(data),
+                              continuation))
+
+    def evaluations(self, run: int) -> list[dict]:
+        """The stored evaluations of ``run`` in order (up to the first gap): seq, x (bytes), gradient,
+        data (arrays), continuation (bytes or None). A row that cannot be read ends the list. None
+        are returned (and those stored are dropped) when the bound problem's numbers match the
+        stored ones only to the tolerance of bind: answers computed from other data are not replayed."""
+        if not self.exact:
+            self.discard(run, 0, 0)
+            return []
+        rows = self._db.execute("SELECT seq, x, gradient, data, continuation FROM evaluations WHERE problem = ? "
+                                "AND run = ? ORDER BY seq", (self.problem, run)).fetchall()
+        out = []
+        for seq, x, gradient, data, cont in rows:
+            if seq != len(out):
+                break
+            try:
+                arrays = unpack(data)
+            except (OSError, ValueError, KeyError):
+                break
+            out.append({"seq": seq, "x": bytes(x), "gradient": bool(gradient), "data": arrays,
+                        "continuation": None if cont is None else bytes(cont)})
+        return out
+
+    def discard(self, run: int, seq: int, iteration: int) -> None:
+        """Forget evaluations from ``seq`` and iterates from ``iteration`` on (a replay that no longer
+        matches the record, e.g. after a change of flexgvt's numerics, computes on from there)."""
+        with self._db:
+            self._db.execute("DELETE FROM evaluations WHERE problem = ? AND run = ? AND seq >= ?",
+                             (self.problem, run, seq))
+            self._db.execute("DELETE FROM iterations WHERE problem = ? AND run = ? AND iteration >= ?",
+                             (self.problem, run, iteration))
+
+    def finish(self, run: int, x: np.ndarray, objective: float, method: str, message: str,
+               reference: bytes | None = None, iterations: int | None = None, success: bool = True) -> None:
+        """The run's answer, and the continuation it is evaluated from (``reference``, packed), so
+        that reading it back computes the same numbers; iterates beyond ``iterations`` are dropped."""
+        with self._db:
+            if reference is not None:
+                self._db.execute("INSERT OR REPLACE INTO finals VALUES (?, ?, ?, ?)",
+                                 (self.problem, run, reference, int(success)))
+            if iterations is not None:
+                self._db.execute("DELETE FROM iterations WHERE problem = ? AND run = ? AND iteration >= ?",
+                                 (self.problem, run, iterations))
             self._db.execute("INSERT OR IGNORE INTO runs (problem, run, started) VALUES (?, ?, ?)",
                              (self.problem, run, time.time()))
             self._db.execute("UPDATE runs SET finished = ?, x_final = ?, objective = ?, method = ?, message = ? "
@@ -114,13 +211,10 @@ class ResultsStore:
                                "AND finished IS NOT NULL", (self.problem, run)).fetchone()
         if row is None:
             return None
-        return {"x": np.array(json.loads(row[0])), "objective": row[1], "method": row[2], "message": row[3]}
-
-    def best(self, run: int) -> np.ndarray | None:
-        """The lowest-objective iterate recorded for ``run`` (where an interrupted run resumes)."""
-        row = self._db.execute("SELECT x FROM iterations WHERE problem = ? AND run = ? ORDER BY objective, "
-                               "iteration DESC LIMIT 1", (self.problem, run)).fetchone()
-        return None if row is None else np.array(json.loads(row[0]))
+        ref = self._db.execute("SELECT reference, success FROM finals WHERE problem = ? AND run = ?",
+                               (self.problem, run)).fetchone()
+        return {"x": np.array(json.loads(row[0]), float), "objective": row[1], "method": row[2], "message": row[3],
+                "reference": None if ref is None else bytes(ref[0]), "success": True if ref is None else bool(ref[1])}
 
     def history(self, run: int = 0) -> list[dict]:
         rows = self._db.execute("SELECT iteration, x, objective, frequencies, mac FROM iterations WHERE problem = ? "
@@ -130,3 +224,41 @@ class ResultsStore:
 
     def close(self) -> None:
         self._db.close()
+        self._release()
+
+    def _release(self) -> None:
+        if self._lock is not None:
+            self._lock.close()  # closing the descriptor releases the lock
+            self._lock = None
+
+    def __enter__(self) -> "ResultsStore":
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.close()
+
+
+def acquire_lock(lock: Path, what: Path):
+    """An exclusive OS lock on ``lock`` (created beside ``what``), held by the returned open file;
+    StoreLockedError at once, naming the holder, when another process has it."""
+    if fcntl is None:  # pragma: no cover
+        return None
+    try:
+        f = open(lock, "a+")
+    except OSError as exc:
+        raise FileFormatError(f"{lock}: cannot create the lock file of the results store ({exc.strerror}); "
+                              "check the folder's permissions") from None
+    try:
+        fcntl.flock(f.fileno(), fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except OSError:
+        f.seek(0)
+        holder = f.read(200).strip() or "another process"
+        f.close()
+        raise StoreLockedError(f"{what} is in use by {holder}: wait until that run ends (or stop it; a run that "
+                               "was killed releases the lock by itself), or give another output directory") from None
+    f.seek(0)
+    f.truncate()
+    f.write(f"flexgvt process {os.getpid()} on {socket.gethostname()} since "
+            f"{time.strftime('%Y-%m-%d %H:%M:%S UTC', time.gmtime())}\n")
+    f.flush()
+    return f

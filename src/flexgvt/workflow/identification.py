@@ -158,6 +158,8 @@ def _from_json(obj, path: Path, name: str) -> Identified:
     f = obj.get("frequencies_hz", obj.get("measured_hz"))
     if f is None:
         raise ProjectError(f"{path}: no 'frequencies_hz' (or 'measured_hz') list; keys: {sorted(obj)}")
+    if "shapes_real" in obj and "outputs" not in obj:
+        raise ProjectError(f"{path}: 'shapes_real' without 'outputs' (the [point, direction] of each shape column)")
     try:
         f = np.asarray(f, float)
         z = np.asarray(obj.get("damping_ratio", np.zeros_like(f)), float)
@@ -165,11 +167,13 @@ def _from_json(obj, path: Path, name: str) -> Identified:
         if "shapes_real" in obj:
             shapes = np.asarray(obj["shapes_real"], float) + 1j * np.asarray(obj.get("shapes_imag", 0.0), float)
             outputs = np.asarray(obj["outputs"], int)
-    except (TypeError, ValueError) as exc:
+        labels = obj.get("labels", ())
+        labels = tuple(str(s) for s in (labels if isinstance(labels, (list, tuple)) else [labels]))
+    except (TypeError, ValueError, OverflowError) as exc:
         raise ProjectError(f"{path}: numbers expected: {exc}") from None
-    if f.ndim != 1 or z.shape != f.shape or (shapes is not None and shapes.shape != (len(f), len(outputs))):
+    if (f.ndim != 1 or z.shape != f.shape
+            or (shapes is not None and (outputs.ndim != 2 or shapes.shape != (len(f), len(outputs))))):
         raise ProjectError(f"{path}: frequencies, damping, shapes and outputs do not agree in size")
-    labels = tuple(str(s) for s in obj.get("labels", ()))
     std = {}
     for key in ("frequency_std_hz", "damping_std"):
         if key in obj:

@@ -1,9 +1,20 @@
 """Outputs of a run: the updated model as Nastran bulk data, identified and predicted modes as UFF 55,
-and the prediction tables as CSV."""
+and the prediction tables as CSV.
+
+Every file is written atomically: into a temporary file in the same folder, then renamed over the
+target (os.replace), so a run killed while writing leaves the previous file or the new one, never
+half of one. A configuration's name becomes part of a file name through safe_name.
+"""
 
 from __future__ import annotations
 
+import hashlib
+import json
+import os
+import re
+import shutil
 import warnings
+from contextlib import contextmanager
 from pathlib import Path
 
 import numpy as np
@@ -12,24 +23,129 @@ from ..model import Configuration
 from ..report.html import write_csv
 
 
+_UNSAFE = re.compile(r"[^A-Za-z0-9._-]")
+_RESERVED = {"CON", "PRN", "AUX", "NUL", *(f"COM{k}" for k in range(1, 10)), *(f"LPT{k}" for k in range(1, 10))}
+MAX_NAME = 48  # characters kept of a name (with its 8-character digest, well below any file system's limit)
+
+
+def safe_name(name: str) -> str:
+    """A configuration name as a file-name part: kept as it is when it only holds letters, digits,
+    '.', '_' and '-' (not first a '.', at most 48 characters, not a Windows device name); otherwise
+    every other character becomes '_', it is cut to 48 characters and '-' plus the first 8 hex
+    digits of the SHA-256 of the original name is appended. Two different names never map to one
+    (kept names are distinct, changed ones carry their digest)."""
+    name = str(name)
+    if (name and not _UNSAFE.search(name) and not name.startswith(".") and len(name) <= MAX_NAME
+            and name.split(".")[0].upper() not in _RESERVED):
+        return name
+    base = _UNSAFE.sub("_", name).lstrip(".")[:MAX_NAME] or "_"
+    return f"{base}-{hashlib.sha256(name.encode('utf-8', 'surrogatepass')).hexdigest()[:8]}"
+
+
+_TEMPORARY = re.compile(r"\..+\.\d+\.tmp(\.[^.]*)?")
+
+
+def _temporary(path: Path) -> Path:
+    """A temporary name beside ``path`` with its suffix (writers that look at it still see it)."""
+    return path.with_name(f".{path.stem}.{os.getpid()}.tmp{path.suffix}")
+
+
+@contextmanager
+def atomic(path: Path):
+    """Yield a temporary path beside ``path``; once the block has written it, rename it to ``path``
+    (removed instead if the block fails)."""
+    path = Path(path)
+    tmp = _temporary(path)
+    try:
+        yield tmp
+        os.replace(tmp, path)
+    finally:
+        if tmp.exists():
+            tmp.unlink()
+
+
+def write_text_atomic(path: Path, text: str) -> Path:
+    """``text`` (UTF-8) to ``path``, atomically and flushed to disk before the rename."""
+    with atomic(path) as tmp:
+        with open(tmp, "w", encoding="utf-8") as f:
+            f.write(text)
+            f.flush()
+            os.fsync(f.fileno())
+    return Path(path)
+
+
+def write_json_atomic(path: Path, obj, **kw) -> Path:
+    return write_text_atomic(path, json.dumps(obj, **kw))
+
+
+def remove_temporaries(*folders: Path) -> None:
+    """Delete the temporary files a killed run left in ``folders`` (this process holds the run lock)."""
+    for folder in folders:
+        for tmp in Path(folder).glob(".*.tmp*"):
+            if tmp.is_file() and _TEMPORARY.fullmatch(tmp.name):
+                tmp.unlink(missing_ok=True)
+        for tmp in Path(folder).glob(".report-*"):
+            if tmp.is_dir():
+                shutil.rmtree(tmp, ignore_errors=True)
+
+
+def write_report_atomic(content, out: Path) -> Path:
+    """flexgvt.report.write_report into a staging folder beside ``out``, then each file renamed into
+    ``out`` (figures and tables first, report.html last): every file is whole at any moment."""
+    from ..report import write_report
+    stage = out / f".report-{os.getpid()}"
+    shutil.rmtree(stage, ignore_errors=True)
+    try:
+        html = write_report(content, stage)
+        for sub in ("figures", "tables"):
+            if (stage / sub).is_dir():
+                (out / sub).mkdir(exist_ok=True)
+                for f in sorted((stage / sub).iterdir()):
+                    os.replace(f, out / sub / f.name)
+        os.replace(html, out / html.name)
+    finally:
+        shutil.rmtree(stage, ignore_errors=True)
+    return out / html.name
+
+
 def write_outputs(res, out: Path) -> dict[str, str]:
     """Write what the project's [outputs] table asks for into ``out``; returns {name: path}."""
     spec = res.project.spec.outputs
     files: dict[str, str] = {}
     if spec.bdf and res.update is not None:
-        files["bdf"] = str(write_updated_bdf(res, out / "updated.bdf"))
+        files["bdf"] = str(_atomically(write_updated_bdf, res, out / "updated.bdf"))
     if spec.uff:
         for name, item in res.identified.items():
-            path = write_identified_uff(res.project, item, out / f"identified-{name}.uff")
+            path = _atomically(lambda p: write_identified_uff(res.project, item, p),
+                               out / f"identified-{safe_name(name)}.uff")
             if path is not None:
                 files[f"identified {name}"] = str(path)
         for key, pred in res.predictions.items():
-            files[f"prediction {key}"] = str(write_modes_uff(pred.free, out / f"predicted-free-free-{key}.uff"))
+            files[f"prediction {key}"] = str(_atomically(write_modes_uff, pred.free,
+                                                         out / f"predicted-free-free-{key}.uff"))
     for key, pred in res.predictions.items():
-        path = out / f"prediction-{key}.csv"
-        write_csv(pred.rows, path)  # flexgvt.report's: None as an empty cell, floats in full
+        # flexgvt.report's CSV: None as an empty cell, floats in full
+        path = _atomically(lambda p: write_csv(pred.rows, p), out / f"prediction-{key}.csv")
         files[f"prediction table {key}"] = str(path)
     return files
+
+
+def _atomically(writer, *args):
+    """writer(*args[:-1], temporary path), flushed to disk and renamed to args[-1]; None (and nothing
+    renamed) when the writer wrote nothing."""
+    *first, path = args
+    path = Path(path)
+    tmp = _temporary(path)
+    try:
+        if writer(*first, tmp) is None:
+            return None
+        with open(tmp, "rb+") as f:
+            os.fsync(f.fileno())
+        os.replace(tmp, path)
+        return path
+    finally:
+        if tmp.exists():
+            tmp.unlink()
 
 
 def write_updated_bdf(res, path: Path) -> Path:

@@ -155,6 +155,7 @@ def build_report_content(res):
 
 
 def write_project_report(res, out: Path) -> Path:
-    """report.html (self-contained), figures/*.png and tables/*.csv in ``out``."""
-    from ..report import write_report
-    return write_report(build_report_content(res), out)
+    """report.html (self-contained), figures/*.png and tables/*.csv in ``out``, each file written
+    atomically (a killed run leaves whole files)."""
+    from .outputs import write_report_atomic
+    return write_report_atomic(build_report_content(res), Path(out))

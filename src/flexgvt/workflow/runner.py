@@ -16,9 +16,11 @@ from typing import Callable
 
 import numpy as np
 
+from ..errors import FlexGVTError
 from ..updating.result import jsonable
-from .identification import Identified, identify, read_modes
-from .project import Project, load_project
+from .identification import Identified, _from_json, identify
+from .outputs import remove_temporaries, safe_name, write_json_atomic, write_text_atomic
+from .project import Project, ProjectError, load_project
 from .steps import Prediction, check, predict, update_model
 
 
@@ -71,24 +73,25 @@ def _identification_key(project: Project, name: str) -> str:
 def identify_all(project: Project, store: Path | None = None, log: Callable[[str], None] = lambda s: None,
                  resumed: list | None = None) -> dict[str, Identified]:
     """identify() for every configuration with test data; cached in ``store`` (a folder) by a digest of
-    the test settings and the files' bytes, so a second run reads them back."""
+    the test settings and the files' bytes, so a second run reads them back. A cache that cannot be
+    read (cut off, not JSON, wrongly shaped) is identified again, with a one-line notice."""
     out = {}
     for spec in project.spec.configurations:
         if spec.test is None:
             continue
         key = _identification_key(project, spec.name)
-        cache = None if store is None else store / f"identified-{spec.name}.json"
+        cache = None if store is None else store / f"identified-{safe_name(spec.name)}.json"
         if cache is not None and cache.is_file():
-            saved = json.loads(cache.read_text())
-            if saved.get("key") == key:
-                item = read_modes(cache, spec.name, "data")
-                item.source = saved["data"]["source"]
-                item.diagram = saved.get("diagram")
+            item, why = _read_cache(cache, key, spec.name)
+            if item is not None:
                 out[spec.name] = item
                 if resumed is not None:
                     resumed.append(f"identification {spec.name}")
                 log(f"identification '{spec.name}': {len(item.frequencies_hz)} modes (from the store)")
                 continue
+            if why:
+                log(f"identification '{spec.name}': the stored result {cache.name} is unusable ({why}); "
+                    "identifying again")
         t0 = time.perf_counter()
         item = identify(project, spec.name)
         item.diagram = diagram(item)
@@ -96,8 +99,53 @@ def identify_all(project: Project, store: Path | None = None, log: Callable[[str
         log(f"identification '{spec.name}': {len(item.frequencies_hz)} modes from {item.source} "
             f"({time.perf_counter() - t0:.1f} s)")
         if cache is not None:
-            cache.write_text(json.dumps(jsonable({"key": key, "data": item.as_dict(), "diagram": item.diagram})))
+            write_json_atomic(cache, jsonable({"key": key, "data": item.as_dict(), "diagram": item.diagram}))
     return out
+
+
+_DIAGRAM_KEYS = ("frequencies_hz", "indicator", "orders", "poles_hz", "damping_ratio", "stable", "selected_hz")
+
+
+def _read_cache(cache: Path, key: str, name: str) -> tuple[Identified | None, str]:
+    """The cached identification if it is whole and for these settings and files: (item, ''), else
+    (None, why) (why empty when it is merely out of date)."""
+    try:
+        saved = json.loads(cache.read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
+        return None, f"not readable JSON: {exc}"
+    if not isinstance(saved, dict) or not isinstance(saved.get("data"), dict):
+        return None, "not an identification record"
+    if saved.get("key") != key:
+        return None, ""
+    try:
+        item = _from_json(saved["data"], cache, name)
+    except FlexGVTError as exc:
+        return None, str(exc)
+    if item.shapes is not None and (item.outputs.ndim != 2 or item.outputs.shape[1] != 2):
+        return None, "sensor outputs are not (point, direction) pairs"
+    if not np.all(np.isfinite(item.frequencies_hz)) or not np.all(item.frequencies_hz > 0):
+        return None, "frequencies must be finite and positive"
+    source = saved["data"].get("source")
+    d = saved.get("diagram")
+    if not isinstance(source, str):
+        return None, "no source"
+    if d is not None and not _diagram_ok(d):
+        return None, "a malformed stabilisation diagram"
+    item.source, item.diagram = source, d
+    return item, ""
+
+
+def _diagram_ok(d) -> bool:
+    if not isinstance(d, dict) or any(not isinstance(d.get(k), list) for k in _DIAGRAM_KEYS):
+        return False
+    try:
+        arrays = {k: np.asarray(d[k], float) for k in _DIAGRAM_KEYS}
+    except (TypeError, ValueError):
+        return False
+    n = len(arrays["orders"])
+    return (all(a.ndim == 1 and np.all(np.isfinite(a)) for a in arrays.values())
+            and len(arrays["frequencies_hz"]) == len(arrays["indicator"])
+            and all(len(arrays[k]) == n for k in ("poles_hz", "damping_ratio", "stable")))
 
 
 def diagram(item: Identified) -> dict | None:
@@ -122,14 +170,32 @@ def run(project: Project | str | Path, log: Callable[[str], None] | None = None,
         report: bool | None = None) -> RunResult:
     """Run a project end to end; results and outputs go to its output folder. log: a callable that
     receives one line per step and per optimiser iteration (the CLI prints them)."""
-    from ..updating import ResultsStore
+    from ..updating.store import acquire_lock
     log = log or (lambda s: None)
     t_all = time.perf_counter()
     if not isinstance(project, Project):
         project = load_project(project)
     out = project.output
     store = out / "store"
-    store.mkdir(parents=True, exist_ok=True)
+    try:
+        store.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise ProjectError(f"{project.path}: cannot create the output folder {store} ({exc.strerror}); set "
+                           "[outputs] directory to a writable folder") from None
+    # One run of a project at a time: held until this run returns (the system releases it if the
+    # process dies), so a second run refuses at once instead of interleaving its history.
+    lock = acquire_lock(store / "run.lock", out)
+    try:
+        return _run_locked(project, out, store, log, report, t_all)
+    finally:
+        if lock is not None:
+            lock.close()
+
+
+def _run_locked(project: Project, out: Path, store: Path, log, report, t_all: float) -> RunResult:
+    """run() once it holds the project's lock."""
+    from ..updating import ResultsStore
+    remove_temporaries(out, store)  # a killed run's; this process holds the lock
     timings: dict[str, float] = {}
     resumed: list[str] = []
 
@@ -182,6 +248,6 @@ def run(project: Project | str | Path, log: Callable[[str], None] | None = None,
         res.files["report"] = str(write_project_report(res, out))
     timings["outputs"] = time.perf_counter() - t0
     timings["total"] = time.perf_counter() - t_all
-    (out / "results.json").write_text(json.dumps(res.as_dict(), indent=1))
+    write_text_atomic(out / "results.json", json.dumps(res.as_dict(), indent=1))
     res.files["results"] = str(out / "results.json")
     return res
