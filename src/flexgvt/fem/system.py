@@ -16,15 +16,22 @@ import numba
 import numpy as np
 import scipy.sparse as sp
 
-from ..errors import ModelError
+from ..errors import FlexGVTWarning, ModelError
 from ..model import Configuration, Model, RodSection, end_properties, parse_dofs
 from .assembly import Pattern
+from .checks import check_values
 from .beam import (BeamData, beam_forces, beam_mass_matrices, element_coefficients, element_frames,
                    local_mass_matrices, nodal_weights)
 from .interpolation import InterpolationData, compile_interpolations, fit, geometric_block, jacobian
 from .linsolve import CholmodCache
 from .points import cord_damping, cord_forces, mass_gravity, mass_matrix, spring_damping, spring_forces
 from .rotations import expm_so3, skew, spin, step_nodes
+
+
+# A grounded spring component this many times stiffer than the structure's diagonal stiffness at its
+# DOF is a constraint (System.spring_clamps): it changes the modes by ~1/ratio from the clamped ones,
+# below the round-off (~eps * ratio * the shift-invert's amplification) that keeping it would cost.
+SPRING_CLAMP_RATIO = 1e8
 
 
 @numba.njit(cache=True)
@@ -257,6 +264,11 @@ class System:
         if len(bad):
             raise ModelError(f"{where}: node {cm.node_ids[bad[0]]} has DOFs tied by a rigid link (or an interpolation "
                              "link), which cannot be fixed or prescribed; fix its independent node(s) instead")
+        # Grounded springs far stiffer than the structure (a clamp modelled as a 1e15 N/m spring) hold
+        # their DOFs as constraints: kept as springs they spoil the factorisations (see spring_clamps).
+        self._config_fixed = fixed.copy()
+        self.spring_clamped = self.spring_clamps(fixed)
+        fixed[self.spring_clamped] = True
         self.fixed = fixed
         self.dependent = dependent
         free = ~fixed & ~cm.link_dofs.reshape(-1)
@@ -352,6 +364,71 @@ class System:
                 f[b] += w * np.r_[F, M]
         self.applied = f.reshape(-1)
         self.mass_weight = self.masses.mass[:, None] * gvec[None, :]
+        check_values(self)
+
+    def structure_diagonal(self) -> np.ndarray:
+        """|diagonal| (6n,) of the undeformed, unloaded tangent of the beams and cords (no springs)
+        over all DOFs [N/m, N m/rad]: the structure's own stiffness at each DOF."""
+        x, R = self.undeformed
+        _, (Kb, Km, Kc, _), *_ = self._element_terms(x, R, 0.0, True, None)
+        blocks = [self._beam_dofs(), self._node_dofs(self.masses.nodes),
+                  np.concatenate([self._node_dofs(self.cord_nodes), self._node_dofs(self.cord_nodes_b)], axis=1)]
+        diag = [np.abs(np.diagonal(K, axis1=1, axis2=2)) for K in (Kb, Km, Kc)]
+        dofs = np.concatenate([b.reshape(-1) for b in blocks])
+        vals = np.concatenate([d.reshape(-1) for d in diag])
+        return np.bincount(dofs, weights=vals, minlength=6 * self.n_nodes)
+
+    def spring_clamps(self, fixed: np.ndarray) -> np.ndarray:
+        """Full DOFs (sorted) that grounded springs hold as constraints: a component stiffer than
+        SPRING_CLAMP_RATIO times the structure's own diagonal stiffness there (structure_diagonal),
+        of a spring whose axes are the global ones (up to order and sign), on a DOF no link sets; the
+        three rotations of a node only together (a partly held rotation stays a spring). Such a spring
+        changes the modes from the clamped ones by about the inverse ratio, while the round-off it
+        brings into the shift-invert factorisations grows with the ratio (measured on a cantilever
+        strip: 20 % errors at a ratio of 1e9 with the dense eigensolver). A stiff spring that cannot be
+        converted gives a FlexGVTWarning."""
+        s = self.springs
+        ground = (s.a < 0) & np.any(s.stiffness > 0, axis=1)
+        if not np.any(s.stiffness > 0):
+            return np.zeros(0, int)
+        diag = self.structure_diagonal()
+        n = self.n_nodes
+        held = np.zeros(6 * n, bool)
+        rot_held = np.zeros((n, 3), bool)
+        doubtful = []
+        for k in np.flatnonzero(np.any(s.stiffness > 0, axis=1)):
+            F = s.frame[k]
+            axis = np.argmax(np.abs(F), axis=0)  # global axis of each spring axis
+            aligned = np.allclose(np.abs(F[axis, np.arange(3)]), 1.0, rtol=0, atol=1e-12)
+            for nodes in ((s.b[k],) if ground[k] else (s.a[k], s.b[k])):
+                base = 6 * nodes
+                full = base + np.r_[axis, 3 + axis]
+                stiff = s.stiffness[k] > SPRING_CLAMP_RATIO * diag[full]
+                stiff &= diag[full] > 0  # a DOF only springs hold: no conditioning loss
+                if not np.any(stiff):
+                    continue
+                links = self.cm.link_dofs.reshape(-1)[full]
+                if ground[k] and aligned and not np.any(stiff & links):
+                    held[full[:3][stiff[:3]]] = True
+                    rot_held[nodes, axis[stiff[3:]]] = True
+                    if np.any(stiff[3:]):
+                        doubtful.append((k, nodes, "rotation"))
+                else:
+                    doubtful.append((k, nodes, "spring"))
+        rot = rot_held | fixed.reshape(n, 6)[:, 3:]
+        whole = np.all(rot, axis=1)
+        held.reshape(n, 6)[:, 3:] |= rot_held & whole[:, None]
+        warn = [(k, node) for k, node, why in doubtful if why == "spring" or not whole[node]]
+        if warn:
+            k, node = warn[0]
+            warnings.warn(
+                f"configuration '{self.config.name}': {len(warn)} spring(s) (the first at node "
+                f"{self.cm.node_ids[node]}, spring {k}) are more than {SPRING_CLAMP_RATIO:g} times stiffer than the "
+                "structure at their DOFs, and the solver cannot treat them as constraints (a spring between two "
+                "nodes, axes not along the global ones, a DOF set by a link, or only part of a node's rotations): "
+                "round-off will spoil the modes and the static solution. Fix the DOFs (fixed={node: '123456'}) "
+                "or use a rigid link or linear constraint instead", FlexGVTWarning, stacklevel=3)
+        return np.flatnonzero(held & ~fixed)
 
     def _topology(self) -> tuple:
         """What the DOF numbering and the sparsity pattern depend on."""
@@ -378,6 +455,9 @@ class System:
         if len(self.cm.xyz) != len(sibling.cm.xyz) or any(a.shape != b.shape or np.any(a != b)
                                                           for a, b in zip(before, after)):
             return System(model, config)
+        if len(sibling.springs.b) and not np.array_equal(sibling.spring_clamps(self._config_fixed),
+                                                         self.spring_clamped):
+            return System(model, config)  # a spring crossed SPRING_CLAMP_RATIO: other constraints
         if self.has_prescribed:
             sibling.prescribed_values = np.array([v for items in config.prescribed.values() for v in items.values()],
                                                  float)
@@ -419,7 +499,11 @@ class System:
         fixed_rows = self._rigid_motions(x[at], c)[fixed[at]]
         basis = np.eye(6)
         if len(fixed_rows):
-            _, sv, vt = np.linalg.svd(fixed_rows, full_matrices=True)
+            try:
+                _, sv, vt = np.linalg.svd(fixed_rows, full_matrices=True)
+            except np.linalg.LinAlgError as exc:  # non-finite coordinates: check_values lets none through
+                raise ModelError(f"configuration '{self.config.name}': the rigid-body motions of the fixed nodes "
+                                 f"cannot be formed ({exc}); check the node coordinates") from exc
             rank = int(np.sum(sv > 1e-9 * max(sv.max(), 1e-300)))
             basis = vt[rank:].T
         if basis_only:
