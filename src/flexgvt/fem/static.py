@@ -295,6 +295,17 @@ def _total_weight(system: System) -> float:
     return system_mass_properties(system, x, R).mass * float(np.linalg.norm(system.config.gravity_vector))
 
 
+def _held_at_rest(system: System, x: np.ndarray, R: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """A start state with the fixed DOFs of ``system`` undeformed (translations; rotations of nodes
+    with all three held): a start from another configuration (or with a spring that is now stiff
+    enough to hold its DOFs) may have them displaced, and Newton never moves a fixed DOF."""
+    x, R = x.copy(), R.copy()
+    fixed = system.fixed.reshape(-1, 6)
+    x[fixed[:, :3]] = system.cm.xyz[fixed[:, :3]]
+    R[fixed[:, 3:].all(axis=1)] = np.eye(3)
+    return x, R
+
+
 def _limit_rotation(delta: np.ndarray, system: System, limit: float = 0.5) -> np.ndarray:
     """Scale a Newton correction so no rotation exceeds ``limit`` [rad] (guards nearly singular tangents)."""
     rot = np.abs(delta[system.rotation_mask]).max(initial=0.0)
@@ -483,7 +494,7 @@ def _solve_static(model: Model, configuration: Configuration, *, settings: Stati
     if start is not None:
         if start.system is not system and (start.positions.shape != x.shape):
             raise ModelError("solve_static(start=...): the start state belongs to a model of another size")
-        got = newton(*system.impose(start.positions.copy(), start.rotations.copy(), 1.0), 1.0, 0)
+        got = newton(*system.impose(*_held_at_rest(system, start.positions, start.rotations), 1.0), 1.0, 0)
         if got is not None:
             xs, Rs, ev, stab = got
             state = make_state(xs, Rs, 1.0, ev, stab)

@@ -399,7 +399,8 @@ class System:
         for k in np.flatnonzero(np.any(s.stiffness > 0, axis=1)):
             F = s.frame[k]
             axis = np.argmax(np.abs(F), axis=0)  # global axis of each spring axis
-            aligned = np.allclose(np.abs(F[axis, np.arange(3)]), 1.0, rtol=0, atol=1e-12)
+            # A spring axis along a global one acts on that DOF alone (the others are orthogonal to it).
+            aligned = np.tile(np.isclose(np.abs(F[axis, np.arange(3)]), 1.0, rtol=0, atol=1e-12), 2)
             for nodes in ((s.b[k],) if ground[k] else (s.a[k], s.b[k])):
                 base = 6 * nodes
                 full = base + np.r_[axis, 3 + axis]
@@ -407,13 +408,12 @@ class System:
                 stiff &= diag[full] > 0  # a DOF only springs hold: no conditioning loss
                 if not np.any(stiff):
                     continue
-                links = self.cm.link_dofs.reshape(-1)[full]
-                if ground[k] and aligned and not np.any(stiff & links):
-                    held[full[:3][stiff[:3]]] = True
-                    rot_held[nodes, axis[stiff[3:]]] = True
-                    if np.any(stiff[3:]):
-                        doubtful.append((k, nodes, "rotation"))
-                else:
+                ok = stiff & aligned & ~self.cm.link_dofs.reshape(-1)[full] if ground[k] else np.zeros(6, bool)
+                held[full[:3][ok[:3]]] = True
+                rot_held[nodes, axis[ok[3:]]] = True
+                if np.any(ok[3:]):
+                    doubtful.append((k, nodes, "rotation"))
+                if np.any(stiff & ~ok):
                     doubtful.append((k, nodes, "spring"))
         rot = rot_held | fixed.reshape(n, 6)[:, 3:]
         whole = np.all(rot, axis=1)
