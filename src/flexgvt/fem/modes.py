@@ -248,7 +248,11 @@ def complex_modes(K, C, M, n_modes: int, clamped: bool = False, n_rigid: int | N
         Kd, Cd, Md = K.toarray(), C.toarray(), M.toarray()
         A = np.block([[np.zeros((n, n)), np.eye(n)], [-Kd, -Cd]])
         B = np.block([[np.eye(n), np.zeros((n, n))], [np.zeros((n, n)), Md]])
-        s, v = sla.eig(A, B)
+        try:
+            s, v = sla.eig(A, B)
+        except (np.linalg.LinAlgError, ValueError) as exc:
+            raise SolverError(f"the dense complex eigensolver failed ({exc}): check the stiffness, damping and mass "
+                              "values of the model for absurd entries") from exc
         ok = np.isfinite(s)
         s, v = s[ok], v[:n, ok]
     else:
@@ -257,7 +261,12 @@ def complex_modes(K, C, M, n_modes: int, clamped: bool = False, n_rigid: int | N
         if not clamped:  # rigid motions: K + sigma^2 M must stay clear of round-off (see _rigid_safe_shift)
             sigma = max(sigma, np.sqrt(_RIGID_MARGIN * np.finfo(float).eps * lam_max))
         Q = (K + sigma * C + sigma**2 * M).tocsc().astype(complex)
-        lu = spla.splu(Q)
+        try:
+            lu = spla.splu(Q)
+        except RuntimeError as exc:  # exactly singular: a mechanism without mass or damping
+            raise SolverError(f"complex modes: K + s C + s^2 M is singular at s = {sigma:g} rad/s ({exc}): the model "
+                              "has a mechanism that nothing (stiffness, damping or mass) restrains; fix or connect it"
+                              ) from exc
 
         def op(z):
             x1, x2 = z[:n], z[n:]
@@ -268,7 +277,11 @@ def complex_modes(K, C, M, n_modes: int, clamped: bool = False, n_rigid: int | N
             return np.concatenate([y1, y2])
 
         L = spla.LinearOperator((2 * n, 2 * n), matvec=op, dtype=complex)
-        nu, v = spla.eigs(L, k=min(2 * n_modes + 4, 2 * n - 2), which="LM")
+        try:
+            nu, v = spla.eigs(L, k=min(2 * n_modes + 4, 2 * n - 2), which="LM")
+        except RuntimeError as exc:  # ARPACK's errors (no convergence) are RuntimeErrors
+            raise SolverError(f"complex eigensolver failed ({exc}); the model may have a mechanism with no mass"
+                              ) from exc
         s = sigma + 1.0 / nu
         v = v[:n]
     keep = s.imag >= -1e-9 * np.maximum(np.abs(s), 1.0)  # one of each conjugate pair (and overdamped roots)

@@ -100,10 +100,9 @@ class StaticSettings:
     often than they help); min_increment: smallest load increment before giving up;
     max_increment_growth: largest growth of an increment after an easy step (1.0 keeps every
     increment equal); desired_iterations: the increment is scaled by sqrt(desired / taken)
-    after each step. cord_strain_limit: the stretch (length / unstretched length - 1) beyond which
-    a cord is reported as stretched past any real spring (see check_state): 2.0 (200 %) by default,
-    above rubber shock cord's rated elongation (100-150 %) with room for sized bungee suspensions
-    (the strip-366 case stretches its cords 116 %); a steel cable's would be about 0.01.
+    after each step. cord_strain_limit: the stretch beyond a cord's design length, as a fraction of
+    its unstretched length, past which the state reports it as stretched beyond any real spring
+    (see check_state): 1.0 (100 %, about rubber shock cord's rated elongation) by default.
     """
 
     increments: int = 20
@@ -117,7 +116,7 @@ class StaticSettings:
     max_increment_growth: float = 1.5
     desired_iterations: int = 5
     cholmod: bool = True  # use CHOLMOD when scikit-sparse is installed (else SuperLU)
-    cord_strain_limit: float = 2.0  # a cord stretched more than this times its unstretched length: warned
+    cord_strain_limit: float = 1.0  # a cord stretched past its design length by this x its unstretched one: warned
 
 
 # Pseudo-dynamic stabilisation [rad^2/s^2]: (2 pi 1 mHz)^2 times the mass matrix is added to the
@@ -555,31 +554,45 @@ def _solve_static(model: Model, configuration: Configuration, *, settings: Stati
 
 
 def check_state(state: State, settings: StaticSettings) -> State:
-    """The state with its cautions (a FlexGVTWarning for each): cords stretched more than
-    settings.cord_strain_limit times their unstretched length (linear cords stretched far past any
-    real spring: the X-HALE under 30 g hung 92 m below its anchors) and displacements larger than
-    the structure's own size (the diagonal of its undeformed bounding box)."""
+    """The state with its cautions (a FlexGVTWarning for each), the signs of a linear model driven far
+    outside its range (the X-HALE under 30 g hung 92 m below its anchors, its cords 190 times their
+    unstretched length, without a word):
+    - a cord stretched beyond its design length (the anchor-to-attachment distance on the undeformed
+      structure, or its unstretched length if longer) by more than settings.cord_strain_limit times
+      its unstretched length. The design stretch is left out: a cord standing for a spring-and-pulley
+      line keeps a short unstretched length and takes the weight in its rate (the X-HALE lab: 633 %
+      at 1 g by design);
+    - a displacement larger than the structure's own size (the diagonal of its undeformed bounding
+      box) plus the longest cord's reach (a compact block on long bungees may sag more than its size).
+    """
     system, notes = state.system, []
     name = state.configuration.name
+    reach = 0.0
     if len(state.cord_length):
         l0 = system.cord_l0_at(state.load_factor)
-        strain = state.cord_length / l0 - 1.0
-        over = np.flatnonzero(strain > settings.cord_strain_limit)
+        design = np.maximum(system.cord_lgeom, l0)
+        extra = (state.cord_length - design) / l0
+        over = np.flatnonzero(extra > settings.cord_strain_limit)
+        reach = float(system.cord_lgeom.max())
         if len(over):
-            k = int(over[np.argmax(strain[over])])
-            notes.append(f"configuration '{name}': {len(over)} cord(s) stretched beyond {settings.cord_strain_limit:.0%} "
-                         f"of their unstretched length (cord {k} at node {system.cm.node_ids[system.cord_nodes[k]]}: "
-                         f"{strain[k]:.0%}, {state.cord_length[k]:.4g} m for {l0[k]:.4g} m unstretched): a linear cord "
-                         "model is far outside any real spring's range there. Check the cords' stiffness and the "
-                         "loads (gravity factor), or raise StaticSettings.cord_strain_limit for a cord made to stretch")
+            k = int(over[np.argmax(extra[over])])
+            notes.append(f"configuration '{name}': {len(over)} cord(s) stretched beyond their design length by more "
+                         f"than {settings.cord_strain_limit:.0%} of their unstretched length (cord {k} at node "
+                         f"{system.cm.node_ids[system.cord_nodes[k]]}: {state.cord_length[k]:.4g} m long for "
+                         f"{design[k]:.4g} m from anchor to attachment and {l0[k]:.4g} m unstretched, "
+                         f"{extra[k]:.0%} more): a linear cord is far outside any real spring's range there. Check the "
+                         "cords' stiffness and the loads (gravity factor), or raise StaticSettings.cord_strain_limit "
+                         "for a cord made to stretch that far")
     xyz = system.cm.xyz
     size = float(np.linalg.norm(np.ptp(xyz, axis=0))) if len(xyz) else 0.0
     u = np.linalg.norm(state.positions - xyz, axis=1)
     k = int(np.argmax(u)) if len(u) else 0
-    if size > 0 and u[k] > size:
+    if size + reach > 0 and u[k] > size + reach:
         notes.append(f"configuration '{name}': node {state.node_ids[k]} moves {u[k]:.4g} m, more than the structure's "
-                     f"own size ({size:.4g} m, the diagonal of its undeformed bounding box): check the supports, "
-                     "springs, cords and loads; a displacement that large is rarely the intended equilibrium")
+                     f"own size ({size:.4g} m, the diagonal of its undeformed bounding box)"
+                     + (f" plus its longest cord ({reach:.4g} m)" if reach else "")
+                     + ": check the supports, springs, cords and loads; a displacement that large is rarely the "
+                     "intended equilibrium")
     for note in notes:
         warnings.warn(note, FlexGVTWarning, stacklevel=3)
     return dataclasses.replace(state, cautions=tuple(notes)) if notes else state
