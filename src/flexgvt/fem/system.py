@@ -392,35 +392,36 @@ class System:
         A component that cannot be held and is more than SPRING_WARN_RATIO times stiffer than the
         structure gives a FlexGVTWarning."""
         s = self.springs
-        ground = (s.a < 0) & np.any(s.stiffness > 0, axis=1)
         if not np.any(s.stiffness > 0):
             return np.zeros(0, int)
         diag = self.structure_diagonal()
         n = self.n_nodes
+        ground = s.a < 0
+        # (spring, node) pairs: a grounded spring's node, both nodes of the others.
+        pair = np.r_[np.arange(len(s.b)), np.flatnonzero(~ground)]
+        nodes = np.r_[s.b, s.a[~ground]]
+        axis = np.argmax(np.abs(s.frame), axis=1)  # (m, 3): the global axis nearest each spring axis
+        aligned = np.isclose(np.abs(np.take_along_axis(s.frame, axis[:, None, :], axis=1)[:, 0]), 1.0, rtol=0,
+                             atol=1e-12)  # such an axis acts on its global DOF alone (the others are normal to it)
+        full = 6 * nodes[:, None] + np.c_[axis[pair], 3 + axis[pair]]
+        k, d = s.stiffness[pair], diag[full]
+        known = d > 0  # a DOF only springs hold: no conditioning loss
+        stiff = known & (k > SPRING_CLAMP_RATIO * d)
+        extreme = known & (k > SPRING_WARN_RATIO * d)
+        ok = stiff & np.tile(aligned[pair], 2) & ~self.cm.link_dofs.reshape(-1)[full] & ground[pair][:, None]
         held = np.zeros(6 * n, bool)
+        held[full[:, :3][ok[:, :3]]] = True
         rot_held = np.zeros((n, 3), bool)
-        rot_extreme = np.zeros(n, bool)  # a rotation component held only if its node's three are
-        warn = []
-        for k in np.flatnonzero(np.any(s.stiffness > 0, axis=1)):
-            F = s.frame[k]
-            axis = np.argmax(np.abs(F), axis=0)  # global axis of each spring axis
-            aligned = np.tile(np.isclose(np.abs(F[axis, np.arange(3)]), 1.0, rtol=0, atol=1e-12), 2)
-            for node in ((s.b[k],) if ground[k] else (s.a[k], s.b[k])):
-                full = 6 * node + np.r_[axis, 3 + axis]
-                known = diag[full] > 0  # a DOF only springs hold: no conditioning loss
-                stiff = known & (s.stiffness[k] > SPRING_CLAMP_RATIO * diag[full])
-                extreme = known & (s.stiffness[k] > SPRING_WARN_RATIO * diag[full])
-                ok = stiff & aligned & ~self.cm.link_dofs.reshape(-1)[full] if ground[k] else np.zeros(6, bool)
-                held[full[:3][ok[:3]]] = True
-                rot_held[node, axis[ok[3:]]] = True
-                rot_extreme[node] |= np.any(extreme[3:] & ok[3:])
-                if np.any(extreme & ~ok):
-                    warn.append((k, node))
+        r, c = np.nonzero(ok[:, 3:])
+        rot_held[nodes[r], axis[pair][r, c]] = True
+        rot_extreme = np.zeros(n, bool)
+        np.logical_or.at(rot_extreme, nodes, np.any(extreme[:, 3:] & ok[:, 3:], axis=1))
+        warn = list(nodes[np.any(extreme & ~ok, axis=1)])
         whole = np.all(rot_held | fixed.reshape(n, 6)[:, 3:], axis=1)
         held.reshape(n, 6)[:, 3:] |= rot_held & whole[:, None]
-        warn += [(-1, node) for node in np.flatnonzero(rot_extreme & ~whole)]
+        warn += list(np.flatnonzero(rot_extreme & ~whole))
         if warn:
-            k, node = warn[0]
+            node = warn[0]
             warnings.warn(
                 f"configuration '{self.config.name}': {len(warn)} spring(s) (the first at node "
                 f"{self.cm.node_ids[node]}) are more than {SPRING_WARN_RATIO:g} times stiffer than the structure at "
