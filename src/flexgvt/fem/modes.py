@@ -156,14 +156,15 @@ def real_modes(K: sp.spmatrix, M: sp.spmatrix, n_modes: int, shift: float | None
         # to the lowest eigenvalue, where the direct A phi = lam B phi's is relative to the largest. On a
         # 20-element cantilever strip held by a grounded spring 7e7 times stiffer than the strip (axially)
         # the direct form put the first frequency 59 % off; the shift-invert one agrees with the clamped
-        # strip to 1e-6. It needs A - s B definite (s below every eigenvalue, clear of the rigid-body
+        # strip to 1e-9. It needs A - s B definite (s below every eigenvalue, clear of the rigid-body
         # round-off: see _rigid_safe_shift); mu = 0 for massless DOFs.
         s_inv = sigma if shift is not None or clamped else _rigid_safe_shift(K, dm, sigma)
         b_definite = bool(np.all(np.linalg.eigvalsh(B) > 1e-14 * max(dm.max(), 1e-300)))
         lam = None
         try:
             mu, phi = sla.eigh(B, A - s_inv * B)
-            keep = mu > 100 * np.finfo(float).eps * max(mu.max(initial=0.0), 1e-300)
+            # Massless DOFs give mu at round-off; with a definite B every mu is a mode's.
+            keep = mu > (100 * np.finfo(float).eps if b_definite else 1e-12) * max(mu.max(initial=0.0), 1e-300)
             lam, phi = s_inv + 1.0 / mu[keep], phi[:, keep]
             if len(lam) < k and b_definite:  # every mode asked for, the highest lost below round-off
                 lam = None

@@ -340,7 +340,7 @@ def _solve_static(model: Model, configuration: Configuration, *, settings: Stati
                   start: State | None = None, load_factors: np.ndarray | None = None,
                   progress: Callable[[float], None] | None = None, keep_steps: bool = False,
                   _warm_only: bool = False):
-    """solve_static without the connectivity check before and the plausibility check after."""
+    """solve_static without the plausibility check of its final state (check_state)."""
     t0 = time.perf_counter()
     settings = settings or StaticSettings()
     # A warm start on the same model object (values possibly changed since, as an optimiser's
