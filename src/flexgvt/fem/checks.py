@@ -37,16 +37,24 @@ def _bad(values: np.ndarray, limit: float = VALUE_LIMIT) -> np.ndarray:
         return ~np.all(np.isfinite(v) & (np.abs(v) <= limit), axis=1)
 
 
+_REMEDY = ("a value like that is a misplaced or mistyped field (e.g. 1e300 in a deck); correct it in the model "
+           "or the input file")
+
+
+def check_coordinates(node_ids: np.ndarray, xyz: np.ndarray, where: str) -> None:
+    """Refuse node coordinates [m] that are not finite or lie beyond COORDINATE_LIMIT."""
+    bad = _bad(xyz, COORDINATE_LIMIT)
+    if np.any(bad):
+        raise ModelError(f"{where}: node(s) {_ids(node_ids[bad])} lie beyond {COORDINATE_LIMIT:g} m from the "
+                         f"origin: {_REMEDY}")
+
+
 def check_values(system) -> None:
     """Refuse node coordinates, element, mass, spring and cord values that would overflow the solvers
     (NaN, inf, or beyond VALUE_LIMIT / COORDINATE_LIMIT), naming the first offending entity."""
     cm, where = system.cm, f"configuration '{system.config.name}'"
-    remedy = ("a value like that is a misplaced or mistyped field (e.g. 1e300 in a deck); correct it in the "
-              "model or the input file")
-    bad = _bad(cm.xyz, COORDINATE_LIMIT)
-    if np.any(bad):
-        raise ModelError(f"{where}: node(s) {_ids(cm.node_ids[bad])} lie beyond {COORDINATE_LIMIT:g} m from the "
-                         f"origin: {remedy}")
+    remedy = _REMEDY
+    check_coordinates(cm.node_ids, cm.xyz, where)
     b = cm.beams
     if len(b.L0):
         bad = (_bad(b.stiffness) | _bad(b.mass_per_length) | _bad(b.inertia_per_length)
@@ -59,8 +67,8 @@ def check_values(system) -> None:
                              f"(A, I, J) values; {remedy}")
     m = system.masses
     if len(m.nodes):
-        arm = np.linalg.norm(np.nan_to_num(m.offset, nan=np.inf), axis=1)
         with np.errstate(over="ignore", invalid="ignore"):
+            arm = np.linalg.norm(np.nan_to_num(m.offset, nan=np.inf), axis=1)
             moment = m.mass * arm ** 2
         bad = _bad(m.mass) | _bad(m.inertia) | _bad(m.offset, COORDINATE_LIMIT) | _bad(moment)
         if np.any(bad):

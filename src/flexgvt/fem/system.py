@@ -19,7 +19,7 @@ import scipy.sparse as sp
 from ..errors import FlexGVTWarning, ModelError
 from ..model import Configuration, Model, RodSection, end_properties, parse_dofs
 from .assembly import Pattern
-from .checks import check_values
+from .checks import check_coordinates, check_values
 from .beam import (BeamData, beam_forces, beam_mass_matrices, element_coefficients, element_frames,
                    local_mass_matrices, nodal_weights)
 from .interpolation import InterpolationData, compile_interpolations, fit, geometric_block, jacobian
@@ -92,6 +92,7 @@ def compile_model(model: Model) -> CompiledModel:
     if model.n_nodes == 0:
         raise ModelError(f"model '{model.name}' has no nodes; add nodes and elements first")
     xyz = model.xyz
+    check_coordinates(model.node_ids, xyz, f"model '{model.name}'")
     nodes, E0, L0, stiff, rhoA, rhoI, lumped, eids, names, arch = [], [], [], [], [], [], [], [], [], []
     lumped_axial = []
     for group in model.beams:
