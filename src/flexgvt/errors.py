@@ -45,3 +45,8 @@ class EMAError(FlexGVTError, ValueError):
 
 class ReportError(FlexGVTError, ValueError):
     """Report content is inconsistent (array shapes, missing labels) or cannot be written."""
+
+
+class FlexGVTWarning(UserWarning):
+    """A result was computed but looks physically doubtful (a cord stretched past its allowance, a
+    displacement larger than the structure, a spring that spoils the conditioning): read the message."""

@@ -12,6 +12,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from ..errors import ModelError, SolverError
+from .checks import check_matrix
 from .labels import mac_matrix
 from .linsolve import HAVE_CHOLMOD, CholmodCache, serial_blas
 from .static import State
@@ -126,6 +127,11 @@ def _residuals(K: sp.spmatrix, M: sp.spmatrix, lam: np.ndarray, phi: np.ndarray)
     return np.linalg.norm(Kp - Mp * lam, axis=0) / np.where(scale > 0, scale, 1.0)
 
 
+_NO_MASS = ("no mode: the free DOFs carry no mass (every element's density is zero and there is no "
+            "concentrated mass on them, or all the mass sits on fixed DOFs); give the materials a density rho "
+            "[kg/m^3] or add concentrated masses (model.add_mass) on the free part")
+
+
 def real_modes(K: sp.spmatrix, M: sp.spmatrix, n_modes: int, shift: float | None = None, clamped: bool = False,
                cholmod: CholmodCache | None = None, use_cholmod: bool = True):
     """Lowest n_modes of K phi = lam M phi (K symmetric, possibly singular or indefinite).
@@ -137,26 +143,50 @@ def real_modes(K: sp.spmatrix, M: sp.spmatrix, n_modes: int, shift: float | None
     n = K.shape[0]
     k = min(n_modes, n)
     dm = np.abs(M.diagonal())
+    if not (np.all(np.isfinite(K.data)) and np.all(np.isfinite(M.data))):
+        raise SolverError("real_modes: the stiffness or mass matrix holds NaN or infinite entries (an overflowing "
+                          "input value or a diverged state); check the model's values (see fem.checks.check_matrix)")
+    if not np.any(M.data):
+        raise ModelError(_NO_MASS)
     sigma = DEFAULT_SHIFT if shift is None else shift
     if n <= DENSE_LIMIT or k >= n - 1:
         A = K.toarray()
         B = M.toarray()
+        # Shift-invert first, B phi = mu (A - s B) phi with mu = 1 / (lam - s): its round-off is relative
+        # to the lowest eigenvalue, where the direct A phi = lam B phi's is relative to the largest. On a
+        # 20-element cantilever strip held by a grounded spring 7e7 times stiffer than the strip (axially)
+        # the direct form put the first frequency 59 % off; the shift-invert one agrees with the clamped
+        # strip to 1e-9. It needs A - s B definite (s below every eigenvalue, clear of the rigid-body
+        # round-off: see _rigid_safe_shift); mu = 0 for massless DOFs.
+        s_inv = sigma if shift is not None or clamped else _rigid_safe_shift(K, dm, sigma)
+        b_definite = bool(np.all(np.linalg.eigvalsh(B) > 1e-14 * max(dm.max(), 1e-300)))
+        lam = None
         try:
-            lam, phi = sla.eigh(A - sigma * B, B) if np.all(np.linalg.eigvalsh(B) > 1e-14 * max(dm.max(), 1e-300)) \
-                else (None, None)
-            if lam is not None:
-                lam = lam + sigma
-        except np.linalg.LinAlgError:
+            mu, phi = sla.eigh(B, A - s_inv * B)
+            # Massless DOFs give mu at round-off; with a definite B every mu is a mode's.
+            keep = mu > (100 * np.finfo(float).eps if b_definite else 1e-12) * max(mu.max(initial=0.0), 1e-300)
+            lam, phi = s_inv + 1.0 / mu[keep], phi[:, keep]
+            if len(lam) < k and b_definite:  # every mode asked for, the highest lost below round-off
+                lam = None
+        except np.linalg.LinAlgError:  # indefinite (buckled, unstable) or singular
             lam = None
-        if lam is None:  # massless DOFs: B singular. Symmetric still when A - sigma B is definite:
-            try:        # B phi = mu (A - sigma B) phi, mu = 1 / (lam - sigma), mu = 0 for the massless
-                mu, phi = sla.eigh(B, A - sigma * B)
-                keep = mu > 1e-12 * max(mu.max(initial=0.0), 1e-300)
-                lam, phi = sigma + 1.0 / mu[keep], phi[:, keep]
-            except np.linalg.LinAlgError:  # indefinite (buckled, unstable): the general solver
+        if lam is None and b_definite:
+            try:
+                lam, phi = sla.eigh(A - sigma * B, B)
+                lam = lam + sigma
+            except np.linalg.LinAlgError:
+                lam = None
+        if lam is None:  # the general solver
+            try:
                 w, v = sla.eig(A, B)
-                ok = np.isfinite(w)
-                lam, phi = w[ok].real, v[:, ok].real
+            except np.linalg.LinAlgError as exc:
+                raise SolverError(f"the dense eigensolver failed ({exc}): the stiffness and mass matrices are too "
+                                  "badly scaled; check the model for absurd values (stiffness, mass, coordinates)"
+                                  ) from exc
+            ok = np.isfinite(w)
+            lam, phi = w[ok].real, v[:, ok].real
+        if len(lam) == 0:
+            raise ModelError(_NO_MASS)
         order = np.argsort(lam)[:k]
         lam, phi = lam[order], phi[:, order]
     else:
@@ -219,7 +249,11 @@ def complex_modes(K, C, M, n_modes: int, clamped: bool = False, n_rigid: int | N
         Kd, Cd, Md = K.toarray(), C.toarray(), M.toarray()
         A = np.block([[np.zeros((n, n)), np.eye(n)], [-Kd, -Cd]])
         B = np.block([[np.eye(n), np.zeros((n, n))], [np.zeros((n, n)), Md]])
-        s, v = sla.eig(A, B)
+        try:
+            s, v = sla.eig(A, B)
+        except (np.linalg.LinAlgError, ValueError) as exc:
+            raise SolverError(f"the dense complex eigensolver failed ({exc}): check the stiffness, damping and mass "
+                              "values of the model for absurd entries") from exc
         ok = np.isfinite(s)
         s, v = s[ok], v[:n, ok]
     else:
@@ -228,7 +262,12 @@ def complex_modes(K, C, M, n_modes: int, clamped: bool = False, n_rigid: int | N
         if not clamped:  # rigid motions: K + sigma^2 M must stay clear of round-off (see _rigid_safe_shift)
             sigma = max(sigma, np.sqrt(_RIGID_MARGIN * np.finfo(float).eps * lam_max))
         Q = (K + sigma * C + sigma**2 * M).tocsc().astype(complex)
-        lu = spla.splu(Q)
+        try:
+            lu = spla.splu(Q)
+        except RuntimeError as exc:  # exactly singular: a mechanism without mass or damping
+            raise SolverError(f"complex modes: K + s C + s^2 M is singular at s = {sigma:g} rad/s ({exc}): the model "
+                              "has a mechanism that nothing (stiffness, damping or mass) restrains; fix or connect it"
+                              ) from exc
 
         def op(z):
             x1, x2 = z[:n], z[n:]
@@ -239,7 +278,11 @@ def complex_modes(K, C, M, n_modes: int, clamped: bool = False, n_rigid: int | N
             return np.concatenate([y1, y2])
 
         L = spla.LinearOperator((2 * n, 2 * n), matvec=op, dtype=complex)
-        nu, v = spla.eigs(L, k=min(2 * n_modes + 4, 2 * n - 2), which="LM")
+        try:
+            nu, v = spla.eigs(L, k=min(2 * n_modes + 4, 2 * n - 2), which="LM")
+        except RuntimeError as exc:  # ARPACK's errors (no convergence) are RuntimeErrors
+            raise SolverError(f"complex eigensolver failed ({exc}); the model may have a mechanism with no mass"
+                              ) from exc
         s = sigma + 1.0 / nu
         v = v[:n]
     keep = s.imag >= -1e-9 * np.maximum(np.abs(s), 1.0)  # one of each conjugate pair (and overdamped roots)
@@ -280,6 +323,8 @@ def _align_rigid_modes(phi: np.ndarray, zero: np.ndarray, system, x: np.ndarray,
         return phi
     rigid = system.reduce_displacement(motions @ basis)
     C = phi[:, idx].T @ (M @ rigid)  # (cluster, motions): the motions' components in the cluster
+    if not np.all(np.isfinite(C)):
+        return phi
     u, sv, vt = np.linalg.svd(C)
     if sv.min() < 1e-6 * sv.max():  # the cluster does not span the rigid motions (not only them)
         return phi
@@ -302,12 +347,17 @@ def _rigid_count(system, x: np.ndarray, T, K, M) -> int:
     Mr = U.T @ (M @ U)
     Ua = np.abs(U)
     err = np.finfo(float).eps * (Ua.T @ (abs(K) @ Ua))
-    # Rigid motions that carry no mass (a spin about a line of point masses) have no mode: leave them out.
-    w, V = np.linalg.eigh(0.5 * (Mr + Mr.T))
-    V = V[:, w > 1e-12 * max(w.max(), 1e-300)] / np.sqrt(w[w > 1e-12 * max(w.max(), 1e-300)])
-    if V.shape[1] == 0:
-        return 0
-    lam = np.linalg.eigvalsh(V.T @ (0.5 * (Kr + Kr.T)) @ V)  # M-orthonormal rigid subspace
+    try:
+        # Rigid motions that carry no mass (a spin about a line of point masses) have no mode: leave them out.
+        w, V = np.linalg.eigh(0.5 * (Mr + Mr.T))
+        V = V[:, w > 1e-12 * max(w.max(), 1e-300)] / np.sqrt(w[w > 1e-12 * max(w.max(), 1e-300)])
+        if V.shape[1] == 0:
+            return 0
+        lam = np.linalg.eigvalsh(V.T @ (0.5 * (Kr + Kr.T)) @ V)  # M-orthonormal rigid subspace
+    except (np.linalg.LinAlgError, ValueError) as exc:
+        raise SolverError(f"configuration '{system.config.name}': counting the rigid-body modes failed ({exc}): the "
+                          "stiffness or mass of the rigid motions overflows; check the model for absurd values "
+                          "(densities, masses, coordinates)") from exc
     bound = 100 * float(np.max(np.abs(V).T @ err @ np.abs(V)))
     return int(np.sum(np.abs(lam) <= bound))
 
@@ -336,6 +386,10 @@ def solve_modes(state: State, n_modes: int = 15, *, damped: bool | None = None, 
     ev = system.evaluate(x, R, state.load_factor, assemble=False)
     M = system.mass_matrix(x, R) if mass_frame == "deformed" else system.mass_matrix(x, R, frame="undeformed")
     K = system.newton_matrix(ev, M, 0.0)  # the symmetric part of the tangent
+    check_matrix(system, K, "stiffness")
+    check_matrix(system, M, "mass")
+    if not np.any(M.data):
+        raise ModelError(f"configuration '{system.config.name}': {_NO_MASS}")
     clamped = system.clamped
     T = system.transformation(x, R) if system.has_links else None
     n = system.n_nodes

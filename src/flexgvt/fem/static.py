@@ -9,15 +9,17 @@ from __future__ import annotations
 
 import dataclasses
 import time
+import warnings
 from dataclasses import dataclass, field
 from typing import Callable
 
 import numpy as np
 import scipy.sparse as sp
 
-from ..errors import ConvergenceError, ModelError, SingularModelError
+from ..errors import ConvergenceError, FlexGVTWarning, ModelError, SingularModelError, SolverError
 from ..model import Configuration, Model
 from ..model.configuration import parse_dofs
+from .checks import check_connected
 from .rotations import logm_so3, scaled_increment
 from .linsolve import HAVE_CHOLMOD, CholmodCache, serial_blas, superlu
 from .system import Evaluation, System
@@ -56,6 +58,7 @@ class State:
     stabilised_mechanism: bool = False
     solve_time_s: float = 0.0
     system: System | None = field(default=None, repr=False, compare=False)
+    cautions: tuple[str, ...] = ()  # physically doubtful features of the solution (see check_state)
 
     @property
     def displacements(self) -> np.ndarray:
@@ -75,7 +78,7 @@ class State:
         k = int(np.argmax(np.linalg.norm(u[:, :3], axis=1)))
         return (f"'{self.configuration.name}': load factor {self.load_factor:g}, {self.converged_steps} steps, "
                 f"{len(self.history)} iterations, max displacement {np.linalg.norm(u[k, :3]):.4g} m at node "
-                f"{self.node_ids[k]}")
+                f"{self.node_ids[k]}" + "".join(f"\n  warning: {c}" for c in self.cautions))
 
 
 @dataclass(frozen=True)
@@ -100,7 +103,9 @@ class StaticSettings:
     often than they help); min_increment: smallest load increment before giving up;
     max_increment_growth: largest growth of an increment after an easy step (1.0 keeps every
     increment equal); desired_iterations: the increment is scaled by sqrt(desired / taken)
-    after each step.
+    after each step. cord_strain_limit: the stretch beyond a cord's design length, as a fraction of
+    its unstretched length, past which the state reports it as stretched beyond any real spring
+    (see check_state): 1.0 (100 %, about rubber shock cord's rated elongation) by default.
     """
 
     increments: int = 20
@@ -115,6 +120,7 @@ class StaticSettings:
     max_increment_growth: float = 1.5
     desired_iterations: int = 5
     cholmod: bool = True  # use CHOLMOD when scikit-sparse is installed (else SuperLU)
+    cord_strain_limit: float = 1.0  # a cord stretched past its design length by this x its unstretched one: warned
 
 
 # Pseudo-dynamic stabilisation [rad^2/s^2]: (2 pi 1 mHz)^2 times the mass matrix is added to the
@@ -188,7 +194,11 @@ def _pushed_rigid_motion(system: System, K: sp.csc_matrix | Callable[[], sp.csc_
     phi = system.reduce_displacement(modes @ basis)
     phi /= np.linalg.norm(phi, axis=0)
     Ksym = 0.5 * (K + K.T)
-    w, v = np.linalg.eigh(phi.T @ (Ksym @ phi))
+    try:
+        w, v = np.linalg.eigh(phi.T @ (Ksym @ phi))
+    except (np.linalg.LinAlgError, ValueError) as exc:  # non-finite: checks.check_values lets none through
+        raise SolverError(f"configuration '{system.config.name}': the stiffness of the rigid-body motions is not "
+                          f"finite ({exc}); check the model for absurd values (stiffness, coordinates)") from exc
     scale = max(abs(Ksym.diagonal()).max(), 1e-300)
     null = v[:, w <= 1e-13 * scale]  # motions with no stiffness above round-off
     if null.shape[1] == 0:
@@ -247,15 +257,15 @@ def _hold_then_release(model: Model, configuration: Configuration, system: Syste
         return configuration.with_(springs=configuration.springs + (
             Spring.make(node, None, stiffness=np.r_[np.zeros(3), np.full(3, f * k0)]),))
 
-    out = solve_static(model, held(1.0), settings=settings, load_factors=load_factors, progress=progress,
-                       keep_steps=keep_steps)
+    out = _solve_static(model, held(1.0), settings=settings, load_factors=load_factors, progress=progress,
+                        keep_steps=keep_steps)
     state, saved = out if keep_steps else (out, None)
     done, fractions = 1.0, list(_RELEASE[1:])
     while fractions:
         f = fractions[0]
         cfg = configuration if f == 0.0 else held(f)
         try:
-            state = solve_static(model, cfg, settings=settings, start=state, _warm_only=True)
+            state = _solve_static(model, cfg, settings=settings, start=state, _warm_only=True)
         except ConvergenceError:
             mid = np.sqrt(done * max(f, done * 1e-3))
             if done / mid < 1.05:
@@ -299,6 +309,17 @@ def _total_weight(system: System) -> float:
     return system_mass_properties(system, x, R).mass * float(np.linalg.norm(system.config.gravity_vector))
 
 
+def _held_at_rest(system: System, x: np.ndarray, R: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """A start state with the fixed DOFs of ``system`` undeformed (translations; rotations of nodes
+    with all three held): a start from another configuration (or with a spring that is now stiff
+    enough to hold its DOFs) may have them displaced, and Newton never moves a fixed DOF."""
+    x, R = x.copy(), R.copy()
+    fixed = system.fixed.reshape(-1, 6)
+    x[fixed[:, :3]] = system.cm.xyz[fixed[:, :3]]
+    R[fixed[:, 3:].all(axis=1)] = np.eye(3)
+    return x, R
+
+
 def _limit_rotation(delta: np.ndarray, system: System, limit: float = 0.5) -> np.ndarray:
     """Scale a Newton correction so no rotation exceeds ``limit`` [rad] (guards nearly singular tangents)."""
     rot = np.abs(delta[system.rotation_mask]).max(initial=0.0)
@@ -322,12 +343,27 @@ def solve_static(model: Model, configuration: Configuration, *, settings: Static
     Raises ConvergenceError (with .state = last converged state, .history) if the load cannot
     be reached, SingularModelError for under-constrained models.
     """
+    settings = settings or StaticSettings()
+    out = _solve_static(model, configuration, settings=settings, start=start, load_factors=load_factors,
+                        progress=progress, keep_steps=keep_steps)
+    if keep_steps:
+        return check_state(out[0], settings), out[1]
+    return check_state(out, settings)
+
+
+def _solve_static(model: Model, configuration: Configuration, *, settings: StaticSettings | None = None,
+                  start: State | None = None, load_factors: np.ndarray | None = None,
+                  progress: Callable[[float], None] | None = None, keep_steps: bool = False,
+                  _warm_only: bool = False):
+    """solve_static without the plausibility check of its final state (check_state)."""
     t0 = time.perf_counter()
     settings = settings or StaticSettings()
     # A warm start on the same model object (values possibly changed since, as an optimiser's
     # design points change them) keeps the start's DOF numbering, pattern and symbolic analysis.
     system = start.system.for_values(model, configuration) if (start is not None and start.system is not None
                                                                 and start.model is model) else System(model, configuration)
+    if not _warm_only:
+        check_connected(system)
     x, R = system.undeformed
     history: list[IterationRecord] = []
     mass = system.mass_matrix(x, R)
@@ -493,7 +529,7 @@ def solve_static(model: Model, configuration: Configuration, *, settings: Static
     if start is not None:
         if start.system is not system and (start.positions.shape != x.shape):
             raise ModelError("solve_static(start=...): the start state belongs to a model of another size")
-        got = newton(*system.impose(start.positions.copy(), start.rotations.copy(), 1.0), 1.0, 0)
+        got = newton(*system.impose(*_held_at_rest(system, start.positions, start.rotations), 1.0), 1.0, 0)
         if got is not None:
             xs, Rs, ev, stab = got
             state = make_state(xs, Rs, 1.0, ev, stab)
@@ -553,6 +589,51 @@ def solve_static(model: Model, configuration: Configuration, *, settings: Static
     return (last, saved) if keep_steps else last
 
 
+def check_state(state: State, settings: StaticSettings) -> State:
+    """The state with its cautions (a FlexGVTWarning for each), the signs of a linear model driven far
+    outside its range (the X-HALE under 30 g hung 92 m below its anchors, its cords 190 times their
+    unstretched length, without a word):
+    - a cord stretched beyond its design length (the anchor-to-attachment distance on the undeformed
+      structure, or its unstretched length if longer) by more than settings.cord_strain_limit times
+      its unstretched length. The design stretch is left out: a cord standing for a spring-and-pulley
+      line keeps a short unstretched length and takes the weight in its rate (the X-HALE lab: 633 %
+      at 1 g by design);
+    - a displacement larger than the structure's own size (the diagonal of its undeformed bounding
+      box) plus the longest cord's reach (a compact block on long bungees may sag more than its size).
+    """
+    system, notes = state.system, []
+    name = state.configuration.name
+    reach = 0.0
+    if len(state.cord_length):
+        l0 = system.cord_l0_at(state.load_factor)
+        design = np.maximum(system.cord_lgeom, l0)
+        extra = (state.cord_length - design) / l0
+        over = np.flatnonzero(extra > settings.cord_strain_limit)
+        reach = float(system.cord_lgeom.max())
+        if len(over):
+            k = int(over[np.argmax(extra[over])])
+            notes.append(f"configuration '{name}': {len(over)} cord(s) stretched beyond their design length by more "
+                         f"than {settings.cord_strain_limit:.0%} of their unstretched length (cord {k} at node "
+                         f"{system.cm.node_ids[system.cord_nodes[k]]}: {state.cord_length[k]:.4g} m long for "
+                         f"{design[k]:.4g} m from anchor to attachment and {l0[k]:.4g} m unstretched, "
+                         f"{extra[k]:.0%} more): a linear cord is far outside any real spring's range there. Check the "
+                         "cords' stiffness and the loads (gravity factor), or raise StaticSettings.cord_strain_limit "
+                         "for a cord made to stretch that far")
+    xyz = system.cm.xyz
+    size = float(np.linalg.norm(np.ptp(xyz, axis=0))) if len(xyz) else 0.0
+    u = np.linalg.norm(state.positions - xyz, axis=1)
+    k = int(np.argmax(u)) if len(u) else 0
+    if size + reach > 0 and u[k] > size + reach:
+        notes.append(f"configuration '{name}': node {state.node_ids[k]} moves {u[k]:.4g} m, more than the structure's "
+                     f"own size ({size:.4g} m, the diagonal of its undeformed bounding box)"
+                     + (f" plus its longest cord ({reach:.4g} m)" if reach else "")
+                     + ": check the supports, springs, cords and loads; a displacement that large is rarely the "
+                     "intended equilibrium")
+    for note in notes:
+        warnings.warn(note, FlexGVTWarning, stacklevel=3)
+    return dataclasses.replace(state, cautions=tuple(notes)) if notes else state
+
+
 def _prescribed_forces(system: System, model: Model, configuration: Configuration) -> np.ndarray:
     """K_fp u_p: the forces on the free DOFs from the prescribed motion, exact in the linear sense.
     The prescribed DOFs are freed in a companion system whose undeformed tangent holds the coupling."""
@@ -576,6 +657,7 @@ def solve_linear_static(model: Model, configuration: Configuration) -> State:
     the unloaded structure (no load stiffness, as Nastran SOL 101)."""
     t0 = time.perf_counter()
     system = System(model, configuration)
+    check_connected(system)
     x, R = system.undeformed
     ev = system.evaluate(x, R, 1.0, tangent=False)
     # The stiffness of the unloaded structure: the load stiffness of the applied loads (weight of
@@ -598,5 +680,6 @@ def solve_linear_static(model: Model, configuration: Configuration) -> State:
     x, R = system.update(x, R, delta)
     rec = IterationRecord(1, 1.0, 0, float(np.linalg.norm(r) / ref), 0.0, 0.0)
     ev1 = system.evaluate(x, R, 1.0, tangent=False)
-    return State(model, configuration, system.cm.node_ids, x, R, 1.0, (rec,), ev1.axial_forces, ev1.cord_tension,
-                 ev1.cord_length, False, time.perf_counter() - t0, system)
+    return check_state(State(model, configuration, system.cm.node_ids, x, R, 1.0, (rec,), ev1.axial_forces,
+                             ev1.cord_tension, ev1.cord_length, False, time.perf_counter() - t0, system),
+                       StaticSettings())

@@ -16,15 +16,26 @@ import numba
 import numpy as np
 import scipy.sparse as sp
 
-from ..errors import ModelError
+from ..errors import FlexGVTWarning, ModelError
 from ..model import Configuration, Model, RodSection, end_properties, parse_dofs
 from .assembly import Pattern
+from .checks import check_coordinates, check_values
 from .beam import (BeamData, beam_forces, beam_mass_matrices, element_coefficients, element_frames,
                    local_mass_matrices, nodal_weights)
 from .interpolation import InterpolationData, compile_interpolations, fit, geometric_block, jacobian
 from .linsolve import CholmodCache
 from .points import cord_damping, cord_forces, mass_gravity, mass_matrix, spring_damping, spring_forces
 from .rotations import expm_so3, skew, spin, step_nodes
+
+
+# A grounded spring component this many times stiffer than the structure's diagonal stiffness at its
+# DOF is a constraint (System.spring_clamps): it changes the modes by ~1/ratio from the clamped ones,
+# below the round-off (~eps * ratio * the shift-invert's amplification) that keeping it would cost.
+SPRING_CLAMP_RATIO = 1e8
+# One that cannot be held is warned beyond this ratio: a 20- and a 40-element strip held by a grounded
+# spring turned 0.3 rad about z (kept as a spring): first frequencies within 2e-9 of the clamped strip
+# at ratios to 2e11, 5e-7 at 2e13, ARPACK without convergence at 2e15.
+SPRING_WARN_RATIO = 1e12
 
 
 @numba.njit(cache=True)
@@ -81,6 +92,7 @@ def compile_model(model: Model) -> CompiledModel:
     if model.n_nodes == 0:
         raise ModelError(f"model '{model.name}' has no nodes; add nodes and elements first")
     xyz = model.xyz
+    check_coordinates(model.node_ids, xyz, f"model '{model.name}'")
     nodes, E0, L0, stiff, rhoA, rhoI, lumped, eids, names, arch = [], [], [], [], [], [], [], [], [], []
     lumped_axial = []
     for group in model.beams:
@@ -257,6 +269,11 @@ class System:
         if len(bad):
             raise ModelError(f"{where}: node {cm.node_ids[bad[0]]} has DOFs tied by a rigid link (or an interpolation "
                              "link), which cannot be fixed or prescribed; fix its independent node(s) instead")
+        # Grounded springs far stiffer than the structure (a clamp modelled as a 1e15 N/m spring) hold
+        # their DOFs as constraints: kept as springs they spoil the factorisations (see spring_clamps).
+        self._config_fixed = fixed.copy()
+        self.spring_clamped = self.spring_clamps(fixed)
+        fixed[self.spring_clamped] = True
         self.fixed = fixed
         self.dependent = dependent
         free = ~fixed & ~cm.link_dofs.reshape(-1)
@@ -352,6 +369,68 @@ class System:
                 f[b] += w * np.r_[F, M]
         self.applied = f.reshape(-1)
         self.mass_weight = self.masses.mass[:, None] * gvec[None, :]
+        check_values(self)
+
+    def structure_diagonal(self) -> np.ndarray:
+        """|diagonal| (6n,) of the undeformed, unloaded tangent of the beams and cords (no springs)
+        over all DOFs [N/m, N m/rad]: the structure's own stiffness at each DOF."""
+        x, R = self.undeformed
+        _, (Kb, Km, Kc, _), *_ = self._element_terms(x, R, 0.0, True, None)
+        blocks = [self._beam_dofs(), self._node_dofs(self.masses.nodes),
+                  np.concatenate([self._node_dofs(self.cord_nodes), self._node_dofs(self.cord_nodes_b)], axis=1)]
+        diag = [np.abs(np.diagonal(K, axis1=1, axis2=2)) for K in (Kb, Km, Kc)]
+        dofs = np.concatenate([b.reshape(-1) for b in blocks])
+        vals = np.concatenate([d.reshape(-1) for d in diag])
+        return np.bincount(dofs, weights=vals, minlength=6 * self.n_nodes)
+
+    def spring_clamps(self, fixed: np.ndarray) -> np.ndarray:
+        """Full DOFs (sorted) that grounded springs hold as constraints: a component stiffer than
+        SPRING_CLAMP_RATIO times the structure's own diagonal stiffness there (structure_diagonal),
+        along a global axis (spring axes may be turned; those along a global one act on its DOF
+        alone), on a DOF no link sets; the three rotations of a node only together (a partly held
+        rotation stays a spring). Such a spring changes the modes from the clamped ones by about the
+        inverse ratio, while the round-off it brings into the factorisations grows with the ratio.
+        A component that cannot be held and is more than SPRING_WARN_RATIO times stiffer than the
+        structure gives a FlexGVTWarning."""
+        s = self.springs
+        if not np.any(s.stiffness > 0):
+            return np.zeros(0, int)
+        diag = self.structure_diagonal()
+        n = self.n_nodes
+        ground = s.a < 0
+        # (spring, node) pairs: a grounded spring's node, both nodes of the others.
+        pair = np.r_[np.arange(len(s.b)), np.flatnonzero(~ground)]
+        nodes = np.r_[s.b, s.a[~ground]]
+        axis = np.argmax(np.abs(s.frame), axis=1)  # (m, 3): the global axis nearest each spring axis
+        aligned = np.isclose(np.abs(np.take_along_axis(s.frame, axis[:, None, :], axis=1)[:, 0]), 1.0, rtol=0,
+                             atol=1e-12)  # such an axis acts on its global DOF alone (the others are normal to it)
+        full = 6 * nodes[:, None] + np.c_[axis[pair], 3 + axis[pair]]
+        k, d = s.stiffness[pair], diag[full]
+        known = d > 0  # a DOF only springs hold: no conditioning loss
+        stiff = known & (k > SPRING_CLAMP_RATIO * d)
+        extreme = known & (k > SPRING_WARN_RATIO * d)
+        ok = stiff & np.tile(aligned[pair], 2) & ~self.cm.link_dofs.reshape(-1)[full] & ground[pair][:, None]
+        held = np.zeros(6 * n, bool)
+        held[full[:, :3][ok[:, :3]]] = True
+        rot_held = np.zeros((n, 3), bool)
+        r, c = np.nonzero(ok[:, 3:])
+        rot_held[nodes[r], axis[pair][r, c]] = True
+        rot_extreme = np.zeros(n, bool)
+        np.logical_or.at(rot_extreme, nodes, np.any(extreme[:, 3:] & ok[:, 3:], axis=1))
+        warn = list(nodes[np.any(extreme & ~ok, axis=1)])
+        whole = np.all(rot_held | fixed.reshape(n, 6)[:, 3:], axis=1)
+        held.reshape(n, 6)[:, 3:] |= rot_held & whole[:, None]
+        warn += list(np.flatnonzero(rot_extreme & ~whole))
+        if warn:
+            node = warn[0]
+            warnings.warn(
+                f"configuration '{self.config.name}': {len(warn)} spring(s) (the first at node "
+                f"{self.cm.node_ids[node]}) are more than {SPRING_WARN_RATIO:g} times stiffer than the structure at "
+                "their DOFs, and the solver cannot hold those DOFs as constraints instead (a spring between two "
+                "nodes, axes not along the global ones, a DOF set by a link, or only part of a node's rotations): "
+                "round-off may spoil the modes and the static solution. Fix the DOFs (fixed={node: '123456'}) "
+                "or use a rigid link or linear constraint instead", FlexGVTWarning, stacklevel=3)
+        return np.flatnonzero(held & ~fixed)
 
     def _topology(self) -> tuple:
         """What the DOF numbering and the sparsity pattern depend on."""
@@ -378,6 +457,9 @@ class System:
         if len(self.cm.xyz) != len(sibling.cm.xyz) or any(a.shape != b.shape or np.any(a != b)
                                                           for a, b in zip(before, after)):
             return System(model, config)
+        if len(sibling.springs.b) and not np.array_equal(sibling.spring_clamps(self._config_fixed),
+                                                         self.spring_clamped):
+            return System(model, config)  # a spring crossed SPRING_CLAMP_RATIO: other constraints
         if self.has_prescribed:
             sibling.prescribed_values = np.array([v for items in config.prescribed.values() for v in items.values()],
                                                  float)
@@ -419,7 +501,11 @@ class System:
         fixed_rows = self._rigid_motions(x[at], c)[fixed[at]]
         basis = np.eye(6)
         if len(fixed_rows):
-            _, sv, vt = np.linalg.svd(fixed_rows, full_matrices=True)
+            try:
+                _, sv, vt = np.linalg.svd(fixed_rows, full_matrices=True)
+            except np.linalg.LinAlgError as exc:  # non-finite coordinates: check_values lets none through
+                raise ModelError(f"configuration '{self.config.name}': the rigid-body motions of the fixed nodes "
+                                 f"cannot be formed ({exc}); check the node coordinates") from exc
             rank = int(np.sum(sv > 1e-9 * max(sv.max(), 1e-300)))
             basis = vt[rank:].T
         if basis_only:
