@@ -125,8 +125,8 @@ def resolve(path: Path, spec: ProjectFile) -> Project:
     folder = path.parent
     where = str(path)
 
-    def rel(value: str, key: str = "path") -> Path:
-        return checked_path(folder, value, f"{where}: {key}", "file")
+    def rel(value: str, key: str) -> Path:  # key: "<project file>: <key>"
+        return checked_path(folder, value, key, "file")
 
     output_dir(folder, spec.outputs.directory, spec.outputs.allow_outside, f"{where}: outputs.directory")
     case = deck = None
@@ -140,7 +140,7 @@ def resolve(path: Path, spec: ProjectFile) -> Project:
             raise ProjectError(f"{where}: model.case: {exc}") from None
         model, available = case.model, dict(case.configurations)
     else:
-        bdf = _need_file(rel(spec.model.bdf, "model.bdf"), f"{where}: model.bdf", "deck")
+        bdf = _need_file(rel(spec.model.bdf, f"{where}: model.bdf"), f"{where}: model.bdf", "deck")
         from ..io import read_bdf
         try:
             deck = read_bdf(bdf, units=spec.model.units)
@@ -184,7 +184,7 @@ def resolve(path: Path, spec: ProjectFile) -> Project:
                                f"{sorted(available)}, the project {names}")
     if spec.prediction.reference is not None:
         key = f"{where}: prediction.reference"
-        read_reference(_need_file(rel(spec.prediction.reference, "prediction.reference"), key, "reference file"), key)
+        read_reference(_need_file(rel(spec.prediction.reference, key), key, "reference file"), key)
     project = Project(path, spec, model, configurations, available, variables, case, deck, sensors)
     for k, c in enumerate(spec.configurations):
         if c.test is not None:
