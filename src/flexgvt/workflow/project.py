@@ -38,6 +38,17 @@ def _loc(loc) -> str:
 
 
 _TYPE_TAGS = {"str", "int", "float", "bool", "list", "dict", "none"}
+_EXPECTED = {"int": "an integer", "float": "a number", "string": "a string (text in quotes)",
+             "bool": "true or false", "list": "a list [...]", "dict": "a table", "model": "a table"}
+
+
+def _message(e: dict) -> str:
+    """A pydantic error in the project's words: what was expected and what was given."""
+    kind = e["type"].split("_")[0]
+    if kind in _EXPECTED and e["type"].endswith(("_type", "_parsing", "_parsing_size", "_from_float")):
+        given = repr(e.get("input"))
+        return f"expected {_EXPECTED[kind]}, got {given[:60] + '...' if len(given) > 60 else given}"
+    return e["msg"].removeprefix("Value error, ")
 
 
 @dataclass
@@ -100,7 +111,7 @@ def load_project(path: str | Path) -> Project:
     except ValidationError as exc:
         problems: dict[str, list[str]] = {}
         for e in exc.errors():
-            msg = e["msg"].removeprefix("Value error, ")
+            msg = _message(e)
             if e["type"] == "extra_forbidden":
                 msg = "unknown key (check the spelling; `flexgvt init` writes every key with a comment)"
             where = problems.setdefault(_loc(e["loc"]) or "(top level)", [])
@@ -240,8 +251,14 @@ def _configuration(c: ConfigurationSpec, available: dict, blocks: dict, model: M
                                        f"{sorted(blocks)}")
                 point = block_point(blocks[cs.block_test])
                 k, damp = point.stiffness, point.damping
+            if not (np.isfinite(k) and k > 0 and np.isfinite(damp) and damp >= 0):
+                raise ProjectError(f"{cl}: stiffness {k!r} N/m must be > 0 and damping {damp!r} N s/m >= 0")
+            if cs.carries is not None and not cs.carries >= 0:
+                raise ProjectError(f"{cl}.carries: {cs.carries!r} kg must be >= 0")
             attach = model.xyz[model.index_of([cs.node])[0]] + np.asarray(cs.offset)
             length = float(np.linalg.norm(np.asarray(cs.anchor) - attach))
+            if not np.isfinite(length):
+                raise ProjectError(f"{cl}: the anchor and offset must be finite coordinates [m]")
             free = cs.unstretched_length if cs.unstretched_length is not None else length - cs.carries * g / k
             if free <= 0:
                 raise ProjectError(f"{cl}: the cord would need a negative unstretched length to carry "

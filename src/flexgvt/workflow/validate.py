@@ -184,6 +184,7 @@ def check_test_data(project, k: int, c, where: str) -> None:
             raise ProjectError(f"{loc}.frfs: {len(f)} frequency lines, not strictly increasing or fewer than 8")
         if t.band_hz is not None and (t.band_hz[1] <= f[0] or t.band_hz[0] >= f[-1]):
             raise ProjectError(f"{loc}.band_hz: {t.band_hz} Hz is outside the FRFs' {f[0]:.4g}-{f[-1]:.4g} Hz")
+        _check_sensors(project, c.name, frfs.outputs, f"{loc}.points", ", ".join(files))
         return
     try:
         modes = read_modes(project.file(t.modes), c.name, t.key)
@@ -200,6 +201,8 @@ def check_test_data(project, k: int, c, where: str) -> None:
                 or not np.all(np.isfinite(sh)):
             raise ProjectError(f"{loc}.modes: {modes.source}: shapes must be (modes, channels) finite values with "
                                "one (point, direction) output per channel")
+    if modes.shapes is not None:
+        _check_sensors(project, c.name, modes.outputs, f"{loc}.points", modes.source)
     n = len(f)
     if t.use_modes is not None:
         bad = [m for m in t.use_modes if not 1 <= m <= n]
@@ -208,3 +211,14 @@ def check_test_data(project, k: int, c, where: str) -> None:
         n = len(t.use_modes)
     if t.labels is not None and len(t.labels) != n:
         raise ProjectError(f"{loc}.labels: {len(t.labels)} labels for {n} modes")
+
+
+def _check_sensors(project, name: str, outputs, where: str, source: str) -> None:
+    """Every measured channel maps to a model node (test point -> FE node) in a translation direction."""
+    from ..correlation import Sensors
+    node_map, offsets = project.sensors.get(name, ({}, {}))
+    try:
+        sensors = Sensors.from_outputs(np.asarray(outputs), node_map or None, offsets or None)
+        sensors.rows(project.model.node_ids)
+    except FlexGVTError as exc:
+        raise ProjectError(f"{where}: {source}: {exc}") from None
