@@ -4,23 +4,20 @@ per test session and copied for each test that mutates it."""
 import shutil
 from pathlib import Path
 
-import pytest
 
 DATA = Path(__file__).parents[1] / "data" / "reliability"
 
 
 def build_base(folder: Path) -> Path:
-    """write_example (data/*.uff, reference.json, project.toml) + write_modes_example (modes/*)."""
+    """write_example (data/*.uff, reference.json, project.toml) + write_modes_example (modes/*), on one
+    BLAS thread (its 1,200 small solves take three times longer with two on a shared machine)."""
+    from threadpoolctl import threadpool_limits
+
     from flexgvt.workflow.template import write_example, write_modes_example
-    write_example(folder)
-    write_modes_example(folder)
+    with threadpool_limits(1):
+        write_example(folder)
+        write_modes_example(folder)
     return folder
-
-
-@pytest.fixture(scope="session")
-def base(tmp_path_factory):
-    """The base project folder, built once per session (import this fixture into a test module)."""
-    return build_base(tmp_path_factory.mktemp("init-data"))
 
 
 def project_copy(base: Path, dest: Path, reproducer: Path | None = None) -> Path:

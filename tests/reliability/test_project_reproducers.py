@@ -6,7 +6,7 @@ after the whole computation)."""
 import time
 
 import pytest
-from project_fixtures import DATA, base, project_copy  # noqa: F401 (base: a fixture)
+from project_fixtures import DATA, project_copy
 from typer.testing import CliRunner
 
 from flexgvt.cli.main import app
