@@ -104,6 +104,7 @@ n_modes = 10
 {reference}
 [outputs]
 directory = "results"      # report.html, updated.bdf, modes as UFF 55, CSV tables, the results store
+# allow_outside = false    # true lets `directory` point outside this project's folder ("../x", "/data/...")
 report = true
 bdf = true
 uff = true
