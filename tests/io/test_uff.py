@@ -130,3 +130,12 @@ def test_ragged_datasets_name_the_dataset(tmp_path):
     (tmp_path / "short15.uff").write_text("\n".join(lines) + "\n")
     with pytest.raises(FileFormatError, match=r"dataset 2 \(type 15\)"):
         fg.io.read_uff(tmp_path / "short15.uff")
+
+
+def test_unusable_paths_are_file_format_errors(tmp_path):
+    with pytest.raises(FileFormatError, match="NUL"):
+        fg.io.read_uff(str(tmp_path / "a\x00b.uff"))
+    with pytest.raises(FileFormatError, match="cannot be opened"):
+        fg.io.read_uff(tmp_path / ("x" * 5000 + ".uff"))
+    with pytest.raises(FileFormatError, match="no such file"):
+        fg.io.read_uff(tmp_path)

@@ -131,8 +131,14 @@ def assemble_frfs(functions, where: str = "") -> FRFs:
 def _read_sets(path: Path):
     import pyuff
 
-    if not path.exists():
-        raise FileFormatError(f"{path}: no such file")
+    if "\x00" in str(path):
+        raise FileFormatError(f"{str(path)!r}: a file name cannot contain a NUL character")
+    try:
+        found = path.is_file()
+    except OSError as exc:  # a name too long, a permission
+        raise FileFormatError(f"{str(path)[:200]}: cannot be opened ({exc.strerror})") from None
+    if not found:
+        raise FileFormatError(f"{path}: no such file" + (" (a folder)" if path.is_dir() else ""))
     try:
         uff = pyuff.UFF(str(path))
         types = list(uff.get_set_types())
