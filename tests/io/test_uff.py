@@ -110,3 +110,32 @@ def test_fuzzed_files_fail_cleanly_or_read(tmp_path):
             assert str(path) in str(exc)
             outcomes["error"] += 1
     assert outcomes["error"] > 0
+
+
+def test_ragged_datasets_name_the_dataset(tmp_path):
+    """flexgvt's own UFF with a node line dropped from a mode (dataset 55) or from the geometry
+    (dataset 15): a FileFormatError naming the dataset and the counts, not a numpy ValueError."""
+    rng = np.random.default_rng(3)
+    geo = TestGeometry(np.array([1, 2, 3]), rng.standard_normal((3, 3)))
+    modes = ModalResults(np.array([0.4, 1.23]), np.array([0.07, 0.01]), rng.standard_normal((2, 3, 3)),
+                         np.array([1, 2, 3]))
+    lines = write_uff(tmp_path / "m.uff", geometry=geo, modes=modes).read_text().splitlines()
+    node_lines = [i for i, ln in enumerate(lines) if ln.split() == ["3"]]  # mode data: node id, then values
+    cut = lines[:node_lines[-1]] + lines[node_lines[-1] + 2:]
+    (tmp_path / "ragged55.uff").write_text("\n".join(cut) + "\n")
+    with pytest.raises(FileFormatError, match=r"dataset 4 \(type 55\): modal datasets 55 do not share one point list"):
+        fg.io.read_uff(tmp_path / "ragged55.uff")
+    geo_line = next(i for i, ln in enumerate(lines) if ln.split()[:1] == ["2"] and len(ln.split()) == 7)
+    lines[geo_line] = lines[geo_line][:60]
+    (tmp_path / "short15.uff").write_text("\n".join(lines) + "\n")
+    with pytest.raises(FileFormatError, match=r"dataset 2 \(type 15\)"):
+        fg.io.read_uff(tmp_path / "short15.uff")
+
+
+def test_unusable_paths_are_file_format_errors(tmp_path):
+    with pytest.raises(FileFormatError, match="NUL"):
+        fg.io.read_uff(str(tmp_path / "a\x00b.uff"))
+    with pytest.raises(FileFormatError, match="cannot be opened"):
+        fg.io.read_uff(tmp_path / ("x" * 5000 + ".uff"))
+    with pytest.raises(FileFormatError, match="no such file"):
+        fg.io.read_uff(tmp_path)

@@ -127,3 +127,65 @@ bounds = [0.25, 2.5]
     bad = text.replace("targets = [0, 1]", "targets = [0, 2]")
     with pytest.raises(ProjectError, match=r"configuration 'outboard' has no mass 2 \(2 masses of its own"):
         load_project(write(tmp_path, bad))
+
+
+@pytest.mark.parametrize("directory, allow, expected", [
+    ("../x", False, "outputs.directory: '../x' is outside the project folder"),
+    ("/tmp/elsewhere", False, "outputs.directory: '/tmp/elsewhere' is outside the project folder"),
+    ("results/../../x", False, "is outside the project folder"),
+    ("a\\u0000b", False, "outputs.directory: the output directory path 'a\\x00b' contains a NUL character"),
+    ("x" * 300, False, "outputs.directory: the output directory path is too long (300 characters"),
+    ("modes.json", False, "outputs.directory: 'modes.json' exists and is not a folder"),
+])
+def test_output_directory_is_contained(tmp_path, directory, allow, expected):
+    text = GOOD + f'[outputs]\ndirectory = "{directory}"\nallow_outside = {str(allow).lower()}\n'
+    with pytest.raises(ProjectError) as err:
+        load_project(write(tmp_path, text))
+    assert expected in str(err.value), str(err.value)
+
+
+def test_output_directory_outside_on_purpose(tmp_path):
+    (tmp_path / "p").mkdir()
+    p = load_project(write(tmp_path / "p", GOOD + '[outputs]\ndirectory = "../x"\nallow_outside = true\n'))
+    assert p.output.resolve() == (tmp_path / "x").resolve()
+    assert load_project(write(tmp_path / "p", GOOD + '[outputs]\ndirectory = "sub/results"\n')).output == \
+        tmp_path / "p" / "sub" / "results"
+
+
+@pytest.mark.parametrize("reference, expected", [
+    ("project.toml", "is not valid JSON"),
+    ("/proc/self/status", "is not valid JSON"),
+    ("binary.bin", "is not a text file (expected JSON)"),
+    ("ragged.json", "'frequencies_hz' must be a flat list of numbers"),
+    ("labels.json", "2 labels for 1 frequencies"),
+    ("negative.json", "finite frequencies > 0"),
+    ("x" * 5000, "path is too long"),
+])
+def test_reference_is_read_and_checked_when_the_project_loads(tmp_path, reference, expected):
+    import json
+    (tmp_path / "binary.bin").write_bytes(bytes(range(256)))
+    (tmp_path / "ragged.json").write_text(json.dumps({"free_free": {"frequencies_hz": [1.0, [], 3.0]}}))
+    (tmp_path / "labels.json").write_text(json.dumps({"frequencies_hz": [1.0], "labels": ["a", "b"]}))
+    (tmp_path / "negative.json").write_text(json.dumps({"frequencies_hz": [1.0, -2.0]}))
+    text = GOOD + f'[prediction]\nreference = "{reference}"\n'
+    with pytest.raises(ProjectError) as err:
+        load_project(write(tmp_path, text))
+    assert "prediction.reference" in str(err.value) and expected in str(err.value), str(err.value)
+
+
+@pytest.mark.parametrize("change, expected", [
+    (('targets = ["strip"]', "targets = [-1]"), "targets [-1] are not beam group names"),
+    (("damping_ratio = [0.07, 0.068]", "damping_ratio = [0.07, 0.068, 0.07]"),
+     "suspension_tests[0] ('left'): identify_block: 2 frequencies and 3 damping ratios"),
+    (('stiffness = "5.19 N/m"', "stiffness = 0"), "cords[1]: stiffness 0.0 N/m must be > 0"),
+    (('bounds = [0.8, 1.2]', 'bounds = "wide"'), "variables[0].bounds: expected a list [...], got 'wide'"),
+    (("node = 114", "node = 1.5"), "cords[1].node: expected an integer, got 1.5"),
+    (('modes = "modes.json"', 'modes = "modes.json"\npoints = "pts.csv"'), "pts.csv' not found"),
+])
+def test_wrong_values_are_named_in_the_projects_words(tmp_path, change, expected):
+    old, new = change
+    assert old in GOOD
+    with pytest.raises(ProjectError) as err:
+        load_project(write(tmp_path, GOOD.replace(old, new, 1)))
+    msg = str(err.value)
+    assert expected in msg and "pydantic" not in msg.lower() and "Input should" not in msg, msg

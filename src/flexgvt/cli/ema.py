@@ -13,6 +13,7 @@ from rich.console import Console
 from rich.table import Table
 
 from ..errors import FlexGVTError
+from .workflow import fail
 
 app = typer.Typer(add_completion=False, no_args_is_help=True, help="Experimental modal analysis.")
 console = Console()
@@ -120,6 +121,5 @@ def identify(paths: list[Path] = typer.Argument(..., help="UFF file(s) with FRFs
                                 "n_tests": table_tests["n_tests"].tolist()}
             json_path.write_text(json.dumps(doc, indent=2))
         console.print(f"modes written to {out / 'modes.uff'} and {out / 'modes.csv'}; figures in {out}/")
-    except FlexGVTError as exc:
-        console.print(f"[bold red]error:[/] {exc}")
-        raise typer.Exit(code=2)
+    except (FlexGVTError, OSError) as exc:
+        fail(console, exc)

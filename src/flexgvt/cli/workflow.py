@@ -13,6 +13,18 @@ from rich.table import Table
 from ..errors import FlexGVTError
 
 
+def fail(console: Console, exc: Exception) -> None:
+    """Print a FlexGVTError (or an OSError from writing an output file) as one error line, exit status 2.
+    The message is printed as text, never as rich markup (it may hold '[...]' from a user's input)."""
+    from rich.markup import escape
+    if isinstance(exc, OSError):
+        msg = f"{exc.filename or ''}: {exc.strerror or exc}; check the path, its permissions and free space"
+    else:
+        msg = str(exc)
+    console.print(f"[bold red]error:[/] {escape(msg)}", soft_wrap=True)
+    raise typer.Exit(code=2)
+
+
 def _fmt(v, digits: int = 4) -> str:
     if v is None:
         return ""
@@ -44,7 +56,7 @@ def run_with_progress(console: Console, job):
         task = bar.add_task("starting", total=None)
 
         def log(line: str) -> None:
-            console.print(line)
+            console.print(line, markup=False, highlight=False)
             bar.update(task, description=str(line).strip().splitlines()[0][:90])
         return job(log)
 
@@ -63,9 +75,13 @@ def register(app: typer.Typer, console: Console) -> None:
         try:
             p = load_project(project)
             if out is not None:
+                from ..workflow.validate import checked_path, output_dir
+                out = checked_path(Path("."), str(out), "--out", "output directory")
+                output_dir(out.parent, out.name, True, "--out")
                 p.spec = p.spec.model_copy(update={"outputs": p.spec.outputs.model_copy(
                     update={"directory": str(out.resolve())})})
-            console.rule(f"[bold]{p.spec.project.name}[/]")
+            from rich.markup import escape
+            console.rule(f"[bold]{escape(p.spec.project.name)}[/]")
             res = run_with_progress(console, lambda log: run_project(p, log=log, report=report))
             for key, pred in res.predictions.items():
                 console.print(prediction_table(f"free-flying prediction, {key} model", pred.rows))
@@ -73,9 +89,8 @@ def register(app: typer.Typer, console: Console) -> None:
             if json_path is not None:
                 json_path.write_text(json.dumps(res.as_dict(), indent=1))
                 console.print(f"results written to {json_path}")
-        except FlexGVTError as exc:
-            console.print(f"[bold red]error:[/] {exc}")
-            raise typer.Exit(code=2)
+        except (FlexGVTError, OSError) as exc:
+            fail(console, exc)
 
     @app.command()
     def init(folder: Path = typer.Argument(Path("."), help="folder for project.toml"),
@@ -95,6 +110,5 @@ def register(app: typer.Typer, console: Console) -> None:
             else:
                 path.write_text(example_project())
             console.print(f"example project written to {path}; run it with `flexgvt run {path}`")
-        except FlexGVTError as exc:
-            console.print(f"[bold red]error:[/] {exc}")
-            raise typer.Exit(code=2)
+        except (FlexGVTError, OSError) as exc:
+            fail(console, exc)

@@ -215,8 +215,18 @@ def checked_frfs(freq, H, frequency_band=None, where: str = ""):
                        f"got {H.shape}")
     if not np.all(np.isfinite(H)):
         raise EMAError(f"{prefix}the FRFs contain NaN or infinite values; remove the bad channels first")
+    if not np.all(np.isfinite(freq)) or not np.any(freq > 0):
+        raise EMAError(f"{prefix}the frequency axis must be finite with lines above 0 Hz")
     lo, hi = frequency_band if frequency_band is not None else (freq[freq > 0].min(), freq.max())
-    return freq, H, (freq >= lo) & (freq <= hi) & (freq > 0), (lo, hi)
+    keep = (freq >= lo) & (freq <= hi) & (freq > 0)
+    if not np.any(keep):
+        raise EMAError(f"{prefix}no frequency line in the band {lo:g}-{hi:g} Hz (the FRFs span "
+                       f"{freq.min():g}-{freq.max():g} Hz)")
+    big = float(np.abs(H[keep]).max())
+    if big > 1e150:  # its square overflows the fits' products
+        raise EMAError(f"{prefix}an FRF value of magnitude {big:.3g} (a corrupt value?) is too large to fit; "
+                       "check the file or remove the channel")
+    return freq, H, keep, (lo, hi)
 
 
 @serial_blas  # its products are small or medium: a second BLAS thread's hand-off costs more on a shared machine
@@ -294,6 +304,8 @@ def _order_poles(M, p, n_i, dt):
     try:
         alpha = -np.linalg.solve(M[:m, :m], M[:m, m:])  # (p n_i, n_i), alpha_p = I
     except np.linalg.LinAlgError:
+        return None
+    if not np.all(np.isfinite(alpha)):  # numerically singular: skipped like a singular order
         return None
     C = np.zeros((m, m))
     if p > 1:

@@ -131,8 +131,14 @@ def assemble_frfs(functions, where: str = "") -> FRFs:
 def _read_sets(path: Path):
     import pyuff
 
-    if not path.exists():
-        raise FileFormatError(f"{path}: no such file")
+    if "\x00" in str(path):
+        raise FileFormatError(f"{str(path)!r}: a file name cannot contain a NUL character")
+    try:
+        found = path.is_file()
+    except OSError as exc:  # a name too long, a permission
+        raise FileFormatError(f"{str(path)[:200]}: cannot be opened ({exc.strerror})") from None
+    if not found:
+        raise FileFormatError(f"{path}: no such file" + (" (a folder)" if path.is_dir() else ""))
     try:
         uff = pyuff.UFF(str(path))
         types = list(uff.get_set_types())
@@ -151,50 +157,120 @@ def _read_sets(path: Path):
     return sets
 
 
+def _get(s: dict, key: str, where: str):
+    """A field of a pyuff dataset dict; missing -> FileFormatError naming the dataset and field."""
+    if key not in s:
+        raise FileFormatError(f"{where}: no field '{key}' (the dataset is incomplete or of a variant flexgvt "
+                              "does not read); re-export the file")
+    return s[key]
+
+
+def _int(value, where: str, what: str) -> int:
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        raise FileFormatError(f"{where}: {what} {value!r} is not a number") from None
+    if not np.isfinite(v) or v != int(v) or abs(v) > 2**31:
+        raise FileFormatError(f"{where}: {what} {value!r} is not an integer id/code")
+    return int(v)
+
+
+def _ids(values, where: str, what: str = "node ids") -> np.ndarray:
+    try:
+        a = np.atleast_1d(np.asarray(values, float))
+    except (TypeError, ValueError):
+        raise FileFormatError(f"{where}: {what} are not numbers") from None
+    if a.ndim != 1 or not np.all(np.isfinite(a)) or np.any(a != np.round(a)) or np.any(np.abs(a) > 2**31):
+        raise FileFormatError(f"{where}: {what} must be integers")
+    return a.astype(np.int64)
+
+
+def _column(values, where: str, what: str, n: int | None = None, dtype=float) -> np.ndarray:
+    try:
+        a = np.atleast_1d(np.asarray(values, dtype))
+    except (TypeError, ValueError):
+        raise FileFormatError(f"{where}: {what} are not numbers (a field shifted or cut?)") from None
+    if a.ndim != 1 or (n is not None and len(a) != n):
+        raise FileFormatError(f"{where}: {len(a)} values of {what} for {n} nodes (a line is missing or a node "
+                              "count changed); re-export the file")
+    return a
+
+
+def _geometry_set(s: dict, where: str, length: float) -> TestGeometry:
+    ids = _ids(_get(s, "node_nums", where), where)
+    cols = [_column(_get(s, c, where), where, f"{c} coordinates", len(ids)) for c in ("x", "y", "z")]
+    xyz = np.column_stack(cols) / length
+    if not np.all(np.isfinite(xyz)):
+        raise FileFormatError(f"{where}: NaN or infinite coordinates")
+    return TestGeometry(ids, xyz)
+
+
+def _function_set(s: dict, where: str) -> Function:
+    if "data" not in s or "x" not in s:
+        raise FileFormatError(f"{where}: no ordinate data (ordinate data type {s.get('ord_data_type', '?')!r} "
+                              "is not one of 2, 4, 5, 6, or the binary record is damaged); re-export the function")
+    rsp = (_int(_get(s, "rsp_node", where), where, "response node"),
+           _int(_get(s, "rsp_dir", where), where, "response direction"))
+    ref = (_int(_get(s, "ref_node", where), where, "reference node"),
+           _int(_get(s, "ref_dir", where), where, "reference direction"))
+    try:
+        data = np.asarray(s["data"])
+        x = np.asarray(s["x"], float)
+    except (TypeError, ValueError):
+        raise FileFormatError(f"{where}: function values are not numbers") from None
+    if data.ndim != 1 or data.shape != x.shape or len(x) == 0 or not np.issubdtype(data.dtype, np.number):
+        raise FileFormatError(f"{where}: {data.size} ordinates for {x.size} abscissa values")
+    if not (np.all(np.isfinite(x)) and np.all(np.isfinite(data))):
+        raise FileFormatError(f"{where}: NaN or infinite values in function {rsp[0]}{DIRECTIONS.get(rsp[1], '?')} / "
+                              f"{ref[0]}{DIRECTIONS.get(ref[1], '?')}; remove or re-export the channel")
+    func_type = _int(_get(s, "func_type", where), where, "function type")
+    return Function(FUNCTION_TYPES.get(func_type, f"type {func_type}"), rsp, ref, x, data,
+                    str(s.get("abscissa_axis_units_lab", "")).strip(),
+                    str(s.get("ordinate_axis_units_lab", "")).strip(),
+                    str(s.get("orddenom_axis_units_lab", "")).strip())
+
+
+def _units_set(s: dict, where: str) -> dict:
+    out = {"description": str(s.get("units_description", "")).strip()}
+    for key, name in (("length", "length"), ("force", "force"), ("temp", "temperature")):
+        try:
+            out[name] = float(_get(s, key, where))
+        except (TypeError, ValueError):
+            raise FileFormatError(f"{where}: unit factor '{key}' is not a number") from None
+    if not (np.isfinite(out["length"]) and out["length"] > 0):
+        raise FileFormatError(f"{where}: length unit factor {out['length']!r} must be a positive finite number")
+    return out
+
+
 def read_uff(path: str | Path) -> UFFData:
-    """Read geometry (15, 2411), functions (58/58b), modes (55) and units (164) from a UFF file."""
+    """Read geometry (15, 2411), functions (58/58b), modes (55) and units (164) from a UFF file.
+
+    Raises FileFormatError naming the file and dataset for anything malformed (missing fields,
+    ragged node lists, non-numeric or non-finite values)."""
     path = Path(path)
     sets = _read_sets(path)
     units = {}
-    for s in sets:
-        if s["type"] == 164:
-            units = {"description": str(s.get("units_description", "")).strip(), "length": float(s["length"]),
-                     "force": float(s["force"]), "temperature": float(s["temp"])}
+    for k, s in enumerate(sets):
+        if s.get("type") == 164:
+            units = _units_set(s, f"{path}: dataset {k + 1} (type 164)")
     length = units.get("length", 1.0)
     geometry = None
     functions = []
     modes = []
     skipped = []
     for k, s in enumerate(sets):
-        t = s["type"]
+        t = s.get("type")
         where = f"{path}: dataset {k + 1} (type {t})"
         if t in (15, 2411):
-            ids = np.asarray(s["node_nums"], float).astype(int)
-            xyz = np.column_stack([s["x"], s["y"], s["z"]]).astype(float) / length
-            if not np.all(np.isfinite(xyz)):
-                raise FileFormatError(f"{where}: NaN or infinite coordinates")
-            geometry = TestGeometry(ids, xyz) if geometry is None else TestGeometry(
-                np.r_[geometry.point_ids, ids], np.r_[geometry.xyz, xyz])
+            g = _geometry_set(s, where, length)
+            geometry = g if geometry is None else TestGeometry(np.r_[geometry.point_ids, g.point_ids],
+                                                               np.r_[geometry.xyz, g.xyz])
         elif t == 58:
-            data = np.asarray(s["data"])
-            x = np.asarray(s["x"], float)
-            if data.shape != x.shape or len(x) == 0:
-                raise FileFormatError(f"{where}: {len(data)} ordinates for {len(x)} abscissa values")
-            if not (np.all(np.isfinite(x)) and np.all(np.isfinite(data))):
-                raise FileFormatError(f"{where}: NaN or infinite values in function "
-                                      f"{int(s['rsp_node'])}{DIRECTIONS.get(int(s['rsp_dir']), '?')} / "
-                                      f"{int(s['ref_node'])}{DIRECTIONS.get(int(s['ref_dir']), '?')}; remove or "
-                                      "re-export the channel")
-            kind = FUNCTION_TYPES.get(int(s["func_type"]), f"type {int(s['func_type'])}")
-            functions.append(Function(kind, (int(s["rsp_node"]), int(s["rsp_dir"])),
-                                      (int(s["ref_node"]), int(s["ref_dir"])), x, data,
-                                      str(s.get("abscissa_axis_units_lab", "")).strip(),
-                                      str(s.get("ordinate_axis_units_lab", "")).strip(),
-                                      str(s.get("orddenom_axis_units_lab", "")).strip()))
+            functions.append(_function_set(s, where))
         elif t == 55:
-            modes.append(s)
+            modes.append((k, s))
         elif t != 164:
-            skipped.append(int(t))
+            skipped.append(int(t) if isinstance(t, (int, np.integer)) else -1)
     return UFFData(str(path), geometry, tuple(functions), _modes(modes, path), units, tuple(skipped))
 
 
@@ -202,14 +278,36 @@ def _modes(sets, path) -> ModalResults | None:
     if not sets:
         return None
     freqs, damps, shapes, fstd, zstd = [], [], [], [], []
-    ids = np.asarray(sets[0]["node_nums"], float).astype(int)
-    for s in sets:
-        if not np.array_equal(np.asarray(s["node_nums"], float).astype(int), ids):
-            raise FileFormatError(f"{path}: modal datasets 55 do not share one point list")
-        freqs.append(float(s.get("freq", np.nan)))
-        damps.append(float(s.get("modal_damp_vis", 0.0)))
-        cols = [np.asarray(s[f"r{i}"]) for i in range(1, 7) if f"r{i}" in s]
-        shapes.append(np.column_stack(cols))
+    ids = None
+    for k, s in sets:
+        where = f"{path}: dataset {k + 1} (type 55)"
+        nodes = _ids(_get(s, "node_nums", where), where)
+        if ids is None:
+            ids = nodes
+        elif not np.array_equal(nodes, ids):
+            raise FileFormatError(f"{where}: modal datasets 55 do not share one point list ({len(nodes)} points "
+                                  f"against {len(ids)} in the first); export every mode on the same points")
+        try:
+            f = float(s.get("freq", np.nan))
+            z = float(s.get("modal_damp_vis", 0.0))
+        except (TypeError, ValueError):
+            raise FileFormatError(f"{where}: frequency or damping is not a number") from None
+        if not (np.isfinite(f) and np.isfinite(z)):
+            raise FileFormatError(f"{where}: frequency {f!r} or damping {z!r} is not finite (only normal modes, "
+                                  "analysis type 2, are read)")
+        raw = [s[f"r{i}"] for i in range(1, 7) if f"r{i}" in s]
+        if not raw:
+            raise FileFormatError(f"{where}: no shape values (r1...r6)")
+        kind = complex if any(np.iscomplexobj(r) for r in raw) else float
+        shape = np.column_stack([_column(r, where, "shape values", len(ids), kind) for r in raw])
+        if shapes and shape.shape != shapes[0].shape:
+            raise FileFormatError(f"{where}: {shape.shape[1]} values per node against {shapes[0].shape[1]} in the "
+                                  "first mode; export every mode alike")
+        if not np.all(np.isfinite(shape)):
+            raise FileFormatError(f"{where}: NaN or infinite shape values")
+        freqs.append(f)
+        damps.append(z)
+        shapes.append(shape)
         fs = zs = np.nan
         for key in ("id5", "id4"):
             text = str(s.get(key, ""))
@@ -218,8 +316,8 @@ def _modes(sets, path) -> ModalResults | None:
                     parts = dict(p.split("=", 1) for p in text.split()[1:])
                     fs, zs = float(parts["FREQ_HZ"]), float(parts["DAMP"])
                 except (KeyError, ValueError):
-                    raise FileFormatError(f"{path}: mode {len(freqs)}: unreadable standard deviations '{text.strip()}'; "
-                                          "expected 'STD FREQ_HZ=<f> DAMP=<z>'") from None
+                    raise FileFormatError(f"{where}: mode {len(freqs)}: unreadable standard deviations "
+                                          f"'{text.strip()}'; expected 'STD FREQ_HZ=<f> DAMP=<z>'") from None
         fstd.append(fs)
         zstd.append(zs)
     has_std = np.all(np.isfinite(fstd))

@@ -67,8 +67,16 @@ def identify_block(mass: float, frequency_hz=None, damping_ratio=None, *, decay=
     if frequency_hz is not None:
         if damping_ratio is None:
             raise ModelError("identify_block: give damping_ratio with frequency_hz (0 if it was not measured)")
-        f = np.atleast_1d(np.asarray(frequency_hz, float))
-        z = np.broadcast_to(np.asarray(damping_ratio, float), f.shape)
+        try:
+            f = np.atleast_1d(np.asarray(frequency_hz, float))
+            z = np.asarray(damping_ratio, float)
+        except (TypeError, ValueError):
+            raise ModelError("identify_block: frequency_hz and damping_ratio must be numbers or lists of numbers, "
+                             f"got {frequency_hz!r}, {damping_ratio!r}") from None
+        if f.ndim != 1 or f.size == 0 or z.ndim > 1 or (z.ndim == 1 and z.shape != f.shape):
+            raise ModelError(f"identify_block: {f.size} frequencies and {z.size} damping ratios; give one damping "
+                             "ratio per frequency (repeated tests), or one damping ratio for all")
+        z = np.broadcast_to(z, f.shape)
         source = "frequency and damping"
     else:
         from ..ema.free_decay import free_decay, free_decay_from_peaks

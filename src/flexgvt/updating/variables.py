@@ -54,7 +54,20 @@ class Variable:
     def __post_init__(self) -> None:
         if self.kind not in KINDS:
             raise ModelError(f"design variable '{self.name}': kind '{self.kind}' must be one of {KINDS}")
-        lo, hi = (float(b) for b in self.bounds)
+        try:
+            lo, hi = (float(b) for b in self.bounds)
+        except (TypeError, ValueError):
+            raise ModelError(f"design variable '{self.name}': bounds {self.bounds!r} must be two numbers "
+                             "(lower, upper)") from None
+        targets = tuple(self.targets)
+        if self.kind == "beam":
+            bad = [t for t in targets if not isinstance(t, str)]
+            what = "beam group names or patterns (strings, e.g. \"wing_*\")"
+        else:
+            bad = [t for t in targets if isinstance(t, (bool, np.bool_)) or not isinstance(t, (int, np.integer))]
+            what = f"{self.kind} indices (integers >= 0)"
+        if bad:
+            raise ModelError(f"design variable '{self.name}': targets {bad} are not {what}")
         if not (np.isfinite(lo) and np.isfinite(hi) and lo < hi):
             raise ModelError(f"design variable '{self.name}': bounds {self.bounds} must be finite with lower < upper")
         if not self.shifts:
@@ -62,7 +75,7 @@ class Variable:
                 raise ModelError(f"design variable '{self.name}': bounds {self.bounds} scale a physical property and "
                                  "must stay > 0")
         object.__setattr__(self, "bounds", (lo, hi))
-        object.__setattr__(self, "targets", tuple(self.targets))
+        object.__setattr__(self, "targets", targets)
 
     @property
     def per_configuration(self) -> bool:

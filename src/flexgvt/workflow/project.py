@@ -28,10 +28,27 @@ class ProjectError(FlexGVTError, ValueError):
 
 
 def _loc(loc) -> str:
+    """'configurations[0].test.frfs' from a pydantic location, without its internal union/validator tags."""
     out = ""
     for part in loc:
+        if isinstance(part, str) and (not part.isidentifier() or part in _TYPE_TAGS):
+            continue
         out += f"[{part}]" if isinstance(part, int) else (f".{part}" if out else str(part))
     return out
+
+
+_TYPE_TAGS = {"str", "int", "float", "bool", "list", "dict", "none"}
+_EXPECTED = {"int": "an integer", "float": "a number", "string": "a string (text in quotes)",
+             "bool": "true or false", "list": "a list [...]", "dict": "a table", "model": "a table"}
+
+
+def _message(e: dict) -> str:
+    """A pydantic error in the project's words: what was expected and what was given."""
+    kind = e["type"].split("_")[0]
+    if kind in _EXPECTED and e["type"].endswith(("_type", "_parsing", "_parsing_size", "_from_float")):
+        given = repr(e.get("input"))
+        return f"expected {_EXPECTED[kind]}, got {given[:60] + '...' if len(given) > 60 else given}"
+    return e["msg"].removeprefix("Value error, ")
 
 
 @dataclass
@@ -73,39 +90,56 @@ class Project:
 
 def load_project(path: str | Path) -> Project:
     """Read and check a project file; raises ProjectError naming the file and key on any problem."""
-    path = Path(path)
-    if not path.is_file():
-        raise ProjectError(f"{path}: project file not found")
+    from .validate import checked_path
+    path = checked_path(Path("."), str(path), "flexgvt", "project file")
     try:
-        raw = tomllib.loads(path.read_text())
+        if not path.is_file():
+            raise ProjectError(f"{path}: project file not found")
+        if path.stat().st_size > 10_000_000:
+            raise ProjectError(f"{path}: larger than 10 MB; not a project file")
+        raw = tomllib.loads(path.read_bytes().decode("utf-8"))
     except tomllib.TOMLDecodeError as exc:
         raise ProjectError(f"{path}: not valid TOML: {exc}") from None
     except UnicodeDecodeError:
         raise ProjectError(f"{path}: not a text file (TOML is UTF-8 text)") from None
+    except RecursionError:
+        raise ProjectError(f"{path}: not valid TOML: nested too deeply") from None
+    except OSError as exc:
+        raise ProjectError(f"{path}: cannot be read ({exc.strerror})") from None
     try:
         spec = ProjectFile.model_validate(raw)
     except ValidationError as exc:
-        lines = []
+        problems: dict[str, list[str]] = {}
         for e in exc.errors():
-            msg = e["msg"].removeprefix("Value error, ")
+            msg = _message(e)
             if e["type"] == "extra_forbidden":
                 msg = "unknown key (check the spelling; `flexgvt init` writes every key with a comment)"
-            lines.append(f"  {_loc(e['loc']) or '(top level)'}: {msg}")
-        raise ProjectError(f"{path}: {len(lines)} problem(s) in the project file:\n" + "\n".join(lines)) from None
+            where = problems.setdefault(_loc(e["loc"]) or "(top level)", [])
+            if msg not in where:
+                where.append(msg)
+        lines = [f"{k}: {' or '.join(v)}" for k, v in problems.items()]
+        if len(lines) == 1:
+            raise ProjectError(f"{path}: {lines[0]}") from None
+        raise ProjectError(f"{path}: {len(lines)} problems in the project file:\n" + "\n".join(
+            "  " + s for s in lines)) from None
     return resolve(path, spec)
 
 
 def _need_file(path: Path, where: str, what: str) -> Path:
-    if not path.is_file():
-        raise ProjectError(f"{where}: {what} '{path}' not found (paths are relative to the project file's folder)")
-    return path
+    from .validate import need_file
+    return need_file(path, where, what)
 
 
 def resolve(path: Path, spec: ProjectFile) -> Project:
     """Build the model, configurations and variables a validated spec names, checking every reference."""
+    from .validate import check_test_data, checked_path, output_dir, read_reference
     folder = path.parent
-    rel = lambda s: (Path(s) if Path(s).is_absolute() else folder / s)  # noqa: E731
     where = str(path)
+
+    def rel(value: str, key: str) -> Path:  # key: "<project file>: <key>"
+        return checked_path(folder, value, key, "file")
+
+    output_dir(folder, spec.outputs.directory, spec.outputs.allow_outside, f"{where}: outputs.directory")
     case = deck = None
     if spec.model.case is not None:
         from .. import cases
@@ -117,7 +151,7 @@ def resolve(path: Path, spec: ProjectFile) -> Project:
             raise ProjectError(f"{where}: model.case: {exc}") from None
         model, available = case.model, dict(case.configurations)
     else:
-        bdf = _need_file(rel(spec.model.bdf), f"{where}: model.bdf", "deck")
+        bdf = _need_file(rel(spec.model.bdf, f"{where}: model.bdf"), f"{where}: model.bdf", "deck")
         from ..io import read_bdf
         try:
             deck = read_bdf(bdf, units=spec.model.units)
@@ -132,6 +166,11 @@ def resolve(path: Path, spec: ProjectFile) -> Project:
         if dup:
             raise ProjectError(f"{where}: {kind}: names must be unique; repeated: {dup}")
     blocks = {b.name: b for b in spec.suspension_tests}
+    for k, b in enumerate(spec.suspension_tests):
+        try:
+            block_point(b)
+        except FlexGVTError as exc:
+            raise ProjectError(f"{where}: suspension_tests[{k}] ('{b.name}'): {exc}") from None
     configurations, sensors = {}, {}
     for k, c in enumerate(spec.configurations):
         loc = f"{where}: configurations[{k}] ('{c.name}')"
@@ -143,8 +182,9 @@ def resolve(path: Path, spec: ProjectFile) -> Project:
             t = c.test
             for key, files in (("frfs", t.frfs), ("modes", t.modes)):
                 for f in ([files] if isinstance(files, str) else files or []):
-                    _need_file(rel(f), f"{loc}.test.{key}", "test data file")
-            sensors[c.name] = _points(t.points, case, model, rel, f"{loc}.test.points")
+                    _need_file(rel(f, f"{loc}.test.{key}"), f"{loc}.test.{key}", "test data file")
+            sensors[c.name] = _points(t.points, case, model, lambda s: rel(s, f"{loc}.test.points"),
+                                      f"{loc}.test.points")
     if not spec.variables and any(c.role == "update" for c in spec.configurations):
         raise ProjectError(f"{where}: variables: no design variable; add [[variables]] tables (or set every "
                            "configuration's role = \"check\" to only compare and predict)")
@@ -154,8 +194,13 @@ def resolve(path: Path, spec: ProjectFile) -> Project:
             raise ProjectError(f"{where}: prediction.proposed[{k}]: no configuration '{name}'; the model defines "
                                f"{sorted(available)}, the project {names}")
     if spec.prediction.reference is not None:
-        _need_file(rel(spec.prediction.reference), f"{where}: prediction.reference", "reference file")
-    return Project(path, spec, model, configurations, available, variables, case, deck, sensors)
+        key = f"{where}: prediction.reference"
+        read_reference(_need_file(rel(spec.prediction.reference, key), key, "reference file"), key)
+    project = Project(path, spec, model, configurations, available, variables, case, deck, sensors)
+    for k, c in enumerate(spec.configurations):
+        if c.test is not None:
+            check_test_data(project, k, c, where)
+    return project
 
 
 def _configuration(c: ConfigurationSpec, available: dict, blocks: dict, model: Model, loc: str) -> Configuration:
@@ -206,8 +251,14 @@ def _configuration(c: ConfigurationSpec, available: dict, blocks: dict, model: M
                                        f"{sorted(blocks)}")
                 point = block_point(blocks[cs.block_test])
                 k, damp = point.stiffness, point.damping
+            if not (np.isfinite(k) and k > 0 and np.isfinite(damp) and damp >= 0):
+                raise ProjectError(f"{cl}: stiffness {k!r} N/m must be > 0 and damping {damp!r} N s/m >= 0")
+            if cs.carries is not None and not cs.carries >= 0:
+                raise ProjectError(f"{cl}.carries: {cs.carries!r} kg must be >= 0")
             attach = model.xyz[model.index_of([cs.node])[0]] + np.asarray(cs.offset)
             length = float(np.linalg.norm(np.asarray(cs.anchor) - attach))
+            if not np.isfinite(length):
+                raise ProjectError(f"{cl}: the anchor and offset must be finite coordinates [m]")
             free = cs.unstretched_length if cs.unstretched_length is not None else length - cs.carries * g / k
             if free <= 0:
                 raise ProjectError(f"{cl}: the cord would need a negative unstretched length to carry "
@@ -243,14 +294,9 @@ def _points(points: str, case, model: Model, rel, where: str) -> tuple[dict, dic
         if case is None or not case.sensors:
             raise ProjectError(f"{where}: 'case' needs a built-in model with sensors; give a CSV of points instead")
         return case_points(case)
+    from .validate import test_points
     path = _need_file(rel(points), where, "test point file")
-    try:
-        rows = np.atleast_2d(np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2))
-    except ValueError as exc:
-        raise ProjectError(f"{where}: {path}: expected CSV columns point,node,dx,dy,dz [m] after a header: {exc}") \
-            from None
-    if rows.shape[1] not in (2, 5) or not np.all(np.isfinite(rows)):
-        raise ProjectError(f"{where}: {path}: expected columns point,node[,dx,dy,dz] with finite values")
+    rows = test_points(path, where)
     node_map = {int(r[0]): int(r[1]) for r in rows}
     for pt, node in node_map.items():
         _node(model, node, f"{where}: {path} point {pt}")

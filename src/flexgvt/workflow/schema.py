@@ -205,7 +205,11 @@ class PredictionSpec(Strict):
 
 
 class OutputSpec(Strict):
+    """Where results go: ``directory`` (relative to the project file) must stay inside the project
+    folder unless ``allow_outside`` is set."""
+
     directory: str = "results"
+    allow_outside: bool = False
     report: bool = True
     bdf: bool = True
     uff: bool = True

@@ -4,7 +4,6 @@ free-flying prediction (suspension removed, proposed suspensions) scored against
 
 from __future__ import annotations
 
-import json
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -136,20 +135,22 @@ def predict(project: Project, model: Model, configurations: dict[str, Configurat
             row[f"{name}_mac"] = r["suspended_mac"]
     out = Prediction(model.name, [rows[k] for k in sorted(rows)], free, proposed)
     if project.spec.prediction.reference is not None:
-        score(out, json.loads(project.file(project.spec.prediction.reference).read_text()))
+        from .validate import read_json
+        path = project.file(project.spec.prediction.reference)
+        score(out, read_json(path, f"{project.path}: prediction.reference"), where=f"{project.path}: {path}")
     return out
 
 
-def score(prediction: Prediction, reference: dict) -> None:
+def score(prediction: Prediction, reference: dict, where: str = "reference") -> None:
     """Add reference_hz and error_percent to the free-free rows. reference: {'free_free':
     {'frequencies_hz': [...], 'labels': [...]}} (elastic modes); paired by label where the labels
-    agree one to one, else by nearest frequency (one to one)."""
-    ref = reference.get("free_free", reference)
-    f = np.asarray(ref.get("frequencies_hz", []), float)
-    labels = list(ref.get("labels", []))
-    if not len(f):
-        return
+    agree one to one, else by nearest frequency (one to one). ProjectError (naming ``where``) for
+    any other layout."""
+    from .validate import reference_table
+    f, labels = reference_table(reference, where)
     pred = prediction.frequencies()
+    if not len(f) or not len(pred):
+        return
     pairs = _pair_by_frequency(f, pred)
     lab = [r["label"] for r in prediction.rows]
     for i, name in enumerate(labels):

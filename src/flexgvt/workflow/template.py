@@ -104,6 +104,7 @@ n_modes = 10
 {reference}
 [outputs]
 directory = "results"      # report.html, updated.bdf, modes as UFF 55, CSV tables, the results store
+# allow_outside = false    # true lets `directory` point outside this project's folder ("../x", "/data/...")
 report = true
 bdf = true
 uff = true
@@ -206,3 +207,50 @@ def driving_points(model, sensors: dict) -> list[str]:
     first = max(rows, key=lambda r: (round(r[1][1], 3), -r[1][0]))[0]
     second = min(rows, key=lambda r: (abs(r[1][1] + span / 2), -r[1][0]))[0]
     return [first, second]
+
+
+def write_modes_example(folder: Path, seed: int = 7) -> list[Path]:
+    """Modes already identified, beside a `write_example` project: the as-built airframe's modes at the
+    case's test points (first 12 of each layout, shapes from the node translations) as
+    modes/outboard.json (the {"key", "data"} layout `flexgvt run` caches), modes/inboard.csv,
+    modes/outboard.uff (UFF 55 with geometry) and modes/points.csv (point,node,dx,dy,dz [m]), for
+    projects with ``modes = ...`` test data (examples, robustness tests)."""
+    from .. import cases
+    from ..fem import solve_modes, solve_static
+    from ..io.uff import ModalResults, TestGeometry, write_uff
+    from .project import case_points
+
+    folder = Path(folder)
+    (folder / "modes").mkdir(parents=True, exist_ok=True)
+    truth = cases.xhale(as_built=True, seed=seed)
+    node_map, offsets = case_points(truth)
+    points = np.array(sorted(node_map))
+    rows = truth.model.index_of([node_map[p] for p in points])
+    files = []
+    for c in ("outboard", "inboard"):
+        m = solve_modes(solve_static(truth.model, truth.configurations[c]), 12, damped=False)
+        shapes = m.shapes[:, rows, :3]  # (modes, points, 3)
+        outputs = [[int(p), d + 1] for p in points for d in range(3)]
+        flat = shapes.reshape(len(shapes), -1)
+        damping = np.full(len(shapes), 0.02)
+        if c == "outboard":
+            data = {"configuration": c, "source": "synthetic", "frequencies_hz": m.frequencies_hz.tolist(),
+                    "damping_ratio": damping.tolist(), "labels": list(m.labels), "outputs": outputs,
+                    "shapes_real": flat.tolist(), "shapes_imag": np.zeros_like(flat).tolist()}
+            files.append(folder / "modes" / "outboard.json")
+            files[-1].write_text(json.dumps({"key": "synthetic", "data": data}))
+            xyz = truth.model.xyz[rows] + np.array([offsets[p] for p in points])
+            files.append(write_uff(folder / "modes" / "outboard.uff", geometry=TestGeometry(points, xyz),
+                                   modes=ModalResults(m.frequencies_hz, damping, shapes, points)))
+        else:
+            head = ["mode", "frequency_hz", "damping_ratio", "label"] + [f"{p}+{'XYZ'[d - 1]}" for p, d in outputs]
+            lines = [",".join(head)] + [",".join([str(k + 1), f"{f:.8g}", "0.02", m.labels[k]] +
+                                                 [f"{v:.6g}" for v in flat[k]])
+                                        for k, f in enumerate(m.frequencies_hz)]
+            files.append(folder / "modes" / "inboard.csv")
+            files[-1].write_text("\n".join(lines) + "\n")
+    lines = ["point,node,dx,dy,dz"] + [f"{p},{node_map[p]},{offsets[p][0]:.6g},{offsets[p][1]:.6g},{offsets[p][2]:.6g}"
+                                       for p in points]
+    files.append(folder / "modes" / "points.csv")
+    files[-1].write_text("\n".join(lines) + "\n")
+    return files
