@@ -80,6 +80,9 @@ class CardIndex:
         self.places: dict[tuple[str, str], list[tuple[str, int]]] = {}
         self.root = Path(path).resolve().parent
         self.missing_includes: list[tuple[str, int, str]] = []
+        from ._limits import ExpansionBudget
+
+        self.budget = ExpansionBudget()  # raises at a THRU range or replication past its limit
         self._scan(Path(path), depth=0)
 
     def _scan(self, path: Path, depth: int) -> None:
@@ -87,6 +90,7 @@ class CardIndex:
             return
         with open(path, "r", errors="replace") as handle:
             lines = handle.readlines()
+        self.budget.scan(path, lines)
         for lineno, raw in enumerate(lines, start=1):
             line = raw.rstrip("\r\n")
             match = _INCLUDE.match(line)

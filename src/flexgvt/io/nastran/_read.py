@@ -34,6 +34,7 @@ from ._common import (
     get_units,
     where_prefix,
 )
+from ._limits import MAX_ID, MAX_VALUE, bad_reals, field_label
 from ._read_beams import BeamsMixin, BeamSource, _frame_from_x, _scale_section  # noqa: F401
 from ._read_configs import ConfigurationsMixin
 from ._read_masses import MassesMixin, _rigid_mass  # noqa: F401
@@ -149,6 +150,20 @@ def _open_bdf(path: Path, index: CardIndex, notes: list[str]):
     return bdf
 
 
+TWO_NODE_CARDS = ("CBAR", "CBEAM", "CROD", "CONROD", "CTUBE")
+
+
+def _element_nodes(elem) -> list:
+    """Node fields of an element as given (pyNastran's node_ids asserts on a blank or 0 one)."""
+    nodes = getattr(elem, "nodes", None)
+    if nodes is None:
+        try:
+            nodes = elem.node_ids
+        except Exception:  # noqa: BLE001
+            nodes = []
+    return [n if isinstance(n, int) or n is None else getattr(n, "nid", n) for n in list(nodes)]
+
+
 _CARD_IN_MSG = re.compile(r"card\s*=\s*\[\s*'([A-Za-z0-9*]+)'\s*,\s*'?([^',\]]*)'?")
 
 
@@ -221,6 +236,45 @@ class _Reader(BeamsMixin, MassesMixin, CardsMixin, ConfigurationsMixin):
         values = getattr(p, "values", None) or [default]
         return values[0] if values[0] is not None else default
 
+    # ----------------------------------------------------------------- ids and values
+    def _tables(self):
+        bdf = self.bdf
+        return (("node", {k: v for k, v in bdf.nodes.items()}), ("element", bdf.elements), ("mass element", bdf.masses),
+                ("rigid element", bdf.rigid_elements), ("property", bdf.properties),
+                ("property", getattr(bdf, "properties_mass", {}) or {}), ("material", bdf.materials),
+                ("coordinate system", {k: v for k, v in bdf.coords.items() if k != 0}))
+
+    def check_ids_and_values(self) -> None:
+        """Ids within Nastran's 1..99999999 and real fields finite and within MAX_VALUE, on every card
+        flexgvt reads (before any is used: an id of 1e20 or a field of 1e300 would otherwise fail
+        far from the card, or overflow in the eigensolver)."""
+        bdf, problems = self.bdf, []
+        for label, table in self._tables():
+            for ident, card in table.items():
+                if not isinstance(ident, int) or not 0 < ident <= MAX_ID:
+                    name = getattr(card, "type", "?")
+                    problems.append(f"{self.at(name, ident)}: {label} id {ident} is outside Nastran's range 1 to "
+                                    f"{MAX_ID}; renumber it")
+        if problems:
+            raise ModelError(f"{self.path}: " + "; ".join(problems[:8]) + ("; ..." if len(problems) > 8 else ""))
+        cards = [c for _, table in self._tables() for c in table.values()]
+        for group in (bdf.spcs, bdf.mpcs, bdf.loads, getattr(bdf, "load_combinations", {}) or {}, bdf.methods,
+                      getattr(bdf, "cMethods", {}) or {}):
+            for value in group.values():
+                cards.extend(value if isinstance(value, list) else [value])
+        for card in cards:
+            bad = bad_reals(card)
+            if bad:
+                k, v = bad[0]
+                ident = next((getattr(card, a) for a in ("eid", "nid", "pid", "mid", "cid", "sid", "conid")
+                              if isinstance(getattr(card, a, None), int)), "?")
+                why = "is not a finite number" if not math.isfinite(v) else \
+                    f"exceeds {MAX_VALUE:g} in magnitude (stiffness and mass products of such values overflow)"
+                problems.append(f"{self.at(card.type, ident)}: {field_label(card, k)} = {v!r} {why}")
+        if problems:
+            raise ModelError(f"{self.path}: " + "; ".join(problems[:8]) + ("; ..." if len(problems) > 8 else "") +
+                             ". Fix the value (or the deck's unit system)")
+
     # ----------------------------------------------------------------- references
     def check_references(self) -> None:
         bdf, miss = self.bdf, self.missing
@@ -237,8 +291,14 @@ class _Reader(BeamsMixin, MassesMixin, CardsMixin, ConfigurationsMixin):
                 if coord.type.startswith("CORD1") and g is not None and g not in nodes:
                     miss.append(f"{self.at(coord.type, cid)} refers to node {g}, which is not defined")
         for eid, elem in bdf.elements.items():
-            ids = [n for n in (elem.node_ids if hasattr(elem, "node_ids") else []) if n not in (None, 0)]
-            for n in ids:
+            ids = _element_nodes(elem)
+            if elem.type in TWO_NODE_CARDS and (len(ids) < 2 or any(n in (None, 0) for n in ids[:2])):
+                miss.append(f"{self.at(elem.type, eid)} has GA/GB = {ids[:2]}; give both end grids (ids above 0)")
+                continue
+            if ids and all(n in (None, 0) for n in ids):
+                miss.append(f"{self.at(elem.type, eid)} connects no grid (all node fields blank or 0)")
+                continue
+            for n in (n for n in ids if n not in (None, 0)):
                 if n not in nodes:
                     miss.append(f"{self.at(elem.type, eid)} refers to node {n}, which is not defined")
             pid = getattr(elem, "pid", None)
@@ -260,7 +320,13 @@ class _Reader(BeamsMixin, MassesMixin, CardsMixin, ConfigurationsMixin):
             if getattr(elem, "cid", 0) not in (None, -1, 0) and elem.cid not in coords:
                 miss.append(f"{self.at(elem.type, eid)} refers to coordinate system {elem.cid}, which is not defined")
         for eid, elem in bdf.rigid_elements.items():
-            for n in elem.independent_nodes + elem.dependent_nodes:
+            try:
+                refs = list(elem.independent_nodes) + list(elem.dependent_nodes)
+            except Exception as exc:  # noqa: BLE001 - pyNastran asserts on blank or 0 node fields
+                miss.append(f"{self.at(elem.type, eid)} has a blank or invalid node field ({type(exc).__name__}: "
+                            f"{(str(exc).splitlines() or [''])[0][:80]})")
+                continue
+            for n in refs:
                 if n not in nodes:
                     miss.append(f"{self.at(elem.type, eid)} refers to node {n}, which is not defined")
         for pid, prop in bdf.properties.items():
@@ -282,6 +348,7 @@ class _Reader(BeamsMixin, MassesMixin, CardsMixin, ConfigurationsMixin):
                 node.ps = node.ps or (grdset.ps or "")
             bdf.grdset = None
             self.notes.append("GRDSET defaults applied to GRID fields that are blank or 0")
+        self.check_ids_and_values()
         self.check_references()
         try:
             with contextlib.redirect_stdout(io.StringIO()):

@@ -175,6 +175,11 @@ class BeamsMixin:
         ga = elem.nodes[0] if hasattr(elem, "nodes") else elem.ga
         if elem.g0 not in (None, 0):
             return self.xyz_deck[elem.g0] - self.xyz_deck[ga]
+        if elem.x is None or np.shape(elem.x) != (3,):
+            given = "G0 = 0 (an integer in the X1 field is read as the node id G0)" if elem.g0 == 0 else \
+                f"X1-X3 = {elem.x!r}"
+            raise ModelError(f"{self.at(elem.type, elem.eid)}: orientation {given} defines no direction; give X1, X2, "
+                             "X3 as real numbers (0.0, not 0) or G0 as the id of a grid off the element axis")
         x = np.asarray(elem.x, float)
         offt = (getattr(elem, "offt", None) or "GGG") if elem.type != "CBUSH" else "GGG"
         if isinstance(offt, str) and offt[0] == "G":
