@@ -34,7 +34,7 @@ from ._common import (
     get_units,
     where_prefix,
 )
-from ._limits import MAX_ID, MAX_VALUE, bad_reals, field_label
+from ._limits import MAX_COORDINATE_M, MAX_ID, MAX_VALUE, bad_reals, field_label
 from ._read_beams import BeamsMixin, BeamSource, _frame_from_x, _scale_section  # noqa: F401
 from ._read_configs import ConfigurationsMixin
 from ._read_masses import MassesMixin, _rigid_mass  # noqa: F401
@@ -244,6 +244,10 @@ class _Reader(BeamsMixin, MassesMixin, CardsMixin, ConfigurationsMixin):
                 ("property", getattr(bdf, "properties_mass", {}) or {}), ("material", bdf.materials),
                 ("coordinate system", {k: v for k, v in bdf.coords.items() if k != 0}))
 
+    def _listing(self, problems: list[str]) -> str:
+        text = "; ".join(problems[:8]) + ("; ..." if len(problems) > 8 else "")
+        return text if text.startswith(str(self.path)) else f"{self.path}: {text}"
+
     def check_ids_and_values(self) -> None:
         """Ids within Nastran's 1..99999999 and real fields finite and within MAX_VALUE, on every card
         flexgvt reads (before any is used: an id of 1e20 or a field of 1e300 would otherwise fail
@@ -256,7 +260,7 @@ class _Reader(BeamsMixin, MassesMixin, CardsMixin, ConfigurationsMixin):
                     problems.append(f"{self.at(name, ident)}: {label} id {ident} is outside Nastran's range 1 to "
                                     f"{MAX_ID}; renumber it")
         if problems:
-            raise ModelError(f"{self.path}: " + "; ".join(problems[:8]) + ("; ..." if len(problems) > 8 else ""))
+            raise ModelError(self._listing(problems))
         cards = [c for _, table in self._tables() for c in table.values()]
         for group in (bdf.spcs, bdf.mpcs, bdf.loads, getattr(bdf, "load_combinations", {}) or {}, bdf.methods,
                       getattr(bdf, "cMethods", {}) or {}):
@@ -272,8 +276,7 @@ class _Reader(BeamsMixin, MassesMixin, CardsMixin, ConfigurationsMixin):
                     f"exceeds {MAX_VALUE:g} in magnitude (stiffness and mass products of such values overflow)"
                 problems.append(f"{self.at(card.type, ident)}: {field_label(card, k)} = {v!r} {why}")
         if problems:
-            raise ModelError(f"{self.path}: " + "; ".join(problems[:8]) + ("; ..." if len(problems) > 8 else "") +
-                             ". Fix the value (or the deck's unit system)")
+            raise ModelError(self._listing(problems) + ". Fix the value (or the deck's unit system)")
 
     # ----------------------------------------------------------------- references
     def check_references(self) -> None:
@@ -382,6 +385,12 @@ class _Reader(BeamsMixin, MassesMixin, CardsMixin, ConfigurationsMixin):
         if len(bad):
             raise ModelError(f"{self.at('GRID', nids[bad[0]])}: coordinates {xyz[bad[0]] / u.length} are not finite "
                              f"({len(bad)} grid(s)); give real numbers for X1-X3")
+        far = np.flatnonzero(np.abs(xyz).max(axis=1) > MAX_COORDINATE_M)
+        if len(far):
+            raise ModelError(f"{self.at('GRID', nids[far[0]])}: basic coordinates {xyz[far[0]] / u.length} lie more than "
+                             f"{MAX_COORDINATE_M:g} m from the origin ({len(far)} grid(s)); element lengths of that size "
+                             "overflow the stiffness and mass products. Fix the coordinates, their CP system or the "
+                             "deck's units")
         self.xyz = dict(zip(nids, xyz))
         self.xyz_deck = {n: x / u.length for n, x in self.xyz.items()}
         model.add_nodes(xyz, ids=nids)
