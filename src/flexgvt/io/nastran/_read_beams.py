@@ -77,7 +77,7 @@ class BeamsMixin:
             if not G and not nu:
                 raise ModelError(f"{where}: G and NU are both blank, which Nastran reads as G = 0 (no torsional or "
                                  "shear stiffness); give G or NU")
-            consistent = G and nu is not None and math.isclose(G, E / (2 * (1 + nu)), rel_tol=1e-6)
+            consistent = G and nu is not None and nu != -1 and math.isclose(G, E / (2 * (1 + nu)), rel_tol=1e-6)
             # E and G given with NU blank: Nastran takes NU = E/2G - 1 whatever its value (a beam's
             # equivalent properties often give NU outside (-1, 0.5); only E and G act on a beam).
             use_nu = not G or (consistent and -1 < nu < 0.5)

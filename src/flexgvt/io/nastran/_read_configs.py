@@ -346,6 +346,9 @@ class ConfigurationsMixin:
             else:
                 forces.append(NodalLoad(int(nid), moment=tuple(vec * u.moment)))
         elif card.type == "GRAV":
+            if card.cid not in (None, 0) and card.cid not in bdf.coords:
+                raise ModelError(f"{where} refers to coordinate system {card.cid}, which is not defined; add its CORD "
+                                 "card or fix CID")
             if card.cid not in (None, 0) and bdf.coords[card.cid].Type != "R":
                 self.skip("GRAV (curvilinear CID)", card.sid)
                 return
