@@ -4,7 +4,7 @@
 
 Each case is one real or synthetic deck of tests/data/bdf with one mutation (a field replaced by
 0, -1, 1e20, 1e300, nan, blank, text...; a huge THRU range, set or card replication; a line
-deleted, duplicated or truncated; two fields swapped; random bytes), run in a worker process with
+deleted, duplicated or truncated; two fields swapped; random bytes; or a few of these at once), run in a worker process with
 a per-case timeout. Outcomes: read (read and solved), clear (a FlexGVTError), foreign (any other
 exception), hang (no answer within the timeout), crash (the worker died). Foreign exceptions and
 hangs are grouped by class and innermost flexgvt frame; the first case of each group is saved in
@@ -67,7 +67,13 @@ def mutate(text: str, rng: np.random.Generator) -> tuple[str, str]:
     lines = text.split("\n")
     bulk = _bulk(lines)
     k = int(rng.choice(bulk))
-    kind = int(rng.choice(9, p=[0.34, 0.08, 0.08, 0.06, 0.1, 0.1, 0.08, 0.06, 0.1]))
+    kind = int(rng.choice(10, p=[0.3, 0.07, 0.07, 0.05, 0.09, 0.1, 0.08, 0.06, 0.1, 0.08]))
+    if kind == 9:  # a few mutations at once (combinations of bad values, ids and lines)
+        whats = []
+        for _ in range(int(rng.integers(2, 5))):
+            text, what = mutate(text, rng)
+            whats.append(what)
+        return text, "; ".join(whats)
     if kind in (0, 8):  # one (or two) fields replaced
         for _ in range(1 + (kind == 8)):
             k = int(rng.choice(bulk))
