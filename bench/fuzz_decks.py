@@ -4,9 +4,10 @@
 
 Each case is one real or synthetic deck of tests/data/bdf with one mutation (a field replaced by
 0, -1, 1e20, 1e300, nan, blank, text...; a huge THRU range, set or card replication; a line
-deleted, duplicated or truncated; two fields swapped; random bytes; or a few of these at once), run in a worker process with
-a per-case timeout. Outcomes: read (read and solved), clear (a FlexGVTError), foreign (any other
-exception), hang (no answer within the timeout), crash (the worker died). Foreign exceptions and
+deleted, duplicated or truncated; two fields swapped; random bytes; or a few of these at once),
+run in a worker process with a per-case timeout. Outcomes: read (read and solved), clear (a
+FlexGVTError), foreign (any other exception), hang (no answer within the timeout), crash (the
+worker died). Foreign exceptions and
 hangs are grouped by class and innermost flexgvt frame; the first case of each group is saved in
 OUT/reproducers/<group>/ with a line-reduced minimal deck. OUT/summary.json holds the counts.
 """
@@ -142,8 +143,15 @@ def run_case(payload: tuple[str, str, str]) -> str:
     path = _TMP[0] / f"case{suffix}"
     path.write_text(text)
     deck = fg.io.read_bdf(path, unsupported=unsupported)
-    solve_deck(deck)
+    for name, result in solve_deck(deck).items():
+        values = [result.modes.frequencies_hz, result.state.displacements]
+        if not all(np.all(np.isfinite(np.asarray(v, float))) for v in values):
+            raise SilentNonFinite(f"configuration {name}: NaN or infinite frequencies or displacements, no error")
     return "read"
+
+
+class SilentNonFinite(Exception):
+    """A deck read and solved without an error but with NaN or infinite results."""
 
 
 def _clear():

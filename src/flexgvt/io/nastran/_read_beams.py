@@ -11,6 +11,7 @@ from ...errors import ModelError
 from ...model import GeneralSection, Material, RodSection, TaperedSection
 from ._cards import BEAM_CARDS, BEAM_PROPERTIES, _supported_shapes
 from ._common import coord_axes
+from ._limits import MAX_SECTION_RATIO, MAX_VALUE
 from ._sections import SectionData, from_properties, library_section
 
 
@@ -233,6 +234,7 @@ class BeamsMixin:
                 continue
             sdata, nsm = got
             section = _scale_section(sdata.section, u.length)
+            self._check_section_size(section, prop)
             if not self.cbar_torsional_inertia and elems[0].type == "CBAR":  # Nastran's CBAR: no rho*Ip
                 p = section.properties()
                 section = GeneralSection(A=p["A"], Iy=p["Iy"], Iz=p["Iz"], J=p["J"], Ay=p["Ay"] or None,
@@ -274,6 +276,27 @@ class BeamsMixin:
                                                sdata.principal)
             if any(nsm):  # Nastran's lumped mass: int NSM N_i dx at each end (translations only)
                 self._lumped_nsm(pairs, nsm, prop.type, pid)
+
+    def _check_section_size(self, section, prop) -> None:
+        """Section properties (SI) finite and within MAX_VALUE: PBARL/PBEAML dimensions enter I and J
+        to the fourth power, so a dimension of 1e20 (within the field limit) gives I = 1e80."""
+        ends = section.end_properties() if isinstance(section, TaperedSection) else (section.properties(),)
+        for values in ends:
+            bad = {k: v for k, v in values.items() if v is not None and not (math.isfinite(v) and abs(v) <= MAX_VALUE)}
+            if bad:
+                listing = ", ".join(f"{k} = {v:.3g}" for k, v in bad.items())
+                raise ModelError(f"{self.at(prop.type, prop.pid)}: section properties {listing} (SI) exceed {MAX_VALUE:g}"
+                                 " in magnitude (stiffness products of such values overflow); check the dimensions "
+                                 "and the deck's units")
+            # Bending and torsion stiffness of one section act on the same rotations: beyond a ratio of
+            # 1e12 the weaker is lost in double precision (a PBEAM J of 1e16 with I1 = 0.8 gave
+            # negative frequencies, 1e20 an eigensolver that ran 97 s before failing).
+            moments = {k: abs(values[k]) for k in ("Iy", "Iz", "J") if values.get(k)}
+            if len(moments) > 1 and max(moments.values()) > MAX_SECTION_RATIO * min(moments.values()):
+                listing = ", ".join(f"{k} = {v:.3g}" for k, v in moments.items())
+                raise ModelError(f"{self.at(prop.type, prop.pid)}: section moments {listing} (SI) differ by more than a "
+                                 f"factor {MAX_SECTION_RATIO:g}, beyond what double precision resolves in one stiffness "
+                                 "matrix; check the value (I1, I2, J)")
 
     def _beam_end(self, elem, end: int) -> int:
         """Node at end A (0) or B (1) of a CBAR/CBEAM: its grid, or for an offset (WA/WB) or a pin
