@@ -33,6 +33,7 @@ SOURCES = ["all_cards.bdf", "rods.bdf", "pynastran/sdof_crod.bdf", "pynastran/pt
            "pynastran/euler_column_linear_buckling.bdf", "beam_modes/beam_modes.dat", "beam_modes/cbar_cbeam.blk",
            "pynastran/cantilever_2014.1.bdf"]
 SMALL_SOURCES = SOURCES[:7] + ["beam_modes/beam_modes.dat", "beam_modes/cbar_cbeam.blk"]
+INCLUDES = {"beam_modes/beam_modes.dat": ["beam_modes/cbar_cbeam.blk"]}  # written beside the mutated deck
 VALUES = ["0", "0.", "-1", "-1.", "1e20", "1.e20", "1e300", "-1e300", "1.+300", "1e308", "1e-300", "nan", "inf",
           "-inf", "", "abc", "YES", "1.5", "99999999", "100000000", "2147483648", "99999999999999999999", "+", "*",
           "=", "THRU", "-99999999", "1.e+30"]
@@ -132,26 +133,45 @@ def mutate(text: str, rng: np.random.Generator) -> tuple[str, str]:
 _TMP: list[Path] = []
 
 
-def run_case(payload: tuple[str, str, str]) -> str:
-    """Worker side: write the deck, read it and solve every subcase."""
+def run_case(payload: tuple) -> str:
+    """Worker side: write the deck (and its includes) in the worker's own folder, which is also its
+    working directory, read it and solve every subcase; a file left behind is an error too."""
+    import os
+
     import flexgvt as fg
     from flexgvt.workflow.deck import solve_deck
 
-    text, suffix, unsupported = payload
+    text, suffix, unsupported = payload[:3]
+    includes = payload[3] if len(payload) > 3 else {}
     if not _TMP:
         _TMP.append(Path(tempfile.mkdtemp(prefix="fuzz_decks_")))
-    path = _TMP[0] / f"case{suffix}"
+        os.chdir(_TMP[0])
+    folder = _TMP[0]
+    for old in folder.iterdir():
+        old.unlink()
+    for name, content in includes.items():
+        (folder / name).write_text(content)
+    path = folder / f"case{suffix}"
     path.write_text(text)
-    deck = fg.io.read_bdf(path, unsupported=unsupported)
-    for name, result in solve_deck(deck).items():
-        values = [result.modes.frequencies_hz, result.state.displacements]
-        if not all(np.all(np.isfinite(np.asarray(v, float))) for v in values):
-            raise SilentNonFinite(f"configuration {name}: NaN or infinite frequencies or displacements, no error")
+    try:
+        deck = fg.io.read_bdf(path, unsupported=unsupported)
+        for name, result in solve_deck(deck).items():
+            values = [result.modes.frequencies_hz, result.state.displacements]
+            if not all(np.all(np.isfinite(np.asarray(v, float))) for v in values):
+                raise SilentNonFinite(f"configuration {name}: NaN or infinite frequencies or displacements, no error")
+    finally:
+        stray = sorted(p.name for p in folder.iterdir() if p.name not in {path.name, *includes})
+    if stray:
+        raise StrayFile(f"files written in the working directory: {stray}")
     return "read"
 
 
 class SilentNonFinite(Exception):
     """A deck read and solved without an error but with NaN or infinite results."""
+
+
+class StrayFile(Exception):
+    """Reading or solving a deck left a file in the working directory (pyNastran_crash.bdf)."""
 
 
 def _clear():
@@ -168,6 +188,7 @@ def fuzz(n: int, seed: int, timeout: float, out: Path | None = None, sources=SOU
     """Run ``n`` mutated decks; returns the Tally (and writes OUT/summary.json, OUT/reproducers)."""
     rng = np.random.default_rng(seed)
     texts = [(DATA / s).read_text(errors="replace") for s in sources]
+    includes = [{Path(i).name: (DATA / i).read_text() for i in INCLUDES.get(s, [])} for s in sources]
     tally = fuzzlib.Tally()
     clear = _clear()
     t0 = time.perf_counter()
@@ -176,7 +197,7 @@ def fuzz(n: int, seed: int, timeout: float, out: Path | None = None, sources=SOU
             src = int(rng.integers(len(sources)))
             text, what = mutate(texts[src], rng)
             suffix = Path(sources[src]).suffix
-            payload = (text, suffix, ("warn", "error")[case % 2])
+            payload = (text, suffix, ("warn", "error")[case % 2], includes[src])
             result = worker.run(run_case, payload, clear)
             new = tally.add(f"{case}: {sources[src]}, {what}", result)
             if new and out is not None:
@@ -190,9 +211,11 @@ def fuzz(n: int, seed: int, timeout: float, out: Path | None = None, sources=SOU
 
 
 def _save(folder: Path, payload, result, worker, clear, reduce: bool, log) -> None:
-    text, suffix, unsupported = payload
+    text, suffix, unsupported, includes = payload
     folder.mkdir(parents=True, exist_ok=True)
     (folder / f"original{suffix}").write_text(text)
+    for name, content in includes.items():
+        (folder / name).write_text(content)
     (folder / "error.txt").write_text(f"{result['class']} at {result['site']}: {result['message']}\n"
                                       f"read_bdf(..., unsupported='{unsupported}') then solve_deck\n")
     if not reduce or result["outcome"] == "hang":
@@ -200,7 +223,7 @@ def _save(folder: Path, payload, result, worker, clear, reduce: bool, log) -> No
     key = fuzzlib.site_key(result)
 
     def still_fails(lines):
-        got = worker.run(run_case, ("\n".join(lines), suffix, unsupported), clear)
+        got = worker.run(run_case, ("\n".join(lines), suffix, unsupported, includes), clear)
         return fuzzlib.site_key(got) == key if got["outcome"] in fuzzlib.Tally.BAD else False
 
     minimal = fuzzlib.reduce_lines(text.split("\n"), still_fails)

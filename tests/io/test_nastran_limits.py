@@ -98,3 +98,13 @@ def test_grav_in_an_undefined_system_and_nu_of_minus_one(tmp_path):
                             head="SOL 103\nCEND\nSPC = 1\nLOAD = 4\nBEGIN BULK\n"))
     got = fg.io.read_bdf(deck(tmp_path, BEAM.replace("MAT1,1,7.e10,,0.3,", "MAT1,1,7.e10,2.6e10,-1.,")))
     assert got.materials[1].shear_modulus == pytest.approx(2.6e10)
+
+
+def test_a_malformed_include_is_refused_before_pynastran_dumps_the_deck(tmp_path, monkeypatch):
+    """An INCLUDE with its closing quote gone (fuzzed beam_modes.dat) made pyNastran write
+    ./pyNastran_crash.bdf into the user's working directory and raise an IndexError."""
+    monkeypatch.chdir(tmp_path)
+    path = deck(tmp_path, BEAM, head="SOL 103\nCEND\nSPC = 1\nBEGIN BULK\nINCLUDE 'other.blk\n")
+    with pytest.raises(FileFormatError, match=r"deck.bdf:5: \"INCLUDE 'other.blk\" is not an INCLUDE statement"):
+        fg.io.read_bdf(path)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["deck.bdf"]

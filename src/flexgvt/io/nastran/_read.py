@@ -117,6 +117,10 @@ def _open_bdf(path: Path, index: CardIndex, notes: list[str]):
     A plain BEGIN BULK repeated inside the bulk data (a pasted deck) is ignored and noted."""
     from pyNastran.bdf.bdf import BDF
 
+    if index.bad_includes:  # pyNastran would dump the deck to ./pyNastran_crash.bdf and fail
+        f, ln, text = index.bad_includes[0]
+        raise FileFormatError(f"{f}:{ln}: {text!r} is not an INCLUDE statement flexgvt reads; write INCLUDE 'path' "
+                              "on one line, the path in single quotes")
     if index.missing_includes:
         f, ln, target = index.missing_includes[0]
         raise FileFormatError(f"{f}:{ln}: INCLUDE file {target} does not exist; fix the path (relative paths are "
