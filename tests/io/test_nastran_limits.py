@@ -108,3 +108,13 @@ def test_a_malformed_include_is_refused_before_pynastran_dumps_the_deck(tmp_path
     with pytest.raises(FileFormatError, match=r"deck.bdf:5: \"INCLUDE 'other.blk\" is not an INCLUDE statement"):
         fg.io.read_bdf(path)
     assert sorted(p.name for p in tmp_path.iterdir()) == ["deck.bdf"]
+
+
+def test_eigrl_nd_and_point_and_an_empty_dmig(tmp_path):
+    """Fuzzed decks: EIGRL ND = -99999999 reached the eigensolver (ValueError 'k must be greater than
+    0'); a DMIG header without columns raised a ValueError while classifying it."""
+    head = "SOL 103\nCEND\nSPC = 1\nMETHOD = 9\nBEGIN BULK\n"
+    with pytest.raises(ModelError, match="EIGRL 9: ND = -99999999; give the number of modes"):
+        fg.io.read_bdf(deck(tmp_path, BEAM + "EIGRL,9,,,-99999999\n", head=head))
+    got = fg.io.read_bdf(deck(tmp_path, BEAM + "DMIG, STIFF, 0, 6, 1, 0\n"))
+    assert got.model.n_beams == 1

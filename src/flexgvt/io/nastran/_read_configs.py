@@ -225,6 +225,8 @@ class ConfigurationsMixin:
         def num(v):
             return None if v is None or v == "" else float(v)
         nd = int(eig.nd) if getattr(eig, "nd", None) not in (None, "", 0) else None
+        if nd is not None and nd < 0:
+            raise ModelError(f"{where}: ND = {nd}; give the number of modes (a positive integer) or leave it blank")
         norm = (getattr(eig, "norm", None) or "MASS").upper()
         if norm not in ("MASS", "MAX", "POINT"):
             raise ModelError(f"{where}: NORM = {norm}; Nastran's real eigenvalue normalisations are MASS, MAX and "
@@ -232,8 +234,9 @@ class ConfigurationsMixin:
         point = None
         if norm == "POINT":
             g, c = getattr(eig, "G", None), getattr(eig, "C", None)
-            if not g or not c or int(g) not in self.bdf.nodes:
-                raise ModelError(f"{where}: NORM = POINT needs the grid G and component C of an existing grid")
+            if not g or not c or int(g) not in self.bdf.nodes or str(c).strip() not in tuple("123456"):
+                raise ModelError(f"{where}: NORM = POINT needs the grid G (got {g}) and component C (got {c}, one of "
+                                 "1-6) of an existing grid")
             point = (int(g), int(c))
         if eig.type == "EIGRL":
             return EigenMethod("EIGRL", sid, "LAN", nd, num(eig.v1), num(eig.v2), norm, point)
