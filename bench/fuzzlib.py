@@ -30,8 +30,12 @@ def classify(exc: BaseException, clear: tuple = ()) -> dict:
         name = frame.filename.replace("\\", "/")
         name = PACKAGE + "/" + name.rsplit(f"/{PACKAGE}/", 1)[1] if f"/{PACKAGE}/" in name else Path(name).name
         site = f"{name}:{frame.lineno} {frame.name}"
+    try:
+        message = (str(exc).splitlines() or [""])[0][:300]
+    except Exception as inner:  # noqa: BLE001 - an exception whose message itself fails
+        message = f"(str() raised {type(inner).__name__})"
     return {"outcome": "clear" if isinstance(exc, clear) else "foreign", "class": type(exc).__name__, "site": site,
-            "message": (str(exc).splitlines() or [""])[0][:300]}
+            "message": message}
 
 
 def _serve(conn, memory_bytes: int | None) -> None:

@@ -118,3 +118,12 @@ def test_eigrl_nd_and_point_and_an_empty_dmig(tmp_path):
         fg.io.read_bdf(deck(tmp_path, BEAM + "EIGRL,9,,,-99999999\n", head=head))
     got = fg.io.read_bdf(deck(tmp_path, BEAM + "DMIG, STIFF, 0, 6, 1, 0\n"))
     assert got.model.n_beams == 1
+
+
+def test_a_pynastran_error_whose_message_fails_still_names_the_card(tmp_path):
+    """A LOAD with a load set id of 0 (fuzzed all_cards.bdf): pyNastran's AssertionError message
+    prints the card, which raised an AttributeError while the error was being reported."""
+    path = deck(tmp_path, BEAM + "LOAD     2      1.      1.             0\n")
+    with pytest.raises(FileFormatError, match=r"deck.bdf:11: cannot read the deck in LOAD 2: pyNastran refused the "
+                                              r"card \(AssertionError\); check its fields"):
+        fg.io.read_bdf(path)

@@ -32,6 +32,7 @@ from ._common import (
     UnsupportedCardsError,
     absolute_include_lines,
     get_units,
+    split_first_fields,
     where_prefix,
 )
 from ._limits import MAX_COORDINATE_M, MAX_ID, MAX_VALUE, bad_reals, field_label
@@ -86,6 +87,13 @@ class BdfDeck:
                 f"units={self.units.name}, wtmass={self.wtmass}, mass='{self.mass}')")
 
 
+def _safe_str(value) -> str:
+    try:
+        return str(value)
+    except Exception:  # noqa: BLE001 - pyNastran objects whose str needs cross-referencing
+        return type(value).__name__
+
+
 class _QuietLog:
     """Logger handed to pyNastran: keeps its messages (for error context) instead of printing them."""
 
@@ -95,7 +103,7 @@ class _QuietLog:
         self.messages: list[str] = []
 
     def _keep(self, msg, *args, **kwargs):
-        self.messages.append(str(msg))
+        self.messages.append(_exception_text(msg) if isinstance(msg, BaseException) else _safe_str(msg))
 
     debug = info = warning = error = exception = critical = _keep
 
@@ -171,8 +179,28 @@ def _element_nodes(elem) -> list:
 _CARD_IN_MSG = re.compile(r"card\s*=\s*\[\s*'([A-Za-z0-9*]+)'\s*,\s*'?([^',\]]*)'?")
 
 
+def _exception_text(exc: BaseException) -> str:
+    """str(exc), or its class name when pyNastran's message itself fails (it prints cards)."""
+    try:
+        return str(exc).strip()
+    except Exception:  # noqa: BLE001 - e.g. a LOAD card whose repr needs cross-referencing
+        return type(exc).__name__
+
+
+def _card_in_traceback(exc: BaseException) -> tuple[str, str]:
+    """(card name, first field) of the card pyNastran was adding when ``exc`` was raised, from the
+    innermost frame of its card parser (its own message may name none, or fail to print)."""
+    name, ident, tb = "", "", exc.__traceback__
+    while tb is not None:
+        lines = tb.tb_frame.f_locals.get("card_lines")
+        if isinstance(lines, list) and lines and isinstance(lines[0], str):
+            name, ident = split_first_fields(lines[0])
+        tb = tb.tb_next
+    return name, ident
+
+
 def _parse_error(path: Path, index: CardIndex, exc: Exception, log: _QuietLog) -> FileFormatError:
-    text = str(exc).strip()
+    text = _exception_text(exc)
     where = str(path)
     card = ""
     found = _CARD_IN_MSG.search(text) or next((m for m in (_CARD_IN_MSG.search(x) for x in log.messages[::-1]) if m),
@@ -185,11 +213,17 @@ def _parse_error(path: Path, index: CardIndex, exc: Exception, log: _QuietLog) -
                     break
     if found is not None:
         name, ident = found.group(1).upper().rstrip("*"), found.group(2).strip()
+    else:
+        name, ident = _card_in_traceback(exc)
+    if name:
         place = index.where(name, ident)
         where = place or where
         card = f" in {name} {ident}"
     first = text.splitlines()[0] if text else type(exc).__name__
     hint = "fix the field named above (see the Nastran Quick Reference Guide for the card's format)"
+    if first == type(exc).__name__:  # pyNastran gave no message (a bare assert) or one that fails to print
+        first = f"pyNastran refused the card ({first})"
+        hint = "check its fields against the Nastran Quick Reference Guide (ids above 0, references, real or integer)"
     if isinstance(exc, (AssertionError,)) and ("old_" in text or "duplicate" in text.lower()):
         return FileFormatError(f"{where}: duplicate id{card}: {first}; give every card a unique id")
     return FileFormatError(f"{where}: cannot read the deck{card}: {first}; {hint}")
@@ -365,8 +399,9 @@ class _Reader(BeamsMixin, MassesMixin, CardsMixin, ConfigurationsMixin):
         except FlexGVTError:
             raise
         except Exception as exc:
+            text = _exception_text(exc)
             raise ModelError(f"{self.path}: coordinate systems or grids could not be resolved: "
-                             f"{str(exc).splitlines()[0] if str(exc) else type(exc).__name__}; check CORD/GRID cards")
+                             f"{text.splitlines()[0] if text else type(exc).__name__}; check CORD/GRID cards")
         u = self.units
         self.wtmass = float(self.param("WTMASS", 1.0))
         if not (math.isfinite(self.wtmass) and self.wtmass > 0):
