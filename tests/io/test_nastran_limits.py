@@ -127,3 +127,13 @@ def test_a_pynastran_error_whose_message_fails_still_names_the_card(tmp_path):
     with pytest.raises(FileFormatError, match=r"deck.bdf:11: cannot read the deck in LOAD 2: pyNastran refused the "
                                               r"card \(AssertionError\); check its fields"):
         fg.io.read_bdf(path)
+
+
+def test_enforced_motion_bounded(tmp_path):
+    """An SPC enforcing -99999999 on a 10-long beam (fuzzed beam_modes.dat) kept the static solver
+    stepping for ever (10 sizes: 400 steps, 100 sizes: 3,700)."""
+    with pytest.raises(ModelError, match=r"deck.bdf:10: SPC 1: enforced displacement -99999 on node 1 component 1 is "
+                                         r"more than 10 times the structure's size \(1 in deck units\)"):
+        fg.io.read_bdf(deck(tmp_path, BEAM.replace("SPC1,1,123456,1", "SPC,1,1,1,-99999.\nSPC1,1,23456,1")))
+    with pytest.raises(ModelError, match="enforced rotation 7 rad on node 1 component 4 is more than one turn"):
+        fg.io.read_bdf(deck(tmp_path, BEAM.replace("SPC1,1,123456,1", "SPC,1,1,4,7.\nSPC1,1,12356,1")))

@@ -17,6 +17,7 @@ MAX_EXPANDED_IDS = 10_000_000  # ids all THRU ranges of a deck may expand to (py
 MAX_REPLICATED_CARDS = 100_000  # cards "=(n)" replication may create (pyNastran: ~4 s per 100,000)
 MAX_COORDINATE_M = 1e6  # |basic coordinate| [m]: element lengths enter to the third power and more
 MAX_SECTION_RATIO = 1e12  # largest / smallest nonzero of a section's Iy, Iz, J
+MAX_ENFORCED_SIZES = 10.0  # |enforced translation| / the structure's largest extent
 MAX_VALUE = 1e30  # |real field|: stiffness, mass and their products (E I / L^3, K / M, squares) stay finite
 
 _REPLICATE = re.compile(r"^=\((\d+)\)")
