@@ -40,7 +40,9 @@ _register_workflow(app, console)
 
 
 def _fail(exc: Exception) -> None:
-    console.print(f"[bold red]error:[/] {exc}")
+    from rich.markup import escape
+
+    console.print(f"[bold red]error:[/] {escape(str(exc))}", soft_wrap=True)  # one line, whatever its length
     raise typer.Exit(code=2)
 
 

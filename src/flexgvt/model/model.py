@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, replace
 from typing import Iterable, Sequence
 
@@ -73,7 +74,13 @@ class Model:
         if ids is None:
             new_ids = np.arange(self._next_node, self._next_node + len(xyz))
         else:
-            new_ids = np.asarray(list(ids), dtype=int)
+            raw = list(ids)
+            bad = [i for i in raw if isinstance(i, bool) or not isinstance(i, (int, np.integer, float, np.floating))
+                   or not (math.isfinite(i) and float(i).is_integer() and abs(int(i)) < 2**62)]
+            if bad:
+                raise ModelError(f"add_nodes: node id {bad[0]!r} is not an integer of magnitude below 2**62; renumber "
+                                 "the node")
+            new_ids = np.asarray(raw, dtype=np.int64).astype(int)
             if new_ids.shape != (len(xyz),):
                 raise ModelError(f"add_nodes: {len(new_ids)} ids for {len(xyz)} nodes")
         if len(np.unique(new_ids)) != len(new_ids):

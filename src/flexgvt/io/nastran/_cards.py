@@ -87,7 +87,8 @@ class CardsMixin:
                         selected.setdefault(name, set()).add(key)
         for name, matrix in sorted(dmigs.items()):
             uses = selected.get(str(name).upper(), set())
-            points = {int(g) for g, _ in list(np.atleast_2d(matrix.GCj)) + list(np.atleast_2d(matrix.GCi))}
+            pairs = [np.asarray(matrix.GCj, dtype=object).reshape(-1, 2), np.asarray(matrix.GCi, dtype=object).reshape(-1, 2)]
+            points = {int(g) for block in pairs for g, _ in block}
             if not uses:
                 self.notes.append(f"{self.at('DMIG', name)}: not selected by K2GG/M2GG/B2GG/K2PP/M2PP/B2PP in any "
                                   "subcase: ignored, as Nastran does")

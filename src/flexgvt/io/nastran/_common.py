@@ -80,6 +80,10 @@ class CardIndex:
         self.places: dict[tuple[str, str], list[tuple[str, int]]] = {}
         self.root = Path(path).resolve().parent
         self.missing_includes: list[tuple[str, int, str]] = []
+        self.bad_includes: list[tuple[str, int, str]] = []  # INCLUDE lines not of the form INCLUDE 'path'
+        from ._limits import ExpansionBudget
+
+        self.budget = ExpansionBudget()  # raises at a THRU range or replication past its limit
         self._scan(Path(path), depth=0)
 
     def _scan(self, path: Path, depth: int) -> None:
@@ -87,6 +91,7 @@ class CardIndex:
             return
         with open(path, "r", errors="replace") as handle:
             lines = handle.readlines()
+        self.budget.scan(path, lines)
         for lineno, raw in enumerate(lines, start=1):
             line = raw.rstrip("\r\n")
             match = _INCLUDE.match(line)
@@ -96,6 +101,9 @@ class CardIndex:
                 if not target.is_file():
                     self.missing_includes.append((str(path), lineno, str(target)))
                 self._scan(target, depth + 1)
+                continue
+            if line.lstrip().upper().startswith("INCLUDE"):
+                self.bad_includes.append((str(path), lineno, line.strip()[:80]))
                 continue
             if not line or not line[0].isalpha():
                 continue

@@ -32,8 +32,10 @@ from ._common import (
     UnsupportedCardsError,
     absolute_include_lines,
     get_units,
+    split_first_fields,
     where_prefix,
 )
+from ._limits import MAX_COORDINATE_M, MAX_ID, MAX_VALUE, bad_reals, field_label
 from ._read_beams import BeamsMixin, BeamSource, _frame_from_x, _scale_section  # noqa: F401
 from ._read_configs import ConfigurationsMixin
 from ._read_masses import MassesMixin, _rigid_mass  # noqa: F401
@@ -85,6 +87,13 @@ class BdfDeck:
                 f"units={self.units.name}, wtmass={self.wtmass}, mass='{self.mass}')")
 
 
+def _safe_str(value) -> str:
+    try:
+        return str(value)
+    except Exception:  # noqa: BLE001 - pyNastran objects whose str needs cross-referencing
+        return type(value).__name__
+
+
 class _QuietLog:
     """Logger handed to pyNastran: keeps its messages (for error context) instead of printing them."""
 
@@ -94,7 +103,7 @@ class _QuietLog:
         self.messages: list[str] = []
 
     def _keep(self, msg, *args, **kwargs):
-        self.messages.append(str(msg))
+        self.messages.append(_exception_text(msg) if isinstance(msg, BaseException) else _safe_str(msg))
 
     debug = info = warning = error = exception = critical = _keep
 
@@ -116,6 +125,10 @@ def _open_bdf(path: Path, index: CardIndex, notes: list[str]):
     A plain BEGIN BULK repeated inside the bulk data (a pasted deck) is ignored and noted."""
     from pyNastran.bdf.bdf import BDF
 
+    if index.bad_includes:  # pyNastran would dump the deck to ./pyNastran_crash.bdf and fail
+        f, ln, text = index.bad_includes[0]
+        raise FileFormatError(f"{f}:{ln}: {text!r} is not an INCLUDE statement flexgvt reads; write INCLUDE 'path' "
+                              "on one line, the path in single quotes")
     if index.missing_includes:
         f, ln, target = index.missing_includes[0]
         raise FileFormatError(f"{f}:{ln}: INCLUDE file {target} does not exist; fix the path (relative paths are "
@@ -149,11 +162,45 @@ def _open_bdf(path: Path, index: CardIndex, notes: list[str]):
     return bdf
 
 
+TWO_NODE_CARDS = ("CBAR", "CBEAM", "CROD", "CONROD", "CTUBE")
+
+
+def _element_nodes(elem) -> list:
+    """Node fields of an element as given (pyNastran's node_ids asserts on a blank or 0 one)."""
+    nodes = getattr(elem, "nodes", None)
+    if nodes is None:
+        try:
+            nodes = elem.node_ids
+        except Exception:  # noqa: BLE001
+            nodes = []
+    return [n if isinstance(n, int) or n is None else getattr(n, "nid", n) for n in list(nodes)]
+
+
 _CARD_IN_MSG = re.compile(r"card\s*=\s*\[\s*'([A-Za-z0-9*]+)'\s*,\s*'?([^',\]]*)'?")
 
 
+def _exception_text(exc: BaseException) -> str:
+    """str(exc), or its class name when pyNastran's message itself fails (it prints cards)."""
+    try:
+        return str(exc).strip()
+    except Exception:  # noqa: BLE001 - e.g. a LOAD card whose repr needs cross-referencing
+        return type(exc).__name__
+
+
+def _card_in_traceback(exc: BaseException) -> tuple[str, str]:
+    """(card name, first field) of the card pyNastran was adding when ``exc`` was raised, from the
+    innermost frame of its card parser (its own message may name none, or fail to print)."""
+    name, ident, tb = "", "", exc.__traceback__
+    while tb is not None:
+        lines = tb.tb_frame.f_locals.get("card_lines")
+        if isinstance(lines, list) and lines and isinstance(lines[0], str):
+            name, ident = split_first_fields(lines[0])
+        tb = tb.tb_next
+    return name, ident
+
+
 def _parse_error(path: Path, index: CardIndex, exc: Exception, log: _QuietLog) -> FileFormatError:
-    text = str(exc).strip()
+    text = _exception_text(exc)
     where = str(path)
     card = ""
     found = _CARD_IN_MSG.search(text) or next((m for m in (_CARD_IN_MSG.search(x) for x in log.messages[::-1]) if m),
@@ -166,11 +213,17 @@ def _parse_error(path: Path, index: CardIndex, exc: Exception, log: _QuietLog) -
                     break
     if found is not None:
         name, ident = found.group(1).upper().rstrip("*"), found.group(2).strip()
+    else:
+        name, ident = _card_in_traceback(exc)
+    if name:
         place = index.where(name, ident)
         where = place or where
         card = f" in {name} {ident}"
     first = text.splitlines()[0] if text else type(exc).__name__
     hint = "fix the field named above (see the Nastran Quick Reference Guide for the card's format)"
+    if first == type(exc).__name__:  # pyNastran gave no message (a bare assert) or one that fails to print
+        first = f"pyNastran refused the card ({first})"
+        hint = "check its fields against the Nastran Quick Reference Guide (ids above 0, references, real or integer)"
     if isinstance(exc, (AssertionError,)) and ("old_" in text or "duplicate" in text.lower()):
         return FileFormatError(f"{where}: duplicate id{card}: {first}; give every card a unique id")
     return FileFormatError(f"{where}: cannot read the deck{card}: {first}; {hint}")
@@ -221,6 +274,48 @@ class _Reader(BeamsMixin, MassesMixin, CardsMixin, ConfigurationsMixin):
         values = getattr(p, "values", None) or [default]
         return values[0] if values[0] is not None else default
 
+    # ----------------------------------------------------------------- ids and values
+    def _tables(self):
+        bdf = self.bdf
+        return (("node", {k: v for k, v in bdf.nodes.items()}), ("element", bdf.elements), ("mass element", bdf.masses),
+                ("rigid element", bdf.rigid_elements), ("property", bdf.properties),
+                ("property", getattr(bdf, "properties_mass", {}) or {}), ("material", bdf.materials),
+                ("coordinate system", {k: v for k, v in bdf.coords.items() if k != 0}))
+
+    def _listing(self, problems: list[str]) -> str:
+        text = "; ".join(problems[:8]) + ("; ..." if len(problems) > 8 else "")
+        return text if text.startswith(str(self.path)) else f"{self.path}: {text}"
+
+    def check_ids_and_values(self) -> None:
+        """Ids within Nastran's 1..99999999 and real fields finite and within MAX_VALUE, on every card
+        flexgvt reads (before any is used: an id of 1e20 or a field of 1e300 would otherwise fail
+        far from the card, or overflow in the eigensolver)."""
+        bdf, problems = self.bdf, []
+        for label, table in self._tables():
+            for ident, card in table.items():
+                if not isinstance(ident, int) or not 0 < ident <= MAX_ID:
+                    name = getattr(card, "type", "?")
+                    problems.append(f"{self.at(name, ident)}: {label} id {ident} is outside Nastran's range 1 to "
+                                    f"{MAX_ID}; renumber it")
+        if problems:
+            raise ModelError(self._listing(problems))
+        cards = [c for _, table in self._tables() for c in table.values()]
+        for group in (bdf.spcs, bdf.mpcs, bdf.loads, getattr(bdf, "load_combinations", {}) or {}, bdf.methods,
+                      getattr(bdf, "cMethods", {}) or {}):
+            for value in group.values():
+                cards.extend(value if isinstance(value, list) else [value])
+        for card in cards:
+            bad = bad_reals(card)
+            if bad:
+                k, v = bad[0]
+                ident = next((getattr(card, a) for a in ("eid", "nid", "pid", "mid", "cid", "sid", "conid")
+                              if isinstance(getattr(card, a, None), int)), "?")
+                why = "is not a finite number" if not math.isfinite(v) else \
+                    f"exceeds {MAX_VALUE:g} in magnitude (stiffness and mass products of such values overflow)"
+                problems.append(f"{self.at(card.type, ident)}: {field_label(card, k)} = {v!r} {why}")
+        if problems:
+            raise ModelError(self._listing(problems) + ". Fix the value (or the deck's unit system)")
+
     # ----------------------------------------------------------------- references
     def check_references(self) -> None:
         bdf, miss = self.bdf, self.missing
@@ -237,8 +332,14 @@ class _Reader(BeamsMixin, MassesMixin, CardsMixin, ConfigurationsMixin):
                 if coord.type.startswith("CORD1") and g is not None and g not in nodes:
                     miss.append(f"{self.at(coord.type, cid)} refers to node {g}, which is not defined")
         for eid, elem in bdf.elements.items():
-            ids = [n for n in (elem.node_ids if hasattr(elem, "node_ids") else []) if n not in (None, 0)]
-            for n in ids:
+            ids = _element_nodes(elem)
+            if elem.type in TWO_NODE_CARDS and (len(ids) < 2 or any(n in (None, 0) for n in ids[:2])):
+                miss.append(f"{self.at(elem.type, eid)} has GA/GB = {ids[:2]}; give both end grids (ids above 0)")
+                continue
+            if ids and all(n in (None, 0) for n in ids):
+                miss.append(f"{self.at(elem.type, eid)} connects no grid (all node fields blank or 0)")
+                continue
+            for n in (n for n in ids if n not in (None, 0)):
                 if n not in nodes:
                     miss.append(f"{self.at(elem.type, eid)} refers to node {n}, which is not defined")
             pid = getattr(elem, "pid", None)
@@ -260,7 +361,13 @@ class _Reader(BeamsMixin, MassesMixin, CardsMixin, ConfigurationsMixin):
             if getattr(elem, "cid", 0) not in (None, -1, 0) and elem.cid not in coords:
                 miss.append(f"{self.at(elem.type, eid)} refers to coordinate system {elem.cid}, which is not defined")
         for eid, elem in bdf.rigid_elements.items():
-            for n in elem.independent_nodes + elem.dependent_nodes:
+            try:
+                refs = list(elem.independent_nodes) + list(elem.dependent_nodes)
+            except Exception as exc:  # noqa: BLE001 - pyNastran asserts on blank or 0 node fields
+                miss.append(f"{self.at(elem.type, eid)} has a blank or invalid node field ({type(exc).__name__}: "
+                            f"{(str(exc).splitlines() or [''])[0][:80]})")
+                continue
+            for n in refs:
                 if n not in nodes:
                     miss.append(f"{self.at(elem.type, eid)} refers to node {n}, which is not defined")
         for pid, prop in bdf.properties.items():
@@ -282,6 +389,7 @@ class _Reader(BeamsMixin, MassesMixin, CardsMixin, ConfigurationsMixin):
                 node.ps = node.ps or (grdset.ps or "")
             bdf.grdset = None
             self.notes.append("GRDSET defaults applied to GRID fields that are blank or 0")
+        self.check_ids_and_values()
         self.check_references()
         try:
             with contextlib.redirect_stdout(io.StringIO()):
@@ -291,8 +399,9 @@ class _Reader(BeamsMixin, MassesMixin, CardsMixin, ConfigurationsMixin):
         except FlexGVTError:
             raise
         except Exception as exc:
+            text = _exception_text(exc)
             raise ModelError(f"{self.path}: coordinate systems or grids could not be resolved: "
-                             f"{str(exc).splitlines()[0] if str(exc) else type(exc).__name__}; check CORD/GRID cards")
+                             f"{text.splitlines()[0] if text else type(exc).__name__}; check CORD/GRID cards")
         u = self.units
         self.wtmass = float(self.param("WTMASS", 1.0))
         if not (math.isfinite(self.wtmass) and self.wtmass > 0):
@@ -315,6 +424,12 @@ class _Reader(BeamsMixin, MassesMixin, CardsMixin, ConfigurationsMixin):
         if len(bad):
             raise ModelError(f"{self.at('GRID', nids[bad[0]])}: coordinates {xyz[bad[0]] / u.length} are not finite "
                              f"({len(bad)} grid(s)); give real numbers for X1-X3")
+        far = np.flatnonzero(np.abs(xyz).max(axis=1) > MAX_COORDINATE_M)
+        if len(far):
+            raise ModelError(f"{self.at('GRID', nids[far[0]])}: basic coordinates {xyz[far[0]] / u.length} lie more than "
+                             f"{MAX_COORDINATE_M:g} m from the origin ({len(far)} grid(s)); element lengths of that size "
+                             "overflow the stiffness and mass products. Fix the coordinates, their CP system or the "
+                             "deck's units")
         self.xyz = dict(zip(nids, xyz))
         self.xyz_deck = {n: x / u.length for n, x in self.xyz.items()}
         model.add_nodes(xyz, ids=nids)

@@ -11,6 +11,7 @@ from ...errors import ModelError
 from ...model import GeneralSection, Material, RodSection, TaperedSection
 from ._cards import BEAM_CARDS, BEAM_PROPERTIES, _supported_shapes
 from ._common import coord_axes
+from ._limits import MAX_SECTION_RATIO, MAX_VALUE
 from ._sections import SectionData, from_properties, library_section
 
 
@@ -77,7 +78,7 @@ class BeamsMixin:
             if not G and not nu:
                 raise ModelError(f"{where}: G and NU are both blank, which Nastran reads as G = 0 (no torsional or "
                                  "shear stiffness); give G or NU")
-            consistent = G and nu is not None and math.isclose(G, E / (2 * (1 + nu)), rel_tol=1e-6)
+            consistent = G and nu is not None and nu != -1 and math.isclose(G, E / (2 * (1 + nu)), rel_tol=1e-6)
             # E and G given with NU blank: Nastran takes NU = E/2G - 1 whatever its value (a beam's
             # equivalent properties often give NU outside (-1, 0.5); only E and G act on a beam).
             use_nu = not G or (consistent and -1 < nu < 0.5)
@@ -175,6 +176,11 @@ class BeamsMixin:
         ga = elem.nodes[0] if hasattr(elem, "nodes") else elem.ga
         if elem.g0 not in (None, 0):
             return self.xyz_deck[elem.g0] - self.xyz_deck[ga]
+        if elem.x is None or np.shape(elem.x) != (3,):
+            given = "G0 = 0 (an integer in the X1 field is read as the node id G0)" if elem.g0 == 0 else \
+                f"X1-X3 = {elem.x!r}"
+            raise ModelError(f"{self.at(elem.type, elem.eid)}: orientation {given} defines no direction; give X1, X2, "
+                             "X3 as real numbers (0.0, not 0) or G0 as the id of a grid off the element axis")
         x = np.asarray(elem.x, float)
         offt = (getattr(elem, "offt", None) or "GGG") if elem.type != "CBUSH" else "GGG"
         if isinstance(offt, str) and offt[0] == "G":
@@ -228,6 +234,7 @@ class BeamsMixin:
                 continue
             sdata, nsm = got
             section = _scale_section(sdata.section, u.length)
+            self._check_section_size(section, prop)
             if not self.cbar_torsional_inertia and elems[0].type == "CBAR":  # Nastran's CBAR: no rho*Ip
                 p = section.properties()
                 section = GeneralSection(A=p["A"], Iy=p["Iy"], Iz=p["Iz"], J=p["J"], Ay=p["Ay"] or None,
@@ -269,6 +276,27 @@ class BeamsMixin:
                                                sdata.principal)
             if any(nsm):  # Nastran's lumped mass: int NSM N_i dx at each end (translations only)
                 self._lumped_nsm(pairs, nsm, prop.type, pid)
+
+    def _check_section_size(self, section, prop) -> None:
+        """Section properties (SI) finite and within MAX_VALUE: PBARL/PBEAML dimensions enter I and J
+        to the fourth power, so a dimension of 1e20 (within the field limit) gives I = 1e80."""
+        ends = section.end_properties() if isinstance(section, TaperedSection) else (section.properties(),)
+        for values in ends:
+            bad = {k: v for k, v in values.items() if v is not None and not (math.isfinite(v) and abs(v) <= MAX_VALUE)}
+            if bad:
+                listing = ", ".join(f"{k} = {v:.3g}" for k, v in bad.items())
+                raise ModelError(f"{self.at(prop.type, prop.pid)}: section properties {listing} (SI) exceed {MAX_VALUE:g}"
+                                 " in magnitude (stiffness products of such values overflow); check the dimensions "
+                                 "and the deck's units")
+            # Bending and torsion stiffness of one section act on the same rotations: beyond a ratio of
+            # 1e12 the weaker is lost in double precision (a PBEAM J of 1e16 with I1 = 0.8 gave
+            # negative frequencies, 1e20 an eigensolver that ran 97 s before failing).
+            moments = {k: abs(values[k]) for k in ("Iy", "Iz", "J") if values.get(k)}
+            if len(moments) > 1 and max(moments.values()) > MAX_SECTION_RATIO * min(moments.values()):
+                listing = ", ".join(f"{k} = {v:.3g}" for k, v in moments.items())
+                raise ModelError(f"{self.at(prop.type, prop.pid)}: section moments {listing} (SI) differ by more than a "
+                                 f"factor {MAX_SECTION_RATIO:g}, beyond what double precision resolves in one stiffness "
+                                 "matrix; check the value (I1, I2, J)")
 
     def _beam_end(self, elem, end: int) -> int:
         """Node at end A (0) or B (1) of a CBAR/CBEAM: its grid, or for an offset (WA/WB) or a pin

@@ -9,6 +9,7 @@ import numpy as np
 from ...errors import FileFormatError, ModelError
 from ...model import Configuration, DistributedLoad, NodalLoad, RodSection
 from ._common import EigenMethod, coord_axes
+from ._limits import MAX_ENFORCED_SIZES
 
 
 class ConfigurationsMixin:
@@ -225,6 +226,8 @@ class ConfigurationsMixin:
         def num(v):
             return None if v is None or v == "" else float(v)
         nd = int(eig.nd) if getattr(eig, "nd", None) not in (None, "", 0) else None
+        if nd is not None and nd < 0:
+            raise ModelError(f"{where}: ND = {nd}; give the number of modes (a positive integer) or leave it blank")
         norm = (getattr(eig, "norm", None) or "MASS").upper()
         if norm not in ("MASS", "MAX", "POINT"):
             raise ModelError(f"{where}: NORM = {norm}; Nastran's real eigenvalue normalisations are MASS, MAX and "
@@ -232,8 +235,9 @@ class ConfigurationsMixin:
         point = None
         if norm == "POINT":
             g, c = getattr(eig, "G", None), getattr(eig, "C", None)
-            if not g or not c or int(g) not in self.bdf.nodes:
-                raise ModelError(f"{where}: NORM = POINT needs the grid G and component C of an existing grid")
+            if not g or not c or int(g) not in self.bdf.nodes or str(c).strip() not in tuple("123456"):
+                raise ModelError(f"{where}: NORM = POINT needs the grid G (got {g}) and component C (got {c}, one of "
+                                 "1-6) of an existing grid")
             point = (int(g), int(c))
         if eig.type == "EIGRL":
             return EigenMethod("EIGRL", sid, "LAN", nd, num(eig.v1), num(eig.v2), norm, point)
@@ -328,9 +332,20 @@ class ConfigurationsMixin:
         if self.bdf.nodes[nid].cd not in (None, 0):
             raise ModelError(f"{where}: enforced values on node {nid}, whose CD is not basic, are not supported; "
                              "give the grid CD = 0 or enforce the motion with a stiff spring and a force")
+        extent = float(np.ptp(self.model.xyz, axis=0).max()) if self.model.n_nodes > 1 else 0.0
         for c in comps.strip():
             d = int(c)
-            prescribed.setdefault(int(nid), {})[d] = value * (self.units.length if d <= 3 else 1.0)
+            si = value * (self.units.length if d <= 3 else 1.0)
+            # The static solver steps the enforced motion up in increments of a fraction of the
+            # structure's size: 10 sizes took 400 steps (1.3 s), 1e8 would never finish.
+            if d <= 3 and extent > 0 and abs(si) > MAX_ENFORCED_SIZES * extent:
+                raise ModelError(f"{where}: enforced displacement {value:g} on node {nid} component {d} is more than "
+                                 f"{MAX_ENFORCED_SIZES:g} times the structure's size ({extent / self.units.length:.4g} "
+                                 "in deck units); check the value and its units")
+            if d > 3 and abs(si) > 2 * math.pi:
+                raise ModelError(f"{where}: enforced rotation {value:g} rad on node {nid} component {d} is more than one "
+                                 "turn (2 pi); check the value (rotations are in radians)")
+            prescribed.setdefault(int(nid), {})[d] = si
 
     def _load(self, card, scale: float, forces: list, distributed: list, gravity_terms: list) -> None:
         bdf, u = self.bdf, self.units
@@ -346,6 +361,9 @@ class ConfigurationsMixin:
             else:
                 forces.append(NodalLoad(int(nid), moment=tuple(vec * u.moment)))
         elif card.type == "GRAV":
+            if card.cid not in (None, 0) and card.cid not in bdf.coords:
+                raise ModelError(f"{where} refers to coordinate system {card.cid}, which is not defined; add its CORD "
+                                 "card or fix CID")
             if card.cid not in (None, 0) and bdf.coords[card.cid].Type != "R":
                 self.skip("GRAV (curvilinear CID)", card.sid)
                 return
