@@ -97,14 +97,14 @@ def test_cord_and_mass_variables_on_the_hung_strip():
         data.append(up.Measured(c.name, f[(f > 0.9)][:5] * 0.98))
     problem = up.UpdatingProblem(case.model, cfgs, data, variables, static_settings=TIGHT)
     x0 = np.array([1.03, 0.98, 1.01, 1.04, 1.2, 1.5])
-    # A 3.66 m strip (EA/L ~ 2e8 N/m) on 5 N/m cords: cond(K) ~ 2e10, so the state's sensitivity
-    # and the re-solved finite differences each carry ~eps cond(K) |du| (~6e-6 of du measured,
-    # the tangent being consistent to round-off); through the stress stiffening of the stiff
-    # members that reaches ~3e-4 of the slope of the pitch mode. The floor is eps cond(K) x 1e5.
+    # A 3.66 m strip (EA/L ~ 2e8 N/m) on 5 N/m cords: cond(K) ~ 2e10. This test used to allow
+    # eps cond(K) x 1e5 (0.4 of a column's scale) for the finite differences' noise; with the static
+    # states converged to their round-off floor that noise is measured instead (_check), and the
+    # entries agree within the common 3e-6 floor or five noise sigmas.
     point = problem.evaluate(x0)
     cond = max(np.linalg.cond(p.tangent.toarray()) for p in point.configurations.values())
     assert 1e9 < cond < 1e12
-    _check(problem, x0, floor=max(3e-6, np.finfo(float).eps * cond * 1e5))
+    _check(problem, x0)
 
 
 def test_configuration_masses_attachment_hardware_on_the_hung_strip():
@@ -128,9 +128,9 @@ def test_configuration_masses_attachment_hardware_on_the_hung_strip():
         data.append(up.Measured(c.name, f[(f > 0.9)][:5] * 0.98))
     problem = up.UpdatingProblem(case.model, cfgs, data, variables, static_settings=TIGHT)
     x0 = np.array([1.3, 1.5, 1.5, 1.01])
-    point = problem.evaluate(x0)
-    cond = max(np.linalg.cond(p.tangent.toarray()) for p in point.configurations.values())
-    J, fd, scale, _ = _check(problem, x0, floor=max(3e-6, np.finfo(float).eps * cond * 1e5))
+    # With the old allowance of eps cond(K) x 1e5 (0.4 of a column's scale) this passed while the
+    # height and side-offset slopes were 23 % low (the masses read as bound, 20 g, not 26 g at x0).
+    J, fd, scale, _ = _check(problem, x0)
     # Each configuration's rows move only with the variables that reach its items.
     n_out = len(data[0].frequencies_hz)
     assert np.abs(J[:n_out, 2]).max() > 1e-5 and np.abs(J[n_out:, 2]).max() == 0.0

@@ -269,7 +269,7 @@ def value_change(par: Parametrisation, model, x: np.ndarray, k: int, configurati
         if not mine:
             return ValueChange()
         h = _EXACT_STEP
-        values = [par.mass_entities(model, b, x[k] + off, configuration) for off in (h, -h)]
+        values = [par.mass_entities(model, b, x[k] + off, configuration, x) for off in (h, -h)]
         # The system stores the model's masses first, then the configuration's own.
         return ValueChange(masses=(len(model.masses) + np.asarray(mine, int), values[0], values[1], 1 / (2 * h)))
     if v.kind == "mass":

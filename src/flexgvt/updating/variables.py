@@ -293,13 +293,27 @@ class Parametrisation:
             return replace(group.material, **{a: value}), group.section
         return group.material, replace(group.section, **{a: value})
 
-    def mass_entities(self, model: Model, b: Binding, xk: float, configuration: str | None = None
-                      ) -> tuple[np.ndarray, np.ndarray]:
-        """(masses (k,), offsets (k, 3)) of b's concentrated masses with its attribute at xk (for a
-        variable on configuration masses: those of ``configuration``, as bound)."""
+    def configuration_masses(self, configuration: str, x: np.ndarray) -> list:
+        """The concentrated masses of ``configuration``'s own (not the model's) at design point x."""
+        items = list(self.configurations[configuration].masses)
+        for b, xi in zip(self.bindings, x):
+            if b.variable.kind == "mass" and b.variable.per_configuration:
+                for (c, i), value in zip(b.indices, self.physical(b, xi)):
+                    if c == configuration:
+                        items[i] = _set_mass(items[i], b.variable.attribute, float(value))
+        return items
+
+    def mass_entities(self, model: Model, b: Binding, xk: float, configuration: str | None = None,
+                      x: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """(masses (k,), offsets (k, 3)) of b's concentrated masses with its attribute at xk, the
+        others as at design point x (model masses: as set in ``model``; for a variable on
+        configuration masses: those of ``configuration``, with the other variables' values at x,
+        as bound where x is None)."""
         if b.variable.per_configuration:
             keep = [k for k, (c, _) in enumerate(b.indices) if c == configuration]
-            items = [self.configurations[configuration].masses[b.indices[k][1]] for k in keep]
+            own = (self.configuration_masses(configuration, x) if x is not None
+                   else self.configurations[configuration].masses)
+            items = [own[b.indices[k][1]] for k in keep]
             values = self.physical(b, xk)[keep]
         else:
             items = [model.masses[i] for i in b.indices]
