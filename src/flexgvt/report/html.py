@@ -21,6 +21,7 @@ import csv
 import datetime as _dt
 import html
 import math
+import hashlib
 import re
 from pathlib import Path
 from typing import Any
@@ -55,7 +56,11 @@ _UNITS = (("_hz", " [Hz]"), ("_percent", " [%]"), ("_m", " [m]"))
 
 
 def _slug(text: str, taken: set[str]) -> str:
+    """A file-name-safe, unique name for ``text`` (at most 48 characters of it, then a short hash of
+    the whole, so a long configuration name still gives a short, distinct file name)."""
     base = re.sub(r"[^A-Za-z0-9_-]+", "_", text).strip("_") or "configuration"
+    if len(base) > 48:
+        base = f"{base[:48]}_{hashlib.sha256(text.encode('utf-8', 'replace')).hexdigest()[:8]}"
     slug, k = base, 2
     while slug in taken:
         slug, k = f"{base}_{k}", k + 1
