@@ -14,7 +14,6 @@ OUT/reproducers/<group>/ with a line-reduced minimal deck. OUT/summary.json hold
 
 from __future__ import annotations
 
-import argparse
 import re
 import sys
 import tempfile
@@ -233,26 +232,8 @@ def _save(folder: Path, payload, result, worker, clear, reduce: bool, log) -> No
 
 
 def main(argv=None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--n", type=int, default=10000)
-    ap.add_argument("--seed", type=int, default=1)
-    ap.add_argument("--timeout", type=float, default=20.0, help="seconds per case before it counts as a hang")
-    ap.add_argument("--out", type=Path, default=Path("fuzz-decks"))
-    ap.add_argument("--no-reduce", action="store_true", help="save failing decks without reducing them")
-    args = ap.parse_args(argv)
-    args.out.mkdir(parents=True, exist_ok=True)
-    t0 = time.perf_counter()
-    tally = fuzz(args.n, args.seed, args.timeout, args.out, reduce=not args.no_reduce)
-    c = tally.counts
-    print(f"\n{args.n} mutated decks (seed {args.seed}, timeout {args.timeout:g} s) in {time.perf_counter() - t0:.0f} s")
-    print("| read and solved | clear flexgvt errors | foreign exceptions | hangs | worker crashes |")
-    print("|---:|---:|---:|---:|---:|")
-    print(f"| {c.get('read', 0)} | {c.get('clear', 0)} | {c.get('foreign', 0)} | {c.get('hang', 0)} | "
-          f"{c.get('crash', 0)} |")
-    for key, g in sorted(tally.groups.items()):
-        print(f"  {g['count']:5d}  {key}: {g['message'][:120]}")
-    return 1 if tally.failures else 0
-
+    return fuzzlib.main(argv, __doc__, fuzz, n=10000, out="fuzz-decks", what="decks",
+                        columns=(("read and solved", "read"),))
 
 if __name__ == "__main__":
     sys.exit(main())

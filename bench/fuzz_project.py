@@ -19,7 +19,6 @@ Outcomes and reproducers as bench/fuzz_uff.py (OUT/summary.json, OUT/reproducers
 
 from __future__ import annotations
 
-import argparse
 import copy
 import json
 import math
@@ -288,27 +287,8 @@ def _save(folder: Path, payload, result, worker, clear, reduce: bool, log) -> No
 
 
 def main(argv=None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--n", type=int, default=2400)
-    ap.add_argument("--seed", type=int, default=1)
-    ap.add_argument("--timeout", type=float, default=20.0, help="seconds per case before it counts as a hang")
-    ap.add_argument("--out", type=Path, default=Path("fuzz-project"))
-    ap.add_argument("--no-reduce", action="store_true", help="save failing projects without reducing them")
-    args = ap.parse_args(argv)
-    args.out.mkdir(parents=True, exist_ok=True)
-    t0 = time.perf_counter()
-    tally = fuzz(args.n, args.seed, args.timeout, args.out, reduce=not args.no_reduce)
-    c = tally.counts
-    print(f"\n{args.n} mutated project files (seed {args.seed}, timeout {args.timeout:g} s) in "
-          f"{time.perf_counter() - t0:.0f} s")
-    print("| loaded, first steps run | clear flexgvt errors | foreign exceptions | hangs | worker crashes |")
-    print("|---:|---:|---:|---:|---:|")
-    print(f"| {c.get('loaded', 0)} | {c.get('clear', 0)} | {c.get('foreign', 0)} | {c.get('hang', 0)} | "
-          f"{c.get('crash', 0)} |")
-    for key, g in sorted(tally.groups.items()):
-        print(f"  {g['count']:5d}  {key}: {g['message'][:120]}")
-    return 1 if tally.failures else 0
-
+    return fuzzlib.main(argv, __doc__, fuzz, n=2400, out="fuzz-project", what="project files",
+                        columns=(("loaded, first steps run", "loaded"),))
 
 if __name__ == "__main__":
     sys.exit(main())

@@ -16,7 +16,6 @@ OUT/reproducers/<group>/ (original.uff and a line-reduced minimal.uff). OUT/summ
 
 from __future__ import annotations
 
-import argparse
 import contextlib
 import io
 import re
@@ -225,26 +224,8 @@ def _save(folder: Path, payload: bytes, result, worker, clear, reduce: bool, log
 
 
 def main(argv=None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--n", type=int, default=4000)
-    ap.add_argument("--seed", type=int, default=1)
-    ap.add_argument("--timeout", type=float, default=20.0, help="seconds per case before it counts as a hang")
-    ap.add_argument("--out", type=Path, default=Path("fuzz-uff"))
-    ap.add_argument("--no-reduce", action="store_true", help="save failing files without reducing them")
-    args = ap.parse_args(argv)
-    args.out.mkdir(parents=True, exist_ok=True)
-    t0 = time.perf_counter()
-    tally = fuzz(args.n, args.seed, args.timeout, args.out, reduce=not args.no_reduce)
-    c = tally.counts
-    print(f"\n{args.n} mutated UFF files (seed {args.seed}, timeout {args.timeout:g} s) in {time.perf_counter() - t0:.0f} s")
-    print("| read | read and identified | clear flexgvt errors | foreign exceptions | hangs | worker crashes |")
-    print("|---:|---:|---:|---:|---:|---:|")
-    print(f"| {c.get('read', 0)} | {c.get('identified', 0)} | {c.get('clear', 0)} | {c.get('foreign', 0)} | "
-          f"{c.get('hang', 0)} | {c.get('crash', 0)} |")
-    for key, g in sorted(tally.groups.items()):
-        print(f"  {g['count']:5d}  {key}: {g['message'][:120]}")
-    return 1 if tally.failures else 0
-
+    return fuzzlib.main(argv, __doc__, fuzz, n=4000, out="fuzz-uff", what="UFF files",
+                        columns=(("read", "read"), ("read and identified", "identified")))
 
 if __name__ == "__main__":
     sys.exit(main())

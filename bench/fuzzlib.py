@@ -168,3 +168,33 @@ def reduce_lines(lines: list[str], still_fails, max_tries: int = 300) -> list[st
         if not removed:
             chunk //= 2
     return lines
+
+
+def main(argv, doc: str, fuzz, *, n: int, out: str, what: str, columns: tuple[tuple[str, str], ...]) -> int:
+    """The command line every fuzzer shares (--n --seed --timeout --out --no-reduce): run
+    ``fuzz(n, seed, timeout, out, reduce=...) -> Tally`` and print its table; status 1 on failures.
+    columns: (heading, count key) of the fuzzer's own outcomes before the common ones."""
+    import argparse
+    import time
+
+    ap = argparse.ArgumentParser(description=doc.split("\n\n")[0])
+    ap.add_argument("--n", type=int, default=n)
+    ap.add_argument("--seed", type=int, default=1)
+    ap.add_argument("--timeout", type=float, default=20.0, help="seconds per case before it counts as a hang")
+    ap.add_argument("--out", type=Path, default=Path(out))
+    ap.add_argument("--no-reduce", action="store_true", help="save failing inputs without reducing them")
+    args = ap.parse_args(argv)
+    args.out.mkdir(parents=True, exist_ok=True)
+    t0 = time.perf_counter()
+    tally = fuzz(args.n, args.seed, args.timeout, args.out, reduce=not args.no_reduce)
+    c = tally.counts
+    cols = columns + (("clear flexgvt errors", "clear"), ("foreign exceptions", "foreign"), ("hangs", "hang"),
+                      ("worker crashes", "crash"))
+    print(f"\n{args.n} mutated {what} (seed {args.seed}, timeout {args.timeout:g} s) in "
+          f"{time.perf_counter() - t0:.0f} s")
+    print("| " + " | ".join(h for h, _ in cols) + " |")
+    print("|" + "---:|" * len(cols))
+    print("| " + " | ".join(str(c.get(k, 0)) for _, k in cols) + " |")
+    for key, g in sorted(tally.groups.items()):
+        print(f"  {g['count']:5d}  {key}: {g['message'][:120]}")
+    return 1 if tally.failures else 0
