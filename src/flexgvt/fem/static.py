@@ -598,8 +598,10 @@ def check_state(state: State, settings: StaticSettings) -> State:
       its unstretched length. The design stretch is left out: a cord standing for a spring-and-pulley
       line keeps a short unstretched length and takes the weight in its rate (the X-HALE lab: 633 %
       at 1 g by design);
-    - a displacement larger than the structure's own size (the diagonal of its undeformed bounding
-      box) plus the longest cord's reach (a compact block on long bungees may sag more than its size).
+    - a displacement larger than twice the structure's own size (the diagonal of its undeformed
+      bounding box: a cantilever rolled into a full circle moves its tip by its length, one folded
+      back onto itself by twice that) plus the longest cord's reach (a compact block on long bungees
+      may sag more than its size).
     """
     system, notes = state.system, []
     name = state.configuration.name
@@ -623,9 +625,9 @@ def check_state(state: State, settings: StaticSettings) -> State:
     size = float(np.linalg.norm(np.ptp(xyz, axis=0))) if len(xyz) else 0.0
     u = np.linalg.norm(state.positions - xyz, axis=1)
     k = int(np.argmax(u)) if len(u) else 0
-    if size + reach > 0 and u[k] > size + reach:
-        notes.append(f"configuration '{name}': node {state.node_ids[k]} moves {u[k]:.4g} m, more than the structure's "
-                     f"own size ({size:.4g} m, the diagonal of its undeformed bounding box)"
+    if size + reach > 0 and u[k] > 2 * size + reach:
+        notes.append(f"configuration '{name}': node {state.node_ids[k]} moves {u[k]:.4g} m, more than twice the "
+                     f"structure's own size ({size:.4g} m, the diagonal of its undeformed bounding box)"
                      + (f" plus its longest cord ({reach:.4g} m)" if reach else "")
                      + ": check the supports, springs, cords and loads; a displacement that large is rarely the "
                      "intended equilibrium")
