@@ -17,7 +17,7 @@ from scipy.linalg import cholesky, lapack, solve_triangular
 from scipy.linalg.blas import dtrsm
 
 from ..errors import EMAError
-from ..fem.linsolve import serial_blas
+from .._threads import serial_blas
 
 
 @dataclass(frozen=True)

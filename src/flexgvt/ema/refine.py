@@ -29,7 +29,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from ..errors import EMAError
-from ..fem.linsolve import serial_blas
+from .._threads import serial_blas
 from .polymax import checked_frfs
 
 _BLOCK = 1 << 17  # entries (products x lines) of one block of the weighted products: 1 MB, cache-sized

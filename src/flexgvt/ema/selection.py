@@ -31,7 +31,7 @@ import numpy as np
 from scipy.stats import chi2
 
 from ..errors import EMAError
-from ..fem.linsolve import serial_blas
+from .._threads import serial_blas
 from .clustering import group_by_gap, representative, split_by_order
 from .polymax import ModalSet, Stabilisation, polymax
 from .refine import SignificanceScreen, refine

@@ -10,7 +10,6 @@ iteration.
 
 from __future__ import annotations
 
-import functools
 import warnings
 
 import numba
@@ -23,8 +22,7 @@ try:  # optional: pip install scikit-sparse (needs SuiteSparse headers, Debian l
 except ImportError:  # pragma: no cover - depends on the machine
     _cholmod = None
 
-from threadpoolctl import ThreadpoolController
-
+from .._threads import serial_blas  # noqa: F401  (re-exported: fem.linsolve.serial_blas)
 from .assembly import scatter_add_symmetric
 
 HAVE_CHOLMOD = _cholmod is not None
@@ -211,23 +209,3 @@ class CholmodCache:
 def superlu(A: sp.csc_matrix):
     """SuperLU with the options that suit structural matrices (raises RuntimeError if singular)."""
     return spla.splu(A, permc_spec="COLAMD", options={"SymmetricMode": True})
-
-
-@functools.cache
-def _blas_controller() -> ThreadpoolController:
-    return ThreadpoolController()  # finds the loaded BLAS libraries once (about 2 ms)
-
-
-def serial_blas(function):
-    """Run ``function`` with BLAS on one thread (restored afterwards).
-
-    The beam kernel's OpenMP threads and OpenBLAS' threads both spin-wait for work; interleaved on
-    a few cores they starve each other: a 60,000-entry vector norm right after a kernel call was
-    measured at 2.5 ms instead of 0.02 ms. The solvers' own BLAS work (vector operations, ARPACK's
-    small dense products) gains nothing from threads.
-    """
-    @functools.wraps(function)
-    def wrapper(*args, **kwargs):
-        with _blas_controller().limit(limits=1, user_api="blas"):
-            return function(*args, **kwargs)
-    return wrapper

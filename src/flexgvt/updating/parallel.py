@@ -16,7 +16,7 @@ import numba
 import numpy as np
 
 from ..errors import ModelError
-from ..fem.linsolve import serial_blas
+from .._threads import serial_blas
 
 
 def single_threaded(function):

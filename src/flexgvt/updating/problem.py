@@ -23,7 +23,7 @@ from ..fem.system import System
 from ..model import Configuration, Model
 from ..correlation.mac import realise
 from ..fem.beam_basis import beam_basis
-from ..fem.linsolve import serial_blas
+from .._threads import serial_blas
 from ..fem.sensitivity import value_derivative
 from .derivatives import (eigenvalue_derivatives, eigenvector_derivatives, modal_terms,
                           shared_changes, state_derivatives, value_change)
