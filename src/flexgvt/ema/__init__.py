@@ -4,9 +4,9 @@ synthetic GVT data. free-decay identification. CMIF and report figures (flexgvt.
 
 from .free_decay import FreeDecay, free_decay, free_decay_from_peaks
 from .indicators import cmif, synthesize_from_modes
-from .polymax import ModalSet, Stabilisation, lsfd, polymax
+from .polymax import ModalSet, Stabilisation, identify, lsfd, polymax
 from .refine import RefineInfo, frf_variance_from_coherence, mode_significance, refine
-from .selection import Cluster, clusters, identify, select_ml
+from .selection import Cluster, clusters, select_ml
 from .repeated import average_tests
 from .wideband import identify_wide_band, wide_band_bands
 from .synthetic import ModalModel, modal_model_from_modes, synthesize_frfs, synthesize_time_data

@@ -18,25 +18,9 @@ from scipy.linalg.blas import dtrsm
 
 from ..errors import EMAError
 from .._threads import serial_blas
-
-
-@dataclass(frozen=True)
-class ModalSet:
-    """Identified modes: frequencies_hz, damping_ratio (n_modes,); shapes (n_modes, n_outputs)
-    complex (normalised to a unit largest component); participation (n_modes, n_inputs);
-    residues (n_modes, n_outputs, n_inputs); outputs/inputs as in the FRFs; frequency_std_hz and
-    damping_std (n_modes,) standard deviations where known (maximum-likelihood refinement, averaging
-    of repeated tests), else None."""
-
-    frequencies_hz: np.ndarray
-    damping_ratio: np.ndarray
-    shapes: np.ndarray
-    participation: np.ndarray
-    residues: np.ndarray
-    outputs: np.ndarray = field(default_factory=lambda: np.zeros((0, 2)))
-    inputs: np.ndarray = field(default_factory=lambda: np.zeros((0, 2)))
-    frequency_std_hz: np.ndarray | None = None  # (n_modes,) standard deviation [Hz], e.g. from refine()
-    damping_std: np.ndarray | None = None  # (n_modes,) standard deviation of the damping ratio
+from .modal_set import ModalSet, checked_frfs  # noqa: F401  (ModalSet re-exported: flexgvt.ema.polymax.ModalSet)
+from .refine import refine as _refine
+from .selection import select_ml
 
 
 @dataclass
@@ -65,8 +49,6 @@ class Stabilisation:
         stable over a narrow band of orders kept if they pass a likelihood-ratio test, edge poles
         dropped). variance: FRF variances for the refinement (default: estimated from the residual)."""
         if refine and frequencies_hz is None:
-            from .selection import select_ml
-
             return select_ml(self, variance=variance, min_fraction=min_fraction, tol_f=tol_f)
         pts = [(s, L, k) for k, (ss, Ls, st) in enumerate(zip(self.poles, self.participations, self.stable))
                for s, L, ok in zip(ss, Ls, st) if ok]
@@ -96,7 +78,6 @@ class Stabilisation:
         modes = lsfd(self.frequencies_hz[band], self.H[band], s, L, self.outputs, self.inputs, weighting=self.weighting)
         if refine:
             from ..io.uff import FRFs
-            from .refine import refine as _refine
 
             modes = _refine(FRFs(self.frequencies_hz, self.H, self.outputs, self.inputs), modes, variance=variance,
                             frequency_band=self.band)
@@ -202,31 +183,6 @@ def _reduced_normal_matrices(r, g, G, same, P):
         if p >= 1:
             m = (p + 1) * n_i
             yield p, 2 * (T[:m, :m] - N[:m, :m])
-
-
-def checked_frfs(freq, H, frequency_band=None, where: str = ""):
-    """(frequencies_hz, H, in-band mask, (f_lo, f_hi)) of FRF arrays, checked: H (n_freq, n_out, n_in) on the
-    frequency axis, finite; the band (default: the whole axis above 0) keeps lines above 0 Hz."""
-    prefix = f"{where}: " if where else ""
-    freq = np.asarray(freq, float)
-    H = np.asarray(H)
-    if H.ndim != 3 or H.shape[0] != len(freq):
-        raise EMAError(f"{prefix}H must have shape (n_freq, n_outputs, n_inputs) matching {len(freq)} frequencies, "
-                       f"got {H.shape}")
-    if not np.all(np.isfinite(H)):
-        raise EMAError(f"{prefix}the FRFs contain NaN or infinite values; remove the bad channels first")
-    if not np.all(np.isfinite(freq)) or not np.any(freq > 0):
-        raise EMAError(f"{prefix}the frequency axis must be finite with lines above 0 Hz")
-    lo, hi = frequency_band if frequency_band is not None else (freq[freq > 0].min(), freq.max())
-    keep = (freq >= lo) & (freq <= hi) & (freq > 0)
-    if not np.any(keep):
-        raise EMAError(f"{prefix}no frequency line in the band {lo:g}-{hi:g} Hz (the FRFs span "
-                       f"{freq.min():g}-{freq.max():g} Hz)")
-    big = float(np.abs(H[keep]).max())
-    if big > 1e150:  # its square overflows the fits' products
-        raise EMAError(f"{prefix}an FRF value of magnitude {big:.3g} (a corrupt value?) is too large to fit; "
-                       "check the file or remove the channel")
-    return freq, H, keep, (lo, hi)
 
 
 @serial_blas  # its products are small or medium: a second BLAS thread's hand-off costs more on a shared machine
@@ -376,3 +332,14 @@ def lsfd(frequencies_hz, H, poles, participation=None, outputs=None, inputs=None
     o = outputs if outputs is not None else np.zeros((0, 2))
     i = inputs if inputs is not None else np.zeros((0, 2))
     return ModalSet(f, zeta, shapes, L, Rres, o, i)
+
+
+def identify(frfs, max_order: int = 40, frequency_band=None, variance=None, weighting: str = "unit",
+             alpha: float = 1e-6, **select_kwargs) -> ModalSet:
+    """PolyMAX (`polymax`) + automatic selection with maximum-likelihood refinement (`select_ml`) in one
+    call: modes with frequency_std_hz [Hz] and damping_std. frfs: FRFs container or (frequencies_hz,
+    H); variance as `refine` (default: the frfs' `variance` if any, else estimated from the residual)."""
+    if variance is None and not isinstance(frfs, tuple):
+        variance = getattr(frfs, "variance", None)
+    stab = polymax(frfs, max_order=max_order, frequency_band=frequency_band, weighting=weighting)
+    return select_ml(stab, variance=variance, alpha=alpha, **select_kwargs)

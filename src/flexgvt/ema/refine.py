@@ -30,7 +30,7 @@ import numpy as np
 
 from ..errors import EMAError
 from .._threads import serial_blas
-from .polymax import checked_frfs
+from .modal_set import ModalSet, checked_frfs
 
 _BLOCK = 1 << 17  # entries (products x lines) of one block of the weighted products: 1 MB, cache-sized
 
@@ -461,8 +461,6 @@ def refine(frfs, modal_set, variance=None, frequency_band=None, max_iter: int = 
     within three half-power bandwidths of the start); else the start is returned with its standard
     deviations evaluated at the start and a warning. With return_info, returns (ModalSet, RefineInfo).
     """
-    from .polymax import ModalSet
-
     if isinstance(frfs, tuple):
         freq, H = frfs
         var_given = variance

@@ -33,7 +33,7 @@ from scipy.stats import chi2
 from ..errors import EMAError
 from .._threads import serial_blas
 from .clustering import group_by_gap, representative, split_by_order
-from .polymax import ModalSet, Stabilisation, polymax
+from .modal_set import ModalSet
 from .refine import SignificanceScreen, refine
 
 
@@ -213,14 +213,3 @@ def select_ml(stab: Stabilisation, variance=None, alpha: float = 1e-6, min_fract
     if return_info:
         return ms, {"candidates": cands, "kept": kept, "refine": info, "threshold": threshold, "log": log}
     return ms
-
-
-def identify(frfs, max_order: int = 40, frequency_band=None, variance=None, weighting: str = "unit",
-             alpha: float = 1e-6, **select_kwargs) -> ModalSet:
-    """PolyMAX (`polymax`) + automatic selection with maximum-likelihood refinement (`select_ml`) in one
-    call: modes with frequency_std_hz [Hz] and damping_std. frfs: FRFs container or (frequencies_hz,
-    H); variance as `refine` (default: the frfs' `variance` if any, else estimated from the residual)."""
-    if variance is None and not isinstance(frfs, tuple):
-        variance = getattr(frfs, "variance", None)
-    stab = polymax(frfs, max_order=max_order, frequency_band=frequency_band, weighting=weighting)
-    return select_ml(stab, variance=variance, alpha=alpha, **select_kwargs)
