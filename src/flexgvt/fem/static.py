@@ -20,6 +20,7 @@ from ..errors import ConvergenceError, FlexGVTWarning, ModelError, SingularModel
 from ..model import Configuration, Model
 from ..model.configuration import parse_dofs
 from .checks import check_connected
+from .eigen import real_modes
 from .rotations import logm_so3, scaled_increment
 from .linsolve import HAVE_CHOLMOD, CholmodCache, serial_blas, superlu
 from .system import Evaluation, System
@@ -289,7 +290,6 @@ def _stable(state: State) -> bool:
     law of inertia), and with that mass a neutral massless motion whose stiffness is round-off
     (+-eps |K|) stays above the limit instead of passing for an instability by the sign of its
     last digit, while a negative stiffness 100 times above round-off still falls below it."""
-    from .modes import real_modes
     system, x, R = state.system, state.positions, state.rotations
     M = system.mass_matrix(x, R)
     K = system.newton_matrix(system.evaluate(x, R, state.load_factor, assemble=False), M, 0.0)

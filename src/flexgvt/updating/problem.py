@@ -18,7 +18,7 @@ from scipy.optimize import linear_sum_assignment
 from ..errors import ConvergenceError, ModelError, SingularModelError, SolverError
 from ..fem import Modes, solve_static
 from ..fem.massprops import rigid_body_basis, system_mass_properties
-from ..fem.modes import _frequency_hz, _lambda_max_bound, _rigid_count, real_modes
+from ..fem.eigen import modal_frequencies_hz, real_modes
 from ..fem.system import System
 from ..model import Configuration, Model
 from ..correlation.mac import realise
@@ -281,10 +281,8 @@ class UpdatingProblem:
         except Exception as exc:  # ARPACK or factorisation failure at this design point
             raise DesignPointFailure(f"configuration '{name}': the eigen-solution failed at this design point ({exc})") \
                 from exc
-        # Rigid-body eigenvalues are zero to about eps * lambda_max, as in solve_modes.
         T = system.transformation(x, R) if system.has_links else None
-        f = _frequency_hz(lam, 0.0 if system.clamped else 100 * np.finfo(float).eps * _lambda_max_bound(K, M.diagonal()),
-                          None if system.clamped else _rigid_count(system, x, T, K, M))
+        f = modal_frequencies_hz(lam, K, M, system, x, T)  # rigid-body modes at 0 Hz, as solve_modes
         self.states[name] = state
         sensors = meas.sensors
         shapes_s = seen = None
