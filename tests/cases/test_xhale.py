@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 import flexgvt as fg
-from flexgvt.cases import xhale, xhale_match_modes, xhale_variables
+from flexgvt.cases import xhale, xhale_match_modes
 from flexgvt.model.configuration import STANDARD_GRAVITY
 
 # Stated tolerance on the original work's initial FE frequencies (docstring: all within 4.2 %,
@@ -119,7 +119,7 @@ def test_as_built_differs_and_is_deterministic(case):
 
 
 def test_thirty_variables_bind(case):
-    variables = xhale_variables(case)
+    variables = fg.updating.case_variables(case)
     assert len(variables) == 30
     p = fg.updating.Parametrisation(case.model, [case.configurations["outboard"], case.configurations["inboard"]],
                                     variables)
@@ -139,7 +139,7 @@ def test_as_built_stiffness_is_recovered_by_the_variables(case):
     """The nominal model at the as-built truth of the 30 variables has the as-built stiffness:
     its frequencies differ from the as-built airframe's only through the +-2 % mass differences."""
     built = xhale(as_built=True, seed=2)
-    variables = xhale_variables(case)
+    variables = fg.updating.case_variables(case)
     cfgs = [case.configurations["inboard"]]
     p = fg.updating.Parametrisation(case.model, cfgs, variables)
     x = np.array([built.references["as_built_factors"][v.name] for v in variables])
@@ -154,3 +154,14 @@ def test_as_built_stiffness_is_recovered_by_the_variables(case):
     el = slice(6, 14)
     assert np.max(np.abs(f_fit[el] / f_built[el] - 1)) < 0.015
     assert np.max(np.abs(f_nom[el] / f_built[el] - 1)) > np.max(np.abs(f_fit[el] / f_built[el] - 1))
+
+
+def test_case_variables_reject_what_they_cannot_build(case):
+    """The case's design variables are plain rows the updating layer reads: an unknown kind, or a
+    case without a table, is named in the error rather than skipped."""
+    bad = fg.cases.Case("bad", case.model, case.configurations, "",
+                        references={"design_variables": [("x", "shell", ("skin",), "E", (0.9, 1.1))]})
+    with pytest.raises(fg.errors.ModelError, match="design variable 'x': kind 'shell'"):
+        fg.updating.case_variables(bad)
+    with pytest.raises(fg.errors.ModelError, match="lists no design variables"):
+        fg.updating.case_variables(fg.cases.cantilever_strip(n_elements=6))

@@ -7,8 +7,6 @@ cantilever_strip, strip_366, hale_wing and the X-HALE-like flying wing xhale (mo
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
-
 import numpy as np
 
 from ..errors import ModelError
@@ -20,24 +18,11 @@ from ..model import (
     Model,
     RectangularSection,
 )
-from .xhale import design_variables as xhale_variables
+from .case import Case
 from .xhale import match_modes as xhale_match_modes
 from .xhale import xhale
 
-__all__ = ["BUILTIN", "Case", "cantilever_strip", "get", "hale_wing", "strip_366", "xhale", "xhale_match_modes",
-           "xhale_variables"]
-
-
-@dataclass
-class Case:
-    """A built-in structure: model, configurations by name, reference values and a description."""
-
-    name: str
-    model: Model
-    configurations: dict[str, Configuration]
-    description: str
-    references: dict = field(default_factory=dict)
-    sensors: dict = field(default_factory=dict)
+__all__ = ["BUILTIN", "Case", "cantilever_strip", "get", "hale_wing", "strip_366", "xhale", "xhale_match_modes"]
 
 
 def _line(model: Model, start, end, n: int) -> np.ndarray:

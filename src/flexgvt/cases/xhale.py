@@ -18,6 +18,7 @@ from ..model import (
     Spring,
 )
 from ..model.configuration import STANDARD_GRAVITY
+from .case import Case
 
 # ---------------------------------------------------------------- published data (xhale_lab_gvt.json)
 GROSS_MASS = 11.35  # kg
@@ -232,16 +233,6 @@ def _design_variables() -> list[tuple]:
     return out
 
 
-def design_variables(case) -> list:
-    """flexgvt.updating Variables of the case's 30 design variables (``case.references['design_variables']``)."""
-    from .. import updating as up
-    out = []
-    for name, kind, targets, attribute, bounds in case.references["design_variables"]:
-        out.append(up.beam(name, targets, attribute, bounds) if kind == "beam"
-                   else up.spring(name, targets, attribute, bounds))
-    return out
-
-
 def _as_built_factors(seed: int) -> tuple[dict, dict]:
     """Seeded differences of the 'real airframe': stiffness factors the 30 variables can recover
     (E, G per wing group +-8 %, the booms' E, G +-8 %, wing-tail springs x 0.7) and mass factors
@@ -346,13 +337,8 @@ def xhale(n_per_section: int = 8, as_built: bool = False, seed: int = 0):
         "as_built_mass_factors": dict(mass_factors),
         "properties": p,
     }
-    return _Case()("xhale", model, configs, xhale.__doc__ or "", references=references,
+    return Case("xhale", model, configs, xhale.__doc__ or "", references=references,
                    sensors=_sensors(model, info))
-
-
-def _Case():
-    from . import Case
-    return Case
 
 
 def match_modes(modes, targets_hz, labels=LABELS) -> list[int]:

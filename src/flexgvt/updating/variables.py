@@ -390,6 +390,24 @@ class Parametrisation:
         return configs
 
 
+def case_variables(case) -> list[Variable]:
+    """Variables of a built-in case's design-variable table, ``case.references['design_variables']``:
+    plain rows (name, kind, targets, attribute, bounds), kind "beam" (targets: group names) or "spring"
+    (targets: indices in model.springs), as flexgvt.cases.xhale lists its 30 variables."""
+    rows = getattr(case, "references", {}).get("design_variables")
+    if rows is None:
+        raise ModelError(f"case '{getattr(case, 'name', case)}' lists no design variables "
+                         "(references['design_variables']); build the Variables with flexgvt.updating.beam/spring/...")
+    makers = {"beam": beam, "spring": spring}
+    out = []
+    for name, kind, targets, attribute, bounds in rows:
+        if kind not in makers:
+            raise ModelError(f"case '{case.name}', design variable '{name}': kind '{kind}' is not one of "
+                             f"{sorted(makers)}")
+        out.append(makers[kind](name, targets, attribute, bounds))
+    return out
+
+
 def _set_mass(item: ConcentratedMass, attribute: str, value: float) -> ConcentratedMass:
     if attribute == "mass":
         return replace(item, mass=value)
