@@ -92,8 +92,9 @@ def test_aset_is_named_in_a_warning(tmp_path):
         fg.io.read_bdf(path)
 
 
-def test_io_alias_of_solve_deck_warns_and_forwards(tmp_path, reference):
-    d = deck(tmp_path, "EIGRL,1,,,3")
-    with pytest.warns(DeprecationWarning, match="flexgvt.workflow.solve_deck"):
-        got = fg.io.solve_deck(d)
-    assert next(iter(got.values())).modes.frequencies_hz == pytest.approx(reference.frequencies_hz[:3], rel=1e-9)
+def test_io_no_longer_solves_and_says_where_solving_went():
+    """io never calls the solver (the layers of docs/architecture.md): the deprecated io alias of
+    solve_deck is gone and its name points to flexgvt.workflow.solve_deck."""
+    with pytest.raises(AttributeError, match="use flexgvt.workflow.solve_deck"):
+        fg.io.solve_deck
+    assert "solve_deck" not in fg.io.__all__ and not hasattr(fg.io.nastran, "solve_deck")

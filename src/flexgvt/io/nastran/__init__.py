@@ -7,7 +7,6 @@ from __future__ import annotations
 
 from ._common import UNIT_SYSTEMS, EigenMethod, Units, UnsupportedCardsError
 from ._read import BdfDeck, BeamSource, read_bdf
-from ._solve import solve_deck
 from ._write import write_bdf
 
 __all__ = [
@@ -18,6 +17,5 @@ __all__ = [
            "Units",
            "UnsupportedCardsError",
            "read_bdf",
-           "solve_deck",
            "write_bdf",
 ]
