@@ -11,7 +11,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import FlexGVTError
-from .project import Project, ProjectError
+from .projectbase import Project, ProjectError
 
 
 @dataclass

@@ -11,7 +11,6 @@ to update without test data. Each error names the file and the offending key.
 from __future__ import annotations
 
 import tomllib
-from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
@@ -20,11 +19,8 @@ from pydantic import ValidationError
 from ..errors import FlexGVTError, ModelError
 from ..model import ConcentratedMass, Configuration, Cord, Model, NodalLoad
 from ..model.configuration import STANDARD_GRAVITY
+from .projectbase import Project, ProjectError
 from .schema import ConfigurationSpec, ProjectFile
-
-
-class ProjectError(FlexGVTError, ValueError):
-    """The project file is invalid: the message names the file, the key and the remedy."""
 
 
 def _loc(loc) -> str:
@@ -49,43 +45,6 @@ def _message(e: dict) -> str:
         given = repr(e.get("input"))
         return f"expected {_EXPECTED[kind]}, got {given[:60] + '...' if len(given) > 60 else given}"
     return e["msg"].removeprefix("Value error, ")
-
-
-@dataclass
-class Project:
-    """A validated project: its file, the parsed spec and what it resolves to.
-
-    model: the structure (built-in case or deck); configurations: the project's test
-    configurations by name (suspension, masses, loads resolved); available: every configuration
-    the model defines (a case's or a deck's), for predictions; variables: the design variables;
-    sensors: {configuration: (node_map, offsets)} test point -> FE node and arm [m]."""
-
-    path: Path
-    spec: ProjectFile
-    model: Model
-    configurations: dict[str, Configuration]
-    available: dict[str, Configuration]
-    variables: list
-    case: object | None = None
-    deck: object | None = None
-    sensors: dict = field(default_factory=dict)
-
-    @property
-    def folder(self) -> Path:
-        return self.path.parent
-
-    def file(self, name: str) -> Path:
-        """A path of the project file, relative to its folder."""
-        p = Path(name).expanduser()
-        return p if p.is_absolute() else self.folder / p
-
-    @property
-    def output(self) -> Path:
-        return self.file(self.spec.outputs.directory)
-
-    @property
-    def to_update(self) -> list[str]:
-        return [c.name for c in self.spec.configurations if c.role == "update"]
 
 
 def load_project(path: str | Path) -> Project:

@@ -16,7 +16,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import FlexGVTError
-from .project import ProjectError
+from .projectbase import ProjectError
 
 MAX_NAME_BYTES = 255  # one path component (ext4, xfs, apfs, ntfs)
 MAX_PATH_BYTES = 4000  # a whole path (Linux PATH_MAX is 4096)
