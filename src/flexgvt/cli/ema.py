@@ -60,7 +60,8 @@ def identify(paths: list[Path] = typer.Argument(..., help="UFF file(s) with FRFs
 
     Several files: each is identified, then the modes are paired by frequency and MAC and averaged
     with their spread (fg.ema.average_tests)."""
-    from ..ema import average_tests, plots
+    from ..ema import average_tests
+    from ..report import plots
     from ..io.uff import ModalResults, shapes_at_points, write_uff
 
     try:

@@ -1,6 +1,6 @@
 """Experimental modal analysis: FRF estimation, PolyMAX with stabilisation and automatic pole selection, LSFD,
 maximum-likelihood refinement with uncertainty (refine, identify), averaging of repeated tests,
-synthetic GVT data. free-decay identification. CMIF and report figures (flexgvt.ema.plots)."""
+synthetic GVT data. free-decay identification, CMIF. Figures of these are in flexgvt.report.plots."""
 
 from .free_decay import FreeDecay, free_decay, free_decay_from_peaks
 from .indicators import cmif, synthesize_from_modes
