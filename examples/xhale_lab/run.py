@@ -69,7 +69,9 @@ def main(argv=None) -> dict:
                            modes={c: ("xhale_lab_gvt.json", f"{c}", labels) for c in ("outboard", "inboard")})
     (args.out / "project.toml").write_text(text)
     project = load_project(args.out / "project.toml")
-    res = run(project, log=print, report=not args.no_report)
+    res = run(project, log=print)
+    if not args.no_report:
+        fg.report.write_project_report(res)
 
     rows = {}
     print(f"\n{'configuration':<10} {'mode':<10} {'measured':>8} {'orig. init':>10} {'orig. upd':>9} "

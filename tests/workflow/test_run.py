@@ -98,17 +98,3 @@ def test_run_updates_checks_predicts_and_resumes(project_dir):
     assert again.update.x[0] == pytest.approx(up.x[0], rel=1e-9)
     data = json.loads((out / "results.json").read_text())
     assert data["prediction"]["updated"][0]["free_hz"] == pytest.approx(pred[0]["free_hz"])
-
-
-def test_report_says_how_far_the_objective_still_moved_at_the_evaluation_limit():
-    from types import SimpleNamespace
-
-    from flexgvt.workflow.report import _stop_note
-    rows = [{"objective": v} for v in (1.0, 0.5, 0.30, 0.29, 0.288)]
-    limit = SimpleNamespace(message="The maximum number of function evaluations is exceeded.", history=rows)
-    note = _stop_note(limit)
-    assert "evaluation limit" in note and "fell 71 %" in note and "last 4 iterations" in note and "raise" in note
-    flat = SimpleNamespace(message=limit.message, history=[{"objective": v} for v in (0.5, 0.5, 0.5, 0.4995)])
-    assert "raise" not in _stop_note(flat) and "fell 0.1 %" in _stop_note(flat)
-    done = SimpleNamespace(message="`xtol` termination condition is satisfied.", history=rows)
-    assert _stop_note(done) == done.message

@@ -182,11 +182,22 @@ def demo(out: Path = typer.Option(Path("demo-output"), help="folder for the proj
     """The whole method on the X-HALE-like aircraft: synthetic GVT of the as-built airframe in two
     suspension layouts, PolyMAX, updating on both at once (30 variables), suspension removed,
     free-free and 20 m bungee predictions scored against the as-built truth, report."""
-    from ..workflow.demo import SCORED_MODES, run_demo
+    from ..workflow.demo import SCORED_MODES, demo_figures, demo_project
     from .workflow import prediction_table, run_with_progress
+
+    def job(log):
+        from ..report import write_project_report
+        from ..workflow import run
+        t0 = time.perf_counter()
+        project = demo_project(out, seed=seed, log=log)
+        t_data = time.perf_counter() - t0
+        res = run(project, log=log)
+        if report:  # the face renders; the workflow only returns results
+            write_project_report(res)
+        return demo_figures(res, out, seed, t_data, t0)
     try:
         console.rule("[bold]flexgvt demo: X-HALE-like aircraft, GVT on two suspension layouts[/]")
-        result = run_with_progress(console, lambda log: run_demo(out, seed=seed, log=log, report=report))
+        result = run_with_progress(console, job)
         for name, c in result["configurations"].items():
             console.print(f"configuration '{name}': rms frequency error {c['initial_rms_error_percent']:.2f} % "
                           f"(initial model) -> {c['updated_rms_error_percent']:.2f} % (updated), {c['modes']} modes")

@@ -82,7 +82,14 @@ def register(app: typer.Typer, console: Console) -> None:
                     update={"directory": str(out.resolve())})})
             from rich.markup import escape
             console.rule(f"[bold]{escape(p.spec.project.name)}[/]")
-            res = run_with_progress(console, lambda log: run_project(p, log=log, report=report))
+
+            def job(log):
+                res = run_project(p, log=log)
+                if report:  # --report (the default) as before: the face renders, the workflow only returns results
+                    from ..report import write_project_report
+                    write_project_report(res)
+                return res
+            res = run_with_progress(console, job)
             for key, pred in res.predictions.items():
                 console.print(prediction_table(f"free-flying prediction, {key} model", pred.rows))
             console.print(f"outputs in {p.output}/: " + ", ".join(Path(f).name for f in res.files.values()))

@@ -17,7 +17,6 @@ All text is HTML-escaped; empty parts (None, empty lists) are left out.
 
 from __future__ import annotations
 
-import csv
 import datetime as _dt
 import html
 import math
@@ -29,6 +28,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import ReportError
+from ..io.tables import columns as _columns, write_csv  # noqa: F401  (write_csv re-exported)
 from .content import ConfigurationSection, ReportContent
 
 CSS = """
@@ -111,13 +111,6 @@ def _header(key: str) -> str:
     return key.replace("_", " ")
 
 
-def _columns(rows: list[dict]) -> list[str]:
-    cols: list[str] = []
-    for r in rows:
-        cols += [k for k in r if k not in cols]
-    return cols
-
-
 def table_html(rows: list[dict], caption: str | None = None) -> str:
     """Rows of dicts as an escaped HTML table; columns in first-seen key order."""
     if not rows:
@@ -136,29 +129,6 @@ def table_html(rows: list[dict], caption: str | None = None) -> str:
         out.append("<tr>" + "".join(cells) + "</tr>")
     out.append("</table>")
     return "\n".join(out)
-
-
-def write_csv(rows: list[dict], path: Path) -> Path:
-    """Rows of dicts as CSV with the raw keys as header; None as an empty cell, floats in full."""
-    cols = _columns(rows)
-
-    def cell(v):
-        if v is None:
-            return ""
-        if isinstance(v, (tuple, list, np.ndarray)):
-            return " ".join(cell(x) for x in v)
-        if isinstance(v, (np.floating, float)):
-            return repr(float(v))
-        if isinstance(v, np.integer):
-            return str(int(v))
-        return str(v)
-
-    with open(path, "w", newline="", encoding="utf-8") as fh:
-        w = csv.writer(fh)
-        w.writerow(cols)
-        for r in rows:
-            w.writerow([cell(r.get(c)) for c in cols])
-    return Path(path)
 
 
 class _Page:

@@ -53,20 +53,33 @@ def _rms(values) -> float:
     return float(np.sqrt(np.mean(np.square(v)))) if v else float("nan")
 
 
-def run_demo(out: Path, seed: int = 7, log: Callable[[str], None] = print, report: bool = True) -> dict:
-    """Run the demo into ``out``; returns the figures of its --json layout."""
-    from .. import cases
-    from ..fem import solve_modes, solve_static
+def demo_project(out: Path, seed: int = 7, log: Callable[[str], None] = print):
+    """Write the demo's synthetic GVT and project file into ``out``; returns the loaded Project."""
     from .project import load_project
-    from .runner import run
     from .template import write_example
-
-    t0 = time.perf_counter()
     folder = Path(out)
     write_example(folder, seed=seed, log=log)
+    return load_project(folder / "project.toml")
+
+
+def run_demo(out: Path, seed: int = 7, log: Callable[[str], None] = print) -> dict:
+    """Run the demo into ``out``; returns the figures of its --json layout. The workflow never
+    renders: `flexgvt demo` runs demo_project, workflow.run, the report, then demo_figures."""
+    from .runner import run
+    t0 = time.perf_counter()
+    project = demo_project(out, seed, log)
     t_data = time.perf_counter() - t0
-    project = load_project(folder / "project.toml")
-    res = run(project, log=log, report=report)
+    return demo_figures(run(project, log=log), out, seed, t_data, t0)
+
+
+def demo_figures(res, out: Path, seed: int, t_data: float, t0: float) -> dict:
+    """The --json figures of a demo run into ``out``: free-free and bungee predictions scored against
+    the as-built truth of ``seed``; t_data: time [s] to write the synthetic data, t0: perf_counter
+    at the start."""
+    from .. import cases
+    from ..fem import solve_modes, solve_static
+    project = res.project
+    folder = Path(out)
     truth = cases.xhale(as_built=True, seed=seed)
     free_truth = solve_modes(solve_static(truth.model, Configuration("free_free")), SCORED_MODES + 8, damped=False)
     scores = {key: score_against_truth(free_truth, pred.free) for key, pred in res.predictions.items()}

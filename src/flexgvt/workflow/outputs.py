@@ -20,7 +20,7 @@ from pathlib import Path
 import numpy as np
 
 from ..model import Configuration
-from ..report.html import write_csv
+from ..io.tables import write_csv
 
 
 _UNSAFE = re.compile(r"[^A-Za-z0-9._-]")
@@ -87,25 +87,6 @@ def remove_temporaries(*folders: Path) -> None:
         for tmp in Path(folder).glob(".report-*"):
             if tmp.is_dir():
                 shutil.rmtree(tmp, ignore_errors=True)
-
-
-def write_report_atomic(content, out: Path) -> Path:
-    """flexgvt.report.write_report into a staging folder beside ``out``, then each file renamed into
-    ``out`` (figures and tables first, report.html last): every file is whole at any moment."""
-    from ..report import write_report
-    stage = out / f".report-{os.getpid()}"
-    shutil.rmtree(stage, ignore_errors=True)
-    try:
-        html = write_report(content, stage)
-        for sub in ("figures", "tables"):
-            if (stage / sub).is_dir():
-                (out / sub).mkdir(exist_ok=True)
-                for f in sorted((stage / sub).iterdir()):
-                    os.replace(f, out / sub / f.name)
-        os.replace(html, out / html.name)
-    finally:
-        shutil.rmtree(stage, ignore_errors=True)
-    return out / html.name
 
 
 def write_outputs(res, out: Path) -> dict[str, str]:

@@ -1,8 +1,10 @@
 """`run(project)`: identification -> updating -> check -> suspension removal and prediction ->
-outputs and report, resumable from the project's results store (a second run picks up what is done).
+outputs, resumable from the project's results store (a second run picks up what is done).
 
 Every step is a public function (flexgvt.workflow.identify, update_model, check, predict,
-write_outputs, write_project_report); the runner only orders them and caches their results.
+write_outputs); the runner only orders them and caches their results. It returns results and never
+renders: the report is the face's (flexgvt.report.write_project_report(result), which `flexgvt run`
+calls when the project's [outputs] report is on).
 """
 
 from __future__ import annotations
@@ -10,6 +12,7 @@ from __future__ import annotations
 import hashlib
 import json
 import time
+import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Callable
@@ -38,6 +41,7 @@ class RunResult:
     files: dict[str, str] = field(default_factory=dict)
     timings: dict[str, float] = field(default_factory=dict)
     resumed: list[str] = field(default_factory=list)
+    report_wanted: bool = False  # the project's [outputs] report: flexgvt.report.write_project_report(result)
 
     @property
     def model(self):
@@ -169,7 +173,16 @@ def diagram(item: Identified) -> dict | None:
 def run(project: Project | str | Path, log: Callable[[str], None] | None = None,
         report: bool | None = None) -> RunResult:
     """Run a project end to end; results and outputs go to its output folder. log: a callable that
-    receives one line per step and per optimiser iteration (the CLI prints them)."""
+    receives one line per step and per optimiser iteration (the CLI prints them).
+
+    The report is not written here (the workflow never renders): ``result.report_wanted`` says
+    whether the project's [outputs] report asks for one, and flexgvt.report.write_project_report
+    (result) writes it. report: deprecated (it overrode [outputs] report; now only sets
+    report_wanted and warns)."""
+    if report is not None:
+        warnings.warn("flexgvt.workflow.run(report=...) is deprecated: the workflow returns results and never "
+                      "renders; write the report with flexgvt.report.write_project_report(result)",
+                      DeprecationWarning, stacklevel=2)
     from ..updating.store import acquire_lock
     log = log or (lambda s: None)
     t_all = time.perf_counter()
@@ -242,12 +255,17 @@ def _run_locked(project: Project, out: Path, store: Path, log, report, t_all: fl
     t0 = time.perf_counter()
     from .outputs import write_outputs
     res.files.update(write_outputs(res, out))
-    do_report = project.spec.outputs.report if report is None else report
-    if do_report:
-        from .report import write_project_report
-        res.files["report"] = str(write_project_report(res, out))
+    res.report_wanted = project.spec.outputs.report if report is None else bool(report)
     timings["outputs"] = time.perf_counter() - t0
     timings["total"] = time.perf_counter() - t_all
+    write_results(res, out)
+    return res
+
+
+def write_results(res: RunResult, out: Path | None = None) -> Path:
+    """results.json (the documented --json layout, RunResult.as_dict) in ``out`` (default: the
+    project's output folder), written atomically; listed in res.files."""
+    out = Path(res.project.output if out is None else out)
     write_text_atomic(out / "results.json", json.dumps(res.as_dict(), indent=1))
     res.files["results"] = str(out / "results.json")
-    return res
+    return out / "results.json"

@@ -1,19 +1,27 @@
-"""The run's results as a flexgvt.report ReportContent: deformed shapes, stabilisation diagrams,
+"""A project run's results (flexgvt.workflow.RunResult) as a ReportContent, and the report written
+into the run's output folder (the face calls it: `flexgvt run`, `flexgvt demo`, users' scripts;
+the workflow returns results and never renders): deformed shapes, stabilisation diagrams,
 MAC matrices, frequency errors before and after, animated mode shapes (measured on analytical,
 on the deformed geometry), design variables with their uncertainty, frequency versus load and
 the free-flying prediction."""
 
 from __future__ import annotations
 
+import os
+import shutil
+import time
 from pathlib import Path
 
 import numpy as np
 
+from ..fem import modes_versus_load, solve_modes, solve_static
 from ..io.uff import shapes_at_points
+from ..workflow.runner import write_results
+from .content import ConfigurationSection, Geometry, ModeShape, ReportContent, StabilisationData
+from .html import write_report
 
 
 def _geometry(model, positions):
-    from ..report import Geometry
     edges = [model.index_of(g.nodes) for g in model.beams]
     return Geometry(np.asarray(positions, float), np.concatenate(edges) if edges else np.zeros((0, 2), int))
 
@@ -45,7 +53,6 @@ def _stop_note(up) -> str:
 
 
 def _section(res, name: str):
-    from ..report import ConfigurationSection, ModeShape, StabilisationData
     project, up = res.project, res.update
     model = res.model
     item = res.identified.get(name)
@@ -71,7 +78,6 @@ def _section(res, name: str):
                 mac=rows[i]["mac_updated"], measured_xyz=xyz,
                 measured_displacement=None if meas is None else _aligned(meas[i], fe, j, xyz, state)))
     else:
-        from ..fem import solve_modes, solve_static
         state = solve_static(model, project.configurations[name])
         fe = solve_modes(state, 12, damped=False)
         modes = [ModeShape(f"{fe.labels[j]}", float(fe.frequencies_hz[j]), fe.shapes[j, :, :3])
@@ -100,8 +106,6 @@ def _aligned(meas, fe, j, xyz, state):
 
 def build_report_content(res):
     """A ReportContent for a RunResult."""
-    from ..fem import modes_versus_load
-    from ..report import ReportContent
     project, up = res.project, res.update
     spec = project.spec
     summary = [("project", f"{spec.project.name} ({project.path.name})"), ("model", project.model.name),
@@ -154,8 +158,33 @@ def build_report_content(res):
                          prediction, title, notes)
 
 
-def write_project_report(res, out: Path) -> Path:
-    """report.html (self-contained), figures/*.png and tables/*.csv in ``out``, each file written
-    atomically (a killed run leaves whole files)."""
-    from .outputs import write_report_atomic
-    return write_report_atomic(build_report_content(res), Path(out))
+def write_project_report(res, out: Path | None = None) -> Path:
+    """report.html (self-contained), figures/*.png and tables/*.csv of a RunResult in ``out``
+    (default: the project's output folder), each file written atomically (a killed run leaves whole
+    files); adds the report to ``res.files`` and rewrites results.json to list it."""
+    t0 = time.perf_counter()
+    out = Path(res.project.output if out is None else out)
+    path = write_report_atomic(build_report_content(res), out)
+    res.files.pop("results", None)  # listed after the report, as when the run wrote both
+    res.files["report"] = str(path)
+    res.timings["report"] = time.perf_counter() - t0
+    write_results(res, out)
+    return path
+
+
+def write_report_atomic(content, out: Path) -> Path:
+    """flexgvt.report.write_report into a staging folder beside ``out``, then each file renamed into
+    ``out`` (figures and tables first, report.html last): every file is whole at any moment."""
+    stage = out / f".report-{os.getpid()}"
+    shutil.rmtree(stage, ignore_errors=True)
+    try:
+        html = write_report(content, stage)
+        for sub in ("figures", "tables"):
+            if (stage / sub).is_dir():
+                (out / sub).mkdir(exist_ok=True)
+                for f in sorted((stage / sub).iterdir()):
+                    os.replace(f, out / sub / f.name)
+        os.replace(html, out / html.name)
+    finally:
+        shutil.rmtree(stage, ignore_errors=True)
+    return out / html.name
