@@ -287,7 +287,7 @@ def run_opensees(model, cfg, section, mat, system, consistent=True):
 def profile_breakdown(model, cfg):
     """Wall time of flexgvt's pieces in one static + modes solve (exclusive times), by wrapping them."""
     from flexgvt.fem import labels as fg_labels
-    from flexgvt.fem import modes as fg_modes
+    from flexgvt.fem import eigen as fg_eigen
     from flexgvt.fem import system as fg_system
 
     acc = defaultdict(float)
@@ -330,7 +330,7 @@ def profile_breakdown(model, cfg):
         wrap(fg_linsolve.spla, "splu", "splu (SuperLU factorisation)"),
         wrap(fg_static._Factor, "__init__", "_Factor: rest"),
         wrap(fg_static._Factor, "solve", "triangular solves"),
-        wrap(fg_modes.spla, "eigsh", "eigsh (ARPACK, shift-invert solves)"),
+        wrap(fg_eigen.spla, "eigsh", "eigsh (ARPACK, shift-invert solves)"),
         wrap(fg_labels, "label_modes", "mode labelling"),
     ]
     try:
