@@ -36,7 +36,8 @@ N_OUT, N_LINES, F_MAX, MAX_ORDER = 100, 4000, 100.0, 100
 def system(seed: int = 1):
     rng = np.random.default_rng(seed)
     x = np.linspace(0.0, 1.0, N_OUT)
-    shapes = np.array([np.sin((k + 1) * np.pi * x + 0.3 * k) + 0.2 * rng.normal(size=N_OUT) for k in range(len(F_TRUE))])
+    shapes = np.array([np.sin((k + 1) * np.pi * x + 0.3 * k) + 0.2 * rng.normal(size=N_OUT)
+                       for k in range(len(F_TRUE))])
     model = ModalModel(F_TRUE, Z_TRUE, shapes)
     freq = np.linspace(F_MAX / N_LINES, F_MAX, N_LINES)
     frfs = synthesize_frfs(model, freq, np.arange(N_OUT), [7], quantity="accelerance", snr_db=30.0, seed=seed)
@@ -129,15 +130,19 @@ def main() -> int:
     except Exception as exc:  # noqa: BLE001
         t_sd, s_sd, sd_note = np.nan, np.full((len(F_TRUE), 3), np.nan), f"failed: {type(exc).__name__}: {exc}"
     lines = [f"machine: {cpu}, {ncores} cores; " + ", ".join(f"{k} {v}" for k, v in vers.items()),
-             f"flexgvt PolyMAX orders 1..{MAX_ORDER} + automatic selection + LSFD: {t_fg:.2f} s, {len(res_fg[0])} modes",
+             f"flexgvt PolyMAX orders 1..{MAX_ORDER} + automatic selection + LSFD: {t_fg:.2f} s, "
+             f"{len(res_fg[0])} modes",
              f"flexgvt, two references (200 FRFs): {t_fg2:.2f} s, {len(res_fg2[0])} modes",
-             f"sdypy-EMA LSCF orders 1..{MAX_ORDER} + poles closest to the true frequencies + LSFD: {t_sd:.2f} s {sd_note}",
+             f"sdypy-EMA LSCF orders 1..{MAX_ORDER} + poles closest to the true frequencies + LSFD: "
+             f"{t_sd:.2f} s {sd_note}",
              f"time ratio sdypy-EMA / flexgvt: {t_sd / t_fg:.1f}",
-             f"flexgvt PolyMAX + ML refinement (select(refine=True)): {t_ml:.2f} s (repeats {', '.join(f'{t:.2f}' for t in ml_times)}), "
+             f"flexgvt PolyMAX + ML refinement (select(refine=True)): {t_ml:.2f} s "
+             f"(repeats {', '.join(f'{t:.2f}' for t in ml_times)}), "
              f"{len(res_ml[0])} modes; sdypy-EMA / flexgvt-ML: {t_sd / t_ml:.1f}",
              f"of which PolyMAX alone: {t_pm:.2f} s"]
     print("\n".join(lines))
-    rows = ["| mode | f true [Hz] | zeta true | flexgvt df | flexgvt dzeta | flexgvt MAC | ML-refined df | ML-refined dzeta | "
+    rows = ["| mode | f true [Hz] | zeta true | flexgvt df | flexgvt dzeta | flexgvt MAC | ML-refined df | "
+            "ML-refined dzeta | "
             "ML-refined MAC | 2 refs df | 2 refs dzeta | 2 refs MAC | sdypy-EMA df | sdypy-EMA dzeta | sdypy-EMA MAC |",
             "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
     for k in range(len(F_TRUE)):
@@ -161,13 +166,15 @@ def main() -> int:
             f"| flexgvt `polymax` + `select()` (automatic) + LSFD | **{t_fg:.2f} s** | {len(res_fg[0])} | "
             f"{wf[0]:.3f} % | {wf[1]:.1f} % | {wf[2]:.4f} |",
             f"| flexgvt `polymax` + `select(refine=True)` (ML refinement, likelihood-ratio selection, sigmas) | "
-            f"**{t_ml:.2f} s** (repeats {', '.join(f'{t:.2f}' for t in ml_times)} s) | {len(res_ml[0])} | {wm[0]:.3f} % | "
+            f"**{t_ml:.2f} s** (repeats {', '.join(f'{t:.2f}' for t in ml_times)} s) | {len(res_ml[0])} | "
+            f"{wm[0]:.3f} % | "
             f"{wm[1]:.1f} % | {wm[2]:.4f} |",
             f"| sdypy-EMA `get_poles('lscf')` + `select_closest_poles(true f)` + `get_constants('lsfd')` | "
             f"**{t_sd:.2f} s** | {len(F_TRUE)} (given) | {ws[0]:.3f} % | {ws[1]:.1f} % | {ws[2]:.4f} |",
             "",
             f"**sdypy-EMA / flexgvt time: {t_sd / t_fg:.1f}x**. DESIGN.md target: under 2 s and at least 5x faster "
-            f"with equal or better accuracy -> {'met' if t_fg < 2 and t_sd / t_fg >= 5 and wf[2] >= ws[2] else 'NOT met'}. "
+            "with equal or better accuracy -> "
+            f"{'met' if t_fg < 2 and t_sd / t_fg >= 5 and wf[2] >= ws[2] else 'NOT met'}. "
             f"With two references (200 FRFs, poly-reference) flexgvt takes {t_fg2:.2f} s. "
             f"DESIGN.md target for PolyMAX + maximum-likelihood refinement + LSFD: under 1 s -> "
             f"{ml_verdict} (best {t_ml:.2f} s, median {np.median(ml_times):.2f} s of {len(ml_times)}; "

@@ -316,7 +316,8 @@ def profile_breakdown(model, cfg):
     patches = [
         wrap(fg_system, "beam_forces", "beam kernel (numba, forces + tangent)"),
         wrap(fg_assembly.Pattern, "assemble", "sparse assembly (compiled scatter -> csc)"),
-        wrap(fg_system.System, "newton_matrix", "Newton matrix assembled (modes: symmetric part of the element tangents)"),
+        wrap(fg_system.System, "newton_matrix",
+             "Newton matrix assembled (modes: symmetric part of the element tangents)"),
         wrap(fg_linsolve.CholmodCache, "factor_blocks",
              "Newton matrix (symmetric part of the element tangents + alpha M) scattered into CHOLMOD's pattern"),
         wrap(fg_linsolve.CholmodCache, "factor", "CHOLMOD: assembled matrix gathered onto the analysed pattern"),
@@ -489,16 +490,20 @@ def main(argv=None):
                     peer["lumped_freqs"] = lf
             except Exception as exc:  # noqa: BLE001
                 peer = dict(error=f"{type(exc).__name__}: {exc}")
-        res = dict(n=n, n_dof=n_dof, n_iter=n_iter, steps=state.converged_steps, build=t_build, static=t_static, modes=t_modes, total=total,
+        res = dict(n=n, n_dof=n_dof, n_iter=n_iter, steps=state.converged_steps, build=t_build, static=t_static,
+                   modes=t_modes, total=total,
                    superlu_total=min(slu),
                    floor=floor, fl=fl, bw=bw, f_ours=f_ours, f_floor=f_floor, n_zeroed=n_zeroed, tip=tip,
                    peer=peer, reps=reps, paired=paired, shift_spread=float(np.abs(f_shift / f_floor - 1).max()),
                    shift_spread_1=float(abs(f_shift[0] / f_floor[0] - 1)))
         results.append(res)
-        line = (f"n={n:6d} dof={n_dof:6d} steps={state.converged_steps} newton={n_iter:3d}  static {fmt(t_static):>8s} modes {fmt(t_modes):>8s} "
-                f"total {fmt(total):>8s} | floor {fl['factor_kind']} x{n_iter} {fmt(fl['factor']):>8s} + eigsh {fmt(fl['eig_used']):>8s} "
+        line = (f"n={n:6d} dof={n_dof:6d} steps={state.converged_steps} newton={n_iter:3d}  "
+                f"static {fmt(t_static):>8s} modes {fmt(t_modes):>8s} "
+                f"total {fmt(total):>8s} | floor {fl['factor_kind']} x{n_iter} {fmt(fl['factor']):>8s} "
+                f"+ eigsh {fmt(fl['eig_used']):>8s} "
                 f"= {fmt(floor):>8s}  ratio {total / floor:5.2f}"
-                + (f" (paired rounds: median {np.median(paired):.2f}, {min(paired):.2f}-{max(paired):.2f})" if paired else ""))
+                + (f" (paired rounds: median {np.median(paired):.2f}, {min(paired):.2f}-{max(paired):.2f})"
+                   if paired else ""))
         if peer and "times" in peer:
             pt = peer["times"]["static"] + peer["times"]["modes"]
             line += f" | OpenSees {fmt(pt)} ({peer['iters']} it)  ours/OpenSees {total / pt:5.2f}"
@@ -526,7 +531,8 @@ def main(argv=None):
             if m is None:
                 raise RuntimeError(f"--spread: no 1,000-element result in run {k + 1}:\n{got[-2000:]}")
             spread_runs.append(tuple(float(v) for v in m.groups()))
-            print(f"spread run {k + 1}: total {m.group(1)} ms, ratio {m.group(2)}, paired median {m.group(3)}", flush=True)
+            print(f"spread run {k + 1}: total {m.group(1)} ms, ratio {m.group(2)}, paired median {m.group(3)}",
+                  flush=True)
 
     text = render(results, prof, cpu, ncores, vers, libs, warmup, t_first, T_IMPORT, spread_runs)
     print()
@@ -571,11 +577,13 @@ def render(results, prof, cpu, ncores, vers, libs, warmup, t_first, t_import, sp
              "library flexgvt uses (CHOLMOD analyse-once + refactor where scikit-sparse is installed, else SuperLU), "
              "on the very matrices flexgvt factorised, their exactly-zero entries left out as both do: the strip "
              "bends in its symmetry plane, so half of the element pattern is zero) + the eigensolve alone "
-             f"(`eigsh(K, {N_MODES}, M, sigma=0, tol={EIG_TOL:g})`, flexgvt's tolerance, same K and M, shift-invert through the same library). **Peer** = OpenSeesPy, corotational "
+             f"(`eigsh(K, {N_MODES}, M, sigma=0, tol={EIG_TOL:g})`, flexgvt's tolerance, same K and M, "
+             "shift-invert through the same library). **Peer** = OpenSeesPy, corotational "
              "`elasticBeamColumn` with consistent mass, the same nodal weights in 20 `LoadControl` steps (Newton, "
              "`BandGen`), `eigen -genBandArpack 20` about the deformed state, same process.")
     L.append("")
-    L.append("| elements | DOF | load steps / Newton its | static | modes | **total** | floor: factorisations | floor: eigsh | **floor** | "
+    L.append("| elements | DOF | load steps / Newton its | static | modes | **total** | floor: factorisations | "
+             "floor: eigsh | **floor** | "
              "**total / floor** | OpenSees static + eigen (its) | **total / OpenSees** |")
     L.append("|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
     for r in results:
@@ -591,8 +599,10 @@ def render(results, prof, cpu, ncores, vers, libs, warmup, t_first, t_import, sp
             pr = f"{r['total'] / pt:.2f}"
         else:
             ps, pr = ("failed" if p else "not run"), "-"
-        L.append(f"| {r['n']:,} | {r['n_dof']:,} | {r['steps']} / {r['n_iter']} | {fmt(r['static'])} | {fmt(r['modes'])} | "
-                 f"**{fmt(r['total'])}** | {fmt(r['fl']['factor'])} ({r['fl']['factor_kind']}) | {fmt(r['fl']['eig_used'])} | **{fmt(r['floor'])}** | "
+        L.append(f"| {r['n']:,} | {r['n_dof']:,} | {r['steps']} / {r['n_iter']} | {fmt(r['static'])} | "
+                 f"{fmt(r['modes'])} | "
+                 f"**{fmt(r['total'])}** | {fmt(r['fl']['factor'])} ({r['fl']['factor_kind']}) | "
+                 f"{fmt(r['fl']['eig_used'])} | **{fmt(r['floor'])}** | "
                  f"**{r['total'] / r['floor']:.2f}** | {ps} | **{pr}** |")
     L.append("")
     r1 = next((r for r in results if r["n"] == 1000), None)
@@ -612,7 +622,8 @@ def render(results, prof, cpu, ncores, vers, libs, warmup, t_first, t_import, sp
                  + (_spread_text(spread_runs) if spread_runs else "")
                  + f" Without scikit-sparse (SuperLU for the Newton factorisations and the shift-invert, "
                    f"`StaticSettings(cholmod=False)`, `solve_modes(..., cholmod=False)`): total "
-                   f"**{fmt(r1['superlu_total'])}** against the SuperLU floor {fmt(r1['fl']['splu'] + r1['fl']['eigsh'])} "
+                   f"**{fmt(r1['superlu_total'])}** against the SuperLU floor "
+                   f"{fmt(r1['fl']['splu'] + r1['fl']['eigsh'])} "
                    f"({r1['n_iter']} SuperLU factorisations {fmt(r1['fl']['splu'])} + eigsh {fmt(r1['fl']['eigsh'])}): "
                    f"**{r1['superlu_total'] / (r1['fl']['splu'] + r1['fl']['eigsh']):.2f}x**.")
         L.append("")

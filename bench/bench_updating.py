@@ -213,20 +213,24 @@ def main():
     multi = multistart(setup)
     cpu, cores, vers = machine_info()
     lines = [TITLE, "",
-             "`python bench/bench_updating.py`. The protocol of `fg.updating.verify('cantilever', seed=1)`: the 1.5 m strip "
-             "(150 beams) mistuned by +-5 % in 12 variables (rho, E, width, thickness of three regions), surrogate data "
+             "`python bench/bench_updating.py`. The protocol of `fg.updating.verify('cantilever', seed=1)`: "
+             "the 1.5 m strip "
+             "(150 beams) mistuned by +-5 % in 12 variables (rho, E, width, thickness of three regions), "
+             "surrogate data "
              "of the reference in three configurations (unloaded, self-weight, 3 g: 8 frequencies, 45 sensor shapes, "
              "the tip's static deflection, mass, cg and inertia), bounds and mass constraints +-10 %. Wall time of "
              "`fg.updating.update` from the model to the result object (one run each, after a warm-up run).",
              "", f"Machine: {cpu}, {cores} cores (shared). " + ", ".join(f"{k} {v}" for k, v in vers.items()) + ".", "",
-             "| optimiser | wall time | solves (static + modes, all configurations) | Jacobians | max frequency error | "
+             "| optimiser | wall time | solves (static + modes, all configurations) | Jacobians | "
+             "max frequency error | "
              "max design-variable error |", "|---|---:|---:|---:|---:|---:|"]
     for r in rows:
         lines.append(f"| {r['method']} | **{r['wall_s']:.2f} s** | {r['solves']} | {r['gradients']} | "
                      f"{r['f_err']:.2g} % | {r['x_err']:.2g} % |")
     fd = rows[-1] if not args.skip_fd else None
     if fd is not None:
-        lines += ["", f"Default optimiser against the finite-difference peer: **{fd['wall_s'] / rows[0]['wall_s']:.1f}x "
+        lines += ["", "Default optimiser against the finite-difference peer: "
+                  f"**{fd['wall_s'] / rows[0]['wall_s']:.1f}x "
                   "faster**; DESIGN.md target under 3 s on 2 cores for the default: "
                   f"**{rows[0]['wall_s']:.2f} s: {'met' if rows[0]['wall_s'] < 3 else 'not met'}**."]
     lines += ["", "Cost of the analytic Jacobian (three configurations, 144 beams, 4 variables per region; minima "
@@ -249,11 +253,13 @@ def main():
     lines += ["", "Parallel evaluation (`processes=2`: each configuration a Dask actor in one of two worker "
               "processes) against serial, one design point with its Jacobian (three configurations, 12 variables; "
               "minima of 3 after warm-up). Starting the local cluster is timed apart.", "",
-              "| elements | serial | 2 processes | serial / parallel | cluster start-up |", "|---:|---:|---:|---:|---:|"]
+              "| elements | serial | 2 processes | serial / parallel | cluster start-up |",
+              "|---:|---:|---:|---:|---:|"]
     for c in cross:
         lines.append(f"| {c['elements']} | {1e3 * c['serial']:.0f} ms | {1e3 * c['parallel']:.0f} ms | "
                      f"**{c['serial'] / c['parallel']:.2f}** | {c['parallel_startup']:.1f} s |")
-    lines += ["", f"Multi-start (the protocol from {len(multi['evaluations'])} seeded starting points, run to convergence: "
+    lines += ["", f"Multi-start (the protocol from {len(multi['evaluations'])} seeded starting points, "
+              "run to convergence: "
               f"{', '.join(str(e) for e in multi['evaluations'])} evaluations), serial against the runs as tasks on "
               f"two worker processes, start-up included: **{multi['serial']:.1f} s serial, {multi['parallel']:.1f} s "
               f"parallel ({multi['serial'] / multi['parallel']:.2f}x)**. The runs' lengths differ, so the longest "

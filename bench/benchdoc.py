@@ -42,7 +42,8 @@ def machine_info(packages=("numpy", "scipy", "numba", "flexgvt", "openseespy", "
 
 def write_section(title: str, text: str, path: Path = DOC) -> None:
     """Replace (or append) the section headed ``title`` of a markdown file, keeping every other section."""
-    old = path.read_text() if path.exists() else "# Benchmarks\n\nScripts in bench/ print these tables; numbers below are from their last run.\n"
+    old = (path.read_text() if path.exists()
+           else "# Benchmarks\n\nScripts in bench/ print these tables; numbers below are from their last run.\n")
     pattern = re.compile(rf"^{re.escape(title)}\n.*?(?=^## |\Z)", re.S | re.M)
     if pattern.search(old):
         new = pattern.sub(lambda _: text.rstrip() + "\n\n", old)

@@ -81,11 +81,13 @@ def write_input(path: Path, n_chord: int, n_span: int, n_modes: int, gravity: bo
     lines += [f"*ELEMENT, TYPE={kind}, ELSET=EALL"]
     for e, el in enumerate(elements):  # at most 16 entries per line
         items = [str(e + 1)] + [str(v) for v in el]
-        lines += [", ".join(items[:16]) + ("," if len(items) > 16 else "")] + ([", ".join(items[16:])] if len(items) > 16 else [])
+        lines += ([", ".join(items[:16]) + ("," if len(items) > 16 else "")]
+                  + ([", ".join(items[16:])] if len(items) > 16 else []))
     lines += ["*NSET, NSET=ROOT"] + [", ".join(map(str, root[k:k + 12])) for k in range(0, len(root), 12)]
     lines += ["*MATERIAL, NAME=AL", "*ELASTIC", f"{E:.6g}, {NU}", "*DENSITY", f"{RHO}"] + section + ["*BOUNDARY", fix]
     if gravity:
-        lines += ["*STEP, NLGEOM, INC=200", "*STATIC", "0.05, 1.0, 1e-5, 0.1", "*DLOAD", "EALL, GRAV, 9.80665, 0., 0., -1.",
+        lines += ["*STEP, NLGEOM, INC=200", "*STATIC", "0.05, 1.0, 1e-5, 0.1", "*DLOAD",
+                  "EALL, GRAV, 9.80665, 0., 0., -1.",
                   "*NODE FILE", "U", "*END STEP", "*STEP, PERTURBATION"]
     else:
         lines += ["*STEP"]
@@ -146,7 +148,8 @@ def run(n_chord: int, n_span: int, n_modes: int = 15, keep: Path | None = None, 
     ratios = {int(k + 1): {"from_unloaded_mode": int(origin[k] + 1), "mac": float(mac[origin[k], k]),
                            "ratio": float(g["frequencies_hz"][k] / u["frequencies_hz"][origin[k]])}
               for k in range(n_modes)}
-    return {"mesh": f"C3D20R {n_chord} x {n_span} x {bricks}" if bricks else f"S8R {n_chord} x {n_span}", "unloaded_hz": u["frequencies_hz"].tolist(),
+    return {"mesh": f"C3D20R {n_chord} x {n_span} x {bricks}" if bricks else f"S8R {n_chord} x {n_span}",
+            "unloaded_hz": u["frequencies_hz"].tolist(),
             "minus_1g_hz": g["frequencies_hz"].tolist(), "ratios": ratios,
             "seconds": {"unloaded": u["seconds"], "minus_1g": g["seconds"]}}
 
@@ -162,7 +165,8 @@ def main():
     args = parser.parse_args()
     result = run(args.chord, args.span, args.modes, bricks=args.bricks)
     for k, r in result["ratios"].items():
-        print(f"-1 g mode {k:2d}: {result['minus_1g_hz'][k - 1]:9.3f} Hz, from unloaded mode {r['from_unloaded_mode']:2d} "
+        print(f"-1 g mode {k:2d}: {result['minus_1g_hz'][k - 1]:9.3f} Hz, "
+              f"from unloaded mode {r['from_unloaded_mode']:2d} "
               f"(MAC {r['mac']:.3f}), ratio {r['ratio']:.4f}")
     print(f"CalculiX time: {result['seconds']}")
     if args.json:

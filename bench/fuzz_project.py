@@ -260,7 +260,8 @@ def fuzz(n: int, seed: int, timeout: float, out: Path | None = None, base: Path 
             if log and (case + 1) % 200 == 0:
                 log(f"{case + 1} cases, {time.perf_counter() - t0:.0f} s: {tally.counts}")
     if out is not None:
-        tally.write(out / "summary.json", n=n, seed=seed, timeout_s=timeout, elapsed_s=round(time.perf_counter() - t0, 1))
+        tally.write(out / "summary.json", n=n, seed=seed, timeout_s=timeout,
+                    elapsed_s=round(time.perf_counter() - t0, 1))
     return tally
 
 

@@ -53,7 +53,8 @@ def write_own(folder: Path) -> dict[str, bytes]:
     out = {}
     for name, binary in (("own_frfs.uff", False), ("own_frfs_58b.uff", True)):
         out[name] = write_uff(folder / name, geometry=geo, frfs=frfs, binary=binary).read_bytes()
-    modes = ModalResults(np.array([1.2, 3.4, 7.9]), np.array([0.02, 0.015, 0.01]), rng.standard_normal((3, len(pts), 3)),
+    modes = ModalResults(np.array([1.2, 3.4, 7.9]), np.array([0.02, 0.015, 0.01]),
+                         rng.standard_normal((3, len(pts), 3)),
                          pts, np.array([0.001, 0.002, 0.004]), np.array([0.001, 0.001, 0.002]))
     out["own_modes.uff"] = write_uff(folder / "own_modes.uff", geometry=geo, modes=modes).read_bytes()
     return out

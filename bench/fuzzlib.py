@@ -87,7 +87,8 @@ class Worker:
                 pass
         else:
             self.close(kill=True)
-            return {"outcome": "hang", "class": "Hang", "site": "", "message": f"no answer in {timeout or self.timeout} s"}
+            return {"outcome": "hang", "class": "Hang", "site": "",
+                    "message": f"no answer in {timeout or self.timeout} s"}
         code = self._proc.exitcode if self._proc is not None else None
         self.close(kill=True)
         return {"outcome": "crash", "class": "Crash", "site": "", "message": f"worker died (exit code {code})"}

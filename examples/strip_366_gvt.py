@@ -81,7 +81,8 @@ def hung_at(case, name: str, distance: float) -> fg.Configuration:
         k = int(np.argmin(np.abs(xyz[:, 1] - side * (half - distance))))
         height = cord.anchor[2] - xyz[model.index_of([cord.node])[0], 2]
         cords.append(fg.Cord(node=int(ids[k]), anchor=(0.0, float(xyz[k, 1]), float(xyz[k, 2] + height)),
-                             stiffness=cord.stiffness, damping=cord.damping, unstretched_length=cord.unstretched_length))
+                             stiffness=cord.stiffness, damping=cord.damping,
+                             unstretched_length=cord.unstretched_length))
     return base.with_(suspension=tuple(cords))
 
 
@@ -119,13 +120,15 @@ def main(argv=None) -> dict:
     parser.add_argument("--out", type=Path, default=Path("strip-gvt-output"), help="folder for the figure")
     parser.add_argument("--json", type=Path, default=None, help="write the tables as JSON")
     parser.add_argument("--data", type=Path, default=None,
-                        help="measured table (.json, the form of the shipped one; default: fg.data.load('strip_366_gvt'))")
+                        help="measured table (.json, the form of the shipped one; "
+                             "default: fg.data.load('strip_366_gvt'))")
     parser.add_argument("--max-iterations", type=int, default=100)
     args = parser.parse_args(argv)
     gvt = measured_tables(args.data)
     case = fg.cases.strip_366()
     model = case.model
-    sensors = Sensors([Sensor(node, direction, offset, name) for name, (node, offset, direction) in case.sensors.items()])
+    sensors = Sensors([Sensor(node, direction, offset, name)
+                       for name, (node, offset, direction) in case.sensors.items()])
     # The inboard attachments were not published ("toward mid-span"): scan them, then refine
     # continuously with the attachment-position variables.
     inboard_d, scan = scan_attachment(case, "inboard", gvt["inboard"]["undamped_hz"], sensors,
@@ -146,7 +149,8 @@ def main(argv=None) -> dict:
                          "initial_hz": r["initial_hz"], "updated_hz": r["updated_hz"],
                          "initial_error_percent": r["initial_error_percent"],
                          "updated_error_percent": r["updated_error_percent"],
-                         "original_tuned_hz": orig[k], "original_error_percent": 100 * (orig[k] / r["measured_hz"] - 1)})
+                         "original_tuned_hz": orig[k],
+                         "original_error_percent": 100 * (orig[k] / r["measured_hz"] - 1)})
         tables[c.name] = rows
         e = {key: np.abs([r[key] for r in rows if r[key] is not None]) for key in
              ("initial_error_percent", "updated_error_percent", "original_error_percent")}
@@ -155,7 +159,8 @@ def main(argv=None) -> dict:
         print(f"\n{c.name}: mode, label, measured, initial, updated [Hz], error [%] (original work's tuned model)")
         for r in rows:
             print(f"  {r['mode']:2d} {r['label']:<10} {r['measured_hz']:7.2f} {r['initial_hz'] or 0:8.3f} "
-                  f"{r['updated_hz'] or 0:8.3f} {r['updated_error_percent'] or 0:+6.2f} ({r['original_error_percent']:+6.2f})")
+                  f"{r['updated_hz'] or 0:8.3f} {r['updated_error_percent'] or 0:+6.2f} "
+                  f"({r['original_error_percent']:+6.2f})")
         s = summary[c.name]
         print(f"  median |error| {s['initial_median_percent']:.2f} % -> {s['updated_median_percent']:.2f} % "
               f"(original {s['original_median_percent']:.2f} %), worst {s['initial_worst_percent']:.2f} % -> "

@@ -57,7 +57,8 @@ def main(argv=None) -> dict:
     parser.add_argument("--out", type=Path, default=Path("xhale-lab-output"), help="folder for the project and results")
     parser.add_argument("--json", type=Path, default=None, help="write the tables as JSON")
     parser.add_argument("--data", type=Path, default=None,
-                        help="measured table (.json, the form of the shipped one; default: fg.data.load('xhale_lab_gvt'))")
+                        help="measured table (.json, the form of the shipped one; "
+                             "default: fg.data.load('xhale_lab_gvt'))")
     parser.add_argument("--no-report", action="store_true", help="skip the HTML report")
     args = parser.parse_args(argv)
 
