@@ -30,7 +30,8 @@ def test_xhale_lab(tmp_path):
     saved = json.loads((tmp_path / "x.json").read_text())
     assert set(saved) == {"configurations", "rms_error_percent", "prediction", "variables", "timings_s", "files"}
     # The project written reads its own copy of the shipped table.
-    assert json.loads((tmp_path / "o" / "xhale_lab_gvt.json").read_text()) == __import__("flexgvt").data.load("xhale_lab_gvt")
+    assert json.loads((tmp_path / "o" / "xhale_lab_gvt.json").read_text()) == __import__("flexgvt").data.load(
+        "xhale_lab_gvt")
     assert 'modes = "xhale_lab_gvt.json"' in (tmp_path / "o" / "project.toml").read_text()
     for c, s in out["rms_error_percent"].items():
         # Updating on both layouts at once lowers the error in each; it ends within 1 % (rms) of the
@@ -77,7 +78,8 @@ def test_bad_data_is_one_line(script, tmp_path, monkeypatch, capsys):
         assert not (tmp_path / "o").exists()
 
 
-@pytest.mark.parametrize("script, table", [("strip_366_gvt.py", "strip_366_gvt"), ("xhale_lab/run.py", "xhale_lab_gvt")])
+@pytest.mark.parametrize("script, table",
+                         [("strip_366_gvt.py", "strip_366_gvt"), ("xhale_lab/run.py", "xhale_lab_gvt")])
 def test_own_table(script, table, tmp_path):
     """--data takes a table of the shipped one's form; a frequency that is not a finite positive
     number is refused with the file named."""

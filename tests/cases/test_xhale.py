@@ -101,7 +101,10 @@ def test_bungee_configurations_are_near_free(case):
 
 def test_as_built_differs_and_is_deterministic(case):
     a, b, c = xhale(as_built=True, seed=3), xhale(as_built=True, seed=3), xhale(as_built=True, seed=4)
-    E = lambda cs: np.array([g.material.E for g in cs.model.beams])
+
+    def E(cs):
+        return np.array([g.material.E for g in cs.model.beams])
+
     assert np.array_equal(E(a), E(b)) and not np.array_equal(E(a), E(c))
     assert not np.allclose(E(a), E(case))
     assert np.allclose(a.model.springs[0].stiffness, 0.7e8)

@@ -178,7 +178,8 @@ def test_a_far_mode_with_a_high_mac_is_not_paired():
     never pairs (a 16 Hz torsion mode must not pair with a 0.3 Hz pendulum mode)."""
     shape = np.array([[1.0, 0.5, -0.3, 0.2]])
     meas = SimpleNamespace(frequencies_hz=np.array([16.0]), shapes=shape)
-    fe = SimpleNamespace(frequencies_hz=np.array([0.3, 12.0]), shapes=np.vstack([shape, shape + [[0.0, 0.4, 0.3, 0.0]]]))
+    fe = SimpleNamespace(frequencies_hz=np.array([0.3, 12.0]),
+                         shapes=np.vstack([shape, shape + [[0.0, 0.4, 0.3, 0.0]]]))
     assert pair(meas, fe, max_frequency_ratio=None).analytical.tolist() == [0]
     p = pair(meas, fe)
     assert p.analytical.tolist() == [1] and p.mac[0] < 1.0

@@ -56,7 +56,8 @@ def test_unknown_name(bad):
 
 def test_packaged():
     """pyproject's package data covers every file shipped beside the loader (else a wheel lacks it)."""
-    patterns = tomllib.loads((ROOT / "pyproject.toml").read_text())["tool"]["setuptools"]["package-data"]["flexgvt.data"]
+    setuptools = tomllib.loads((ROOT / "pyproject.toml").read_text())["tool"]["setuptools"]
+    patterns = setuptools["package-data"]["flexgvt.data"]
     files = [p.name for p in resources.files("flexgvt.data").iterdir() if p.is_file() and not p.name.endswith(".py")]
     assert len(files) == 4 and all(any(fnmatch.fnmatch(f, p) for p in patterns) for f in files), files
 

@@ -47,7 +47,8 @@ def test_strip_366_free_free_and_suspended_configurations():
     free = fg.solve_modes(fg.solve_static(case.model, case.configurations["free_free"]), 8)
     assert np.sum(free.frequencies_hz < 1e-3) == 6
     # The zero-frequency cluster is turned onto the six rigid motions, each named once.
-    assert sorted(free.labels[:6]) == sorted(f"RB {n}" for n in ("fore-aft", "lateral", "plunge", "roll", "pitch", "yaw"))
+    assert sorted(free.labels[:6]) == sorted(
+        f"RB {n}" for n in ("fore-aft", "lateral", "plunge", "roll", "pitch", "yaw"))
     phi = free.matrix()[:, :6]
     state = free.state
     M = state.system.full_mass_matrix(state.positions, state.rotations)

@@ -33,7 +33,8 @@ def test_rod_tangent_matches_finite_differences():
     for j in range(system.n_free):
         e = np.zeros(system.n_free)
         e[j] = h
-        FD[:, j] = (_residual(system, *system.update(x, R, e), 1.0) - _residual(system, *system.update(x, R, -e), 1.0)) / (2 * h)
+        FD[:, j] = (_residual(system, *system.update(x, R, e), 1.0)
+                    - _residual(system, *system.update(x, R, -e), 1.0)) / (2 * h)
     assert np.abs(FD - K).max() / np.abs(K).max() < 1e-6
     # Nodal rotations alone strain no rod (a beam's shallow-arch term would: ~EA theta^2 / 30 = 0.7 N here).
     x0, R0 = system.undeformed

@@ -152,7 +152,10 @@ def test_mass_properties_are_the_exact_integrals(mass):
     term int rho Ip dx, exactly (a single element)."""
     model, _ = cantilever(1, mass=mass, shear=False)
     mp = fg.mass_properties(model)
-    rhoA = lambda x: AL.rho * A0 * (1 - TAPER * x / L)
+
+    def rhoA(x):
+        return AL.rho * A0 * (1 - TAPER * x / L)
+
     m = quad(rhoA, 0, L)[0]
     xc = quad(lambda x: x * rhoA(x), 0, L)[0] / m
     assert mp.mass == pytest.approx(m, rel=1e-13)

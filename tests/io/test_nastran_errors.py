@@ -102,11 +102,13 @@ def test_orientation_parallel_to_the_axis(tmp_path):
 
 def test_bad_section_and_material_values(tmp_path):
     with pytest.raises(ModelError, match="PBAR 1: A=0.0"):
-        fg.io.read_bdf(deck(tmp_path, BEAM.replace("PBAR,1,1,1.e-4,1.e-8,2.e-8,1.e-8", "PBAR,1,1,0.,1.e-8,2.e-8,1.e-8")))
+        fg.io.read_bdf(deck(tmp_path, BEAM.replace("PBAR,1,1,1.e-4,1.e-8,2.e-8,1.e-8",
+                                                   "PBAR,1,1,0.,1.e-8,2.e-8,1.e-8")))
     with pytest.raises(ModelError, match="MAT1 1: G and NU are both blank"):
         fg.io.read_bdf(deck(tmp_path, BEAM.replace("MAT1,1,7.e10,,0.3,2700.", "MAT1,1,7.e10,,,2700.")))
     with pytest.raises(FileFormatError, match="deck.bdf:8: cannot read the deck in PBARL 1: .*dim4"):
-        fg.io.read_bdf(deck(tmp_path, BEAM.replace("PBAR,1,1,1.e-4,1.e-8,2.e-8,1.e-8", "PBARL,1,1,,BOX\n,0.1,0.1,0.01")))
+        fg.io.read_bdf(deck(tmp_path, BEAM.replace("PBAR,1,1,1.e-4,1.e-8,2.e-8,1.e-8",
+                                                   "PBARL,1,1,,BOX\n,0.1,0.1,0.01")))
 
 
 def test_negative_or_nan_shear_factor_names_the_property(tmp_path):

@@ -14,10 +14,14 @@ from flexgvt.errors import FileFormatError
 UFF = Path(__file__).parents[1] / "data" / "reliability" / "uff"
 CASES = {  # file: (dataset named in the message, what it says)
     "KeyError_flexgvt_io_uff_py_179__read_uff_/original.uff": ("dataset 1 (type 58)", "no ordinate data"),
-    "ValueError_flexgvt_io_uff_py_173__read_uff_/minimal.uff": ("dataset 1 (type 15)", "0 values of z coordinates for 1"),
-    "ValueError_flexgvt_io_uff_py_173__read_uff_/original.uff": ("dataset 2 (type 15)", "95 values of z coordinates for 96"),
-    "ValueError_flexgvt_io_uff_py_212___modes_/original.uff": ("dataset 12 (type 55)", "40 values of shape values for 79"),
-    "ValueError_flexgvt_io_uff_py_226___modes_/original.uff": ("dataset 9 (type 55)", "23 values of shape values for 46"),
+    "ValueError_flexgvt_io_uff_py_173__read_uff_/minimal.uff":
+        ("dataset 1 (type 15)", "0 values of z coordinates for 1"),
+    "ValueError_flexgvt_io_uff_py_173__read_uff_/original.uff":
+        ("dataset 2 (type 15)", "95 values of z coordinates for 96"),
+    "ValueError_flexgvt_io_uff_py_212___modes_/original.uff":
+        ("dataset 12 (type 55)", "40 values of shape values for 79"),
+    "ValueError_flexgvt_io_uff_py_226___modes_/original.uff":
+        ("dataset 9 (type 55)", "23 values of shape values for 46"),
     "ValueError_flexgvt_io_uff_py_212___modes_/minimal.uff": ("dataset 2 (type 15)", "node ids must be integers"),
 }
 

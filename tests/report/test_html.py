@@ -206,11 +206,14 @@ window.addEventListener('load', function () {
   var frames = gd._transitionData._frames, half = 0;
   while (half < frames.length && !/f8$/.test(frames[half].name)) half++;
   var before = gd.data[1].z.slice(), target = frames[half].data[0].z, expect = 0;
-  for (var i = 0; i < target.length; i++) if (target[i] !== null) expect = Math.max(expect, Math.abs(target[i] - before[i]));
-  Plotly.animate(gd, [frames[half].name], {mode: 'immediate', frame: {duration: 0, redraw: true}, transition: {duration: 0}})
+  for (var i = 0; i < target.length; i++)
+    if (target[i] !== null) expect = Math.max(expect, Math.abs(target[i] - before[i]));
+  Plotly.animate(gd, [frames[half].name],
+                 {mode: 'immediate', frame: {duration: 0, redraw: true}, transition: {duration: 0}})
     .then(function () {
       var after = gd.data[1].z, moved = 0;
-      for (var i = 0; i < after.length; i++) if (after[i] !== null) moved = Math.max(moved, Math.abs(after[i] - before[i]));
+      for (var i = 0; i < after.length; i++)
+        if (after[i] !== null) moved = Math.max(moved, Math.abs(after[i] - before[i]));
       var out = document.createElement('pre'); out.id = 'probe';
       out.textContent = 'expect=' + expect + ' moved=' + moved;
       document.body.appendChild(out);

@@ -213,7 +213,8 @@ def test_mac_and_cross_orthogonality_rows_with_sensors_turning_with_the_structur
         noise = 0.05 * np.random.default_rng(3).standard_normal(shapes.shape) * np.abs(shapes).max(axis=1,
                                                                                                      keepdims=True)
         data.append(up.Measured(c.name, modes.frequencies_hz * 1.01, shapes + noise, sensors))
-    variables = [up.beam("E2", "region2", "E"), up.beam("w3", "region3", "width"), up.beam("t1", "region1", "thickness")]
+    variables = [up.beam("E2", "region2", "E"), up.beam("w3", "region3", "width"),
+                 up.beam("t1", "region1", "thickness")]
     problem = up.UpdatingProblem(case.model, cfgs, data, variables, objective=objective, static_settings=TIGHT)
     x0 = np.array([1.02, 0.98, 1.01])
     point = problem.evaluate(x0)
