@@ -18,9 +18,10 @@ from .model import (CircularTubeSection, Configuration, Cord, DistributedLoad, G
 __version__ = "0.1.0"
 
 __all__ = ["CircularTubeSection", "Configuration", "Cord", "DistributedLoad", "FlexGVTError", "GeneralSection",
-           "MassProperties", "Material", "Model", "ModeTracking", "Modes", "NodalLoad", "RectangularSection", "RodSection", "Spring",
-           "State", "TaperedSection", "StaticSettings", "cases", "errors", "fem", "mass_properties", "model", "modes_versus_load",
-           "solve_linear_static", "solve_modes", "solve_static", "track_modes"]
+           "MassProperties", "Material", "Model", "ModeTracking", "Modes", "NodalLoad", "RectangularSection",
+           "RodSection", "Spring", "State", "TaperedSection", "StaticSettings", "cases", "errors", "fem",
+           "mass_properties", "model", "modes_versus_load", "solve_linear_static", "solve_modes", "solve_static",
+           "track_modes"]
 
 
 def __getattr__(name: str):

@@ -47,8 +47,10 @@ def _fmt_std(v, fmt):
 @app.command()
 def identify(paths: list[Path] = typer.Argument(..., help="UFF file(s) with FRFs (dataset 58, function type 4); "
                                                 "several files = repeated tests of one configuration, averaged"),
-             band: Optional[list[float]] = typer.Option(None, "--band", help="fit band: --band F_MIN --band F_MAX [Hz]"),
-             max_order: int = typer.Option(40, help="highest model order of the stabilisation diagram (as fg.ema.polymax)"),
+             band: Optional[list[float]] = typer.Option(None, "--band",
+                                                        help="fit band: --band F_MIN --band F_MAX [Hz]"),
+             max_order: int = typer.Option(40,
+                                           help="highest model order of the stabilisation diagram (as fg.ema.polymax)"),
              poles: Optional[str] = typer.Option(None, help="pick poles by hand: comma-separated frequencies [Hz]"),
              wide: bool = typer.Option(False, "--wide", help="fit band by band (modes over decades of frequency, "
                                        "e.g. 0.2 Hz suspension modes with 100 Hz elastic modes)"),
@@ -79,7 +81,8 @@ def identify(paths: list[Path] = typer.Argument(..., help="UFF file(s) with FRFs
         else:
             modes = per_test[0]
         out.mkdir(parents=True, exist_ok=True)
-        title = paths[0].name if len(paths) == 1 else f"{len(paths)} tests averaged ({', '.join(p.name for p in paths)})"
+        title = (paths[0].name if len(paths) == 1
+                 else f"{len(paths)} tests averaged ({', '.join(p.name for p in paths)})")
         table = Table(title=f"{title}: identified modes")
         sd_label = "std" if len(paths) == 1 else "spread (std)"
         for col in ("mode", "f [Hz]", f"f {sd_label} [Hz]", "zeta [%]", f"zeta {sd_label} [%]") + \

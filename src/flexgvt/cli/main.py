@@ -49,8 +49,8 @@ def _fail(exc: Exception) -> None:
 def _solve_with_progress(model, cfg):
     from ..fem import solve_static
 
-    with Progress(TextColumn(f"[cyan]{cfg.name}[/] nonlinear static"), BarColumn(), TextColumn("{task.percentage:>5.1f} %"),
-                  TimeElapsedColumn(), console=console, transient=True) as bar:
+    with Progress(TextColumn(f"[cyan]{cfg.name}[/] nonlinear static"), BarColumn(),
+                  TextColumn("{task.percentage:>5.1f} %"), TimeElapsedColumn(), console=console, transient=True) as bar:
         task = bar.add_task("solve", total=1.0)
         return solve_static(model, cfg, progress=lambda lam: bar.update(task, completed=lam))
 
@@ -107,7 +107,8 @@ def solve(case: str = typer.Argument(..., help="built-in case (cantilever_strip,
           out: Optional[Path] = typer.Option(None, help="folder for figures"),
           json_path: Optional[Path] = typer.Option(None, "--json", help="write results as JSON (layout: docs/cli.md)"),
           units: str = typer.Option("SI", help="bulk data units: SI, mm-N-t-s, in-lbf-s"),
-          allow_unsupported: bool = typer.Option(False, help="bulk data: warn about unsupported cards instead of failing"),
+          allow_unsupported: bool = typer.Option(False,
+                                                 help="bulk data: warn about unsupported cards instead of failing"),
           cbar_torsional_inertia: bool = typer.Option(False, help="bulk data: add rho*Ip torsional inertia to CBAR "
                                                       "mass (Nastran's CBAR has none, the default)"),
           mass_frame: str = typer.Option("deformed", help="mass matrix about the deformed state (physical) or the "

@@ -67,7 +67,8 @@ def identify(mass: float = typer.Option(..., help="block mass [kg]: the mass the
         point = identify_block(mass=mass, **kwargs)
     except FlexGVTError as exc:
         _fail(exc)
-    table = Table(title=f"suspension point from {point.source} ({point.n_tests} test{'s' if point.n_tests > 1 else ''})")
+    table = Table(title=f"suspension point from {point.source} "
+                        f"({point.n_tests} test{'s' if point.n_tests > 1 else ''})")
     for col in ("quantity", "value", "std"):
         table.add_column(col, justify="right")
     for name, v, s, fmt in (("block mass [kg]", point.mass, 0.0, ".3f"), ("f_d [Hz]", point.damped_frequency_hz,

@@ -75,14 +75,16 @@ def pair(measured, modes, sensors=None, mac_floor: float = 0.5, exclude_rigid: b
     usable = np.ones(len(B), bool)
     if exclude_rigid and np.isfinite(fa).all():
         usable &= fa > 0
-    closeness = np.abs(np.log(np.where(fa[None, :] > 0, fa[None, :], 1.0) / np.where(fm[:, None] > 0, fm[:, None], 1.0)))
+    closeness = np.abs(np.log(np.where(fa[None, :] > 0, fa[None, :], 1.0)
+                              / np.where(fm[:, None] > 0, fm[:, None], 1.0)))
     closeness = np.where(np.isfinite(closeness), np.minimum(closeness, 1.0), 1.0)
     allowed = np.broadcast_to(usable[None, :], macm.shape).copy()
     if max_frequency_ratio is not None:
         if not max_frequency_ratio > 1.0:
             raise ModelError(f"pair: max_frequency_ratio={max_frequency_ratio} must be > 1")
         ratio = np.where((fa[None, :] > 0) & (fm[:, None] > 0),
-                         np.abs(np.log(np.where(fa[None, :] > 0, fa[None, :], 1.0) / np.where(fm[:, None] > 0, fm[:, None], 1.0))),
+                         np.abs(np.log(np.where(fa[None, :] > 0, fa[None, :], 1.0)
+                                       / np.where(fm[:, None] > 0, fm[:, None], 1.0))),
                          0.0)
         allowed &= ~(np.nan_to_num(ratio, nan=0.0) > np.log(max_frequency_ratio))
     score = np.where(allowed, macm - TIE_BREAK * closeness, -1.0)

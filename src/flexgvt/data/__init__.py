@@ -78,7 +78,8 @@ def read(path: str | Path) -> dict:
         raise FileFormatError(f"{shown}: not a text (UTF-8) file ({exc.reason} at byte {exc.start}); "
                               "a measured table is JSON") from None
     except (OSError, ValueError) as exc:
-        raise FileFormatError(f"{shown}: cannot be read ({exc.strerror if isinstance(exc, OSError) else exc})") from None
+        raise FileFormatError(f"{shown}: cannot be read "
+                              f"({exc.strerror if isinstance(exc, OSError) else exc})") from None
     try:
         obj = json.loads(text)
     except json.JSONDecodeError as exc:

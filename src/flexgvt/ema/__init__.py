@@ -13,6 +13,9 @@ from .synthetic import ModalModel, modal_model_from_modes, synthesize_frfs, synt
 from .frf import (FRFEstimate, estimate_frf, exponential_window, exponential_window_damping, force_window, hann,
                   spectra, stepped_sine_frf)
 
-__all__ = ["RefineInfo", "frf_variance_from_coherence", "mode_significance", "refine", "Cluster", "clusters", "identify",
-           "select_ml", "average_tests", "cmif", "synthesize_from_modes", "FreeDecay", "free_decay", "free_decay_from_peaks", "ModalSet", "Stabilisation", "lsfd", "polymax", "identify_wide_band", "wide_band_bands", "ModalModel", "modal_model_from_modes", "synthesize_frfs", "synthesize_time_data", "FRFEstimate", "estimate_frf", "exponential_window", "exponential_window_damping", "force_window", "hann",
+__all__ = ["RefineInfo", "frf_variance_from_coherence", "mode_significance", "refine", "Cluster", "clusters",
+           "identify", "select_ml", "average_tests", "cmif", "synthesize_from_modes", "FreeDecay", "free_decay",
+           "free_decay_from_peaks", "ModalSet", "Stabilisation", "lsfd", "polymax", "identify_wide_band",
+           "wide_band_bands", "ModalModel", "modal_model_from_modes", "synthesize_frfs", "synthesize_time_data",
+           "FRFEstimate", "estimate_frf", "exponential_window", "exponential_window_damping", "force_window", "hann",
            "spectra", "stepped_sine_frf"]

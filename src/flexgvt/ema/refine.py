@@ -478,7 +478,8 @@ def refine(frfs, modal_set, variance=None, frequency_band=None, max_iter: int = 
         if np.asarray(modal_set.residues).shape == (M, n_o, n_i):
             L0 = np.linalg.svd(modal_set.residues)[2][:, 0, :].conj()
         else:
-            raise EMAError(f"refine: participation factors of shape {L0.shape} do not match {M} modes x {n_i} references")
+            raise EMAError(f"refine: participation factors of shape {L0.shape} do not match {M} modes x {n_i} "
+                           "references")
     ref_fixed = np.argmax(np.abs(L0), axis=1)
     L0 = L0 / L0[np.arange(M), ref_fixed][:, None]
     wn0 = 2 * np.pi * np.asarray(modal_set.frequencies_hz, float)

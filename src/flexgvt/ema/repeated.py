@@ -91,7 +91,8 @@ def average_tests(modal_sets, tol_f: float = 0.05, min_mac: float = 0.8, min_tes
         mean = np.mean([p for p in shapes[m] if p is not None], axis=0)
         sh.append(mean / mean[np.argmax(np.abs(mean))])
     sh = np.array(sh).reshape(len(keep), -1)
-    part = np.asarray(ref.participation)[keep] if len(np.asarray(ref.participation)) == n_m else np.zeros((len(keep), 0))
+    part = (np.asarray(ref.participation)[keep] if len(np.asarray(ref.participation)) == n_m
+            else np.zeros((len(keep), 0)))
     res = np.asarray(ref.residues)[keep] if len(np.asarray(ref.residues)) == n_m else np.zeros((len(keep), 0, 0))
     out = ModalSet(fm, zm, sh, part, res, ref.outputs, ref.inputs, frequency_std_hz=fs, damping_std=zs)
     if return_table:

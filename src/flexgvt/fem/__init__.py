@@ -8,5 +8,5 @@ from .system import System
 from .tracking import modes_versus_load
 
 __all__ = ["IterationRecord", "MassProperties", "ModeTracking", "Modes", "State", "StaticSettings", "System",
-           "energy_fractions", "label_modes", "mac_matrix", "mass_properties", "modes_versus_load", "solve_linear_static",
-           "solve_modes", "solve_static", "track_modes"]
+           "energy_fractions", "label_modes", "mac_matrix", "mass_properties", "modes_versus_load",
+           "solve_linear_static", "solve_modes", "solve_static", "track_modes"]

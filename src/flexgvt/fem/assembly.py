@@ -131,7 +131,8 @@ class Pattern:
                 _scatter_add(out, target, np.ascontiguousarray(v, dtype=float).reshape(-1))
         return out
 
-    def data_subset(self, block: int, rows: np.ndarray, values: np.ndarray, out: np.ndarray | None = None) -> np.ndarray:
+    def data_subset(self, block: int, rows: np.ndarray, values: np.ndarray,
+                    out: np.ndarray | None = None) -> np.ndarray:
         """Stored-entry values (nnz,) of the element matrices ``values`` (k, d, d) of elements ``rows``
         of block type ``block`` alone (the others zero), added to ``out`` when given."""
         out = np.zeros(self.nnz) if out is None else out

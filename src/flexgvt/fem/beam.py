@@ -3,7 +3,8 @@
 The element frame follows the chord and the mean of the nodal e2 directions (Crisfield); the
 local element is a Timoshenko beam, uniform or tapered (element_coefficients), whose axial strain
 carries the shallow-arch term, so the tangent contains both the chord-rotation (P-Delta) and the
-in-element (P-delta) geometric stiffness. Nodal rotations are updated by spatial spins and local rotations are measured with
+in-element (P-delta) geometric stiffness. Nodal rotations are updated by spatial spins and local rotations are \
+measured with
 the SO(3) logarithm, so large rotations (a cantilever rolled into a full circle) are exact.
 
 The tangent is the derivative of the internal-force vector with respect to (dx, spin) and is
@@ -29,9 +30,11 @@ class BeamData:
     nodes: np.ndarray  # (n, 2) node storage indices
     E0: np.ndarray  # (n, 3, 3) undeformed frames, columns = local x, y, z
     L0: np.ndarray  # (n,) undeformed lengths [m]
-    stiffness: np.ndarray  # (n, 8) kernel coefficients EA, GJ, kd_y, ko_y, kd_z, ko_z, dd_y, dd_z (element_coefficients)
+    stiffness: np.ndarray  # (n, 8) kernel coefficients EA, GJ, kd_y, ko_y, kd_z, ko_z, dd_y, dd_z
+    #                        (element_coefficients)
     mass_per_length: np.ndarray  # (n, 2) rho*A at the first and second node [kg/m]
-    inertia_per_length: np.ndarray  # (n, 2, 3) rho*Ip, rho*Iy, rho*Iz at each node [kg m] (bending zero without rotary inertia)
+    inertia_per_length: np.ndarray  # (n, 2, 3) rho*Ip, rho*Iy, rho*Iz at each node [kg m]
+    #                                 (bending zero without rotary inertia)
     lumped: np.ndarray  # (n,) bool
     arch: np.ndarray  # (n,) 1.0 for beams (shallow-arch axial strain), 0.0 for rods (chord strain only)
     lumped_axial: np.ndarray | None = None  # (n,) bool: axial and torsional mass lumped (None: as ``lumped``)
@@ -241,7 +244,8 @@ def _rotate_blocks(Rr, local, out):  # pragma: no cover - compiled
                     d0, d1, d2 = L[r0, c0], L[r0 + 1, c0 + 1], L[r0 + 2, c0 + 2]
                     for i in range(3):
                         for j in range(3):
-                            out[e, r0 + i, c0 + j] = d0 * Q[i, 0] * Q[j, 0] + d1 * Q[i, 1] * Q[j, 1] + d2 * Q[i, 2] * Q[j, 2]
+                            out[e, r0 + i, c0 + j] = (d0 * Q[i, 0] * Q[j, 0] + d1 * Q[i, 1] * Q[j, 1]
+                                                      + d2 * Q[i, 2] * Q[j, 2])
                     continue
                 for i in range(3):
                     for j in range(3):

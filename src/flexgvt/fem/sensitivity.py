@@ -170,7 +170,8 @@ class ValueChange:
     """d(compiled values)/dp of one parameter, per item (items not listed do not change).
 
     beams: (element indices (k,), d kernel coefficients (k, 8) (see beam.element_coefficients),
-    d rho A (k, 2), d inertia per length (k, 2, 3) at the elements' two nodes); masses: (indices into the system's point masses,
+    d rho A (k, 2), d inertia per length (k, 2, 3) at the elements' two nodes); masses: (indices into the system's \
+point masses,
     (mass, offset) at p + h, (mass, offset) at p - h, 1 / (2 h)): masses enter linearly and
     offsets quadratically, so this central difference is exact; springs: (indices, d stiffness
     (k, 6)); cords: (indices, d stiffness (k,)); cord_offsets: (indices, samples) with samples
@@ -234,7 +235,8 @@ def value_derivative(system, x: np.ndarray, R: np.ndarray, lam: float, change: V
         inertia = system.masses.inertia[rows]
         g = K = M = 0.0
         for m_, off, w in ((m_p, off_p, inv2h), (m_m, off_m, -inv2h)):
-            gi, Ki = mass_gravity(R[nodes], np.asarray(off, float), lam * np.asarray(m_, float)[:, None] * gvec[None, :])
+            gi, Ki = mass_gravity(R[nodes], np.asarray(off, float),
+                                  lam * np.asarray(m_, float)[:, None] * gvec[None, :])
             g, K = g + w * gi, K + w * Ki
             M = M + w * mass_matrix(R[nodes], np.asarray(off, float), np.asarray(m_, float), inertia)
         np.add.at(g_full, nodes, g)

@@ -360,8 +360,9 @@ def _solve_static(model: Model, configuration: Configuration, *, settings: Stati
     settings = settings or StaticSettings()
     # A warm start on the same model object (values possibly changed since, as an optimiser's
     # design points change them) keeps the start's DOF numbering, pattern and symbolic analysis.
-    system = start.system.for_values(model, configuration) if (start is not None and start.system is not None
-                                                                and start.model is model) else System(model, configuration)
+    system = (start.system.for_values(model, configuration)
+              if (start is not None and start.system is not None and start.model is model)
+              else System(model, configuration))
     if not _warm_only:
         check_connected(system)
     x, R = system.undeformed
@@ -676,9 +677,9 @@ def solve_linear_static(model: Model, configuration: Configuration) -> State:
     fac = _Factor(system, ev0, M, ref)
     delta = -fac.solve(r, refine=4) if np.any(r) else np.zeros_like(r)
     if np.linalg.norm(K @ delta + r) > 1e-6 * ref:
-        raise SingularModelError(f"configuration '{configuration.name}': the stiffness matrix is singular and the loads "
-                                 "excite the mechanism. Add constraints, springs or cords, or use solve_static for a "
-                                 "suspended structure that needs its sagged equilibrium.")
+        raise SingularModelError(f"configuration '{configuration.name}': the stiffness matrix is singular and "
+                                 "the loads excite the mechanism. Add constraints, springs or cords, or use "
+                                 "solve_static for a suspended structure that needs its sagged equilibrium.")
     x, R = system.update(x, R, delta)
     rec = IterationRecord(1, 1.0, 0, float(np.linalg.norm(r) / ref), 0.0, 0.0)
     ev1 = system.evaluate(x, R, 1.0, tangent=False)

@@ -113,7 +113,10 @@ def compile_model(model: Model) -> CompiledModel:
         L0.append(length)
         eids.append(group.ids)
         names.append(np.full(n, group.name, dtype=object))
-    cat = (lambda parts, shape: np.concatenate(parts) if parts else np.zeros(shape))
+
+    def cat(parts, shape):
+        return np.concatenate(parts) if parts else np.zeros(shape)
+
     beams = BeamData(cat(nodes, (0, 2)).astype(np.int64), np.ascontiguousarray(cat(E0, (0, 3, 3))), cat(L0, (0,)),
                      np.ascontiguousarray(cat(stiff, (0, 8))), cat(rhoA, (0, 2)), cat(rhoI, (0, 2, 3)),
                      cat(lumped, (0,)).astype(bool), cat(arch, (0,)), cat(lumped_axial, (0,)).astype(bool))
@@ -152,8 +155,8 @@ def compile_model(model: Model) -> CompiledModel:
                              "or another constraint; chains are not supported: write the constraint on the "
                              "independent DOFs")
     compiled = CompiledModel(model.node_ids, xyz, beams, local_mass_matrices(beams), cat(eids, (0,)).astype(int),
-                             cat(names, (0,)), _masses(model, model.masses), _springs(model, model.springs), links, link_dofs, interp,
-                             mpc_dep, tuple(mpc_terms))
+                             cat(names, (0,)), _masses(model, model.masses), _springs(model, model.springs), links,
+                             link_dofs, interp, mpc_dep, tuple(mpc_terms))
     model.solver_cache["compiled"] = (model.revision, compiled)
     return compiled
 
@@ -219,7 +222,8 @@ def _same_configuration(a: Configuration, b: Configuration) -> bool:
 
 
 def _merge_masses(a: PointMasses, b: PointMasses) -> PointMasses:
-    return PointMasses(*(np.concatenate([getattr(a, f), getattr(b, f)]) for f in ("nodes", "mass", "offset", "inertia")))
+    return PointMasses(*(np.concatenate([getattr(a, f), getattr(b, f)])
+                         for f in ("nodes", "mass", "offset", "inertia")))
 
 
 def _merge_springs(a: Springs, b: Springs) -> Springs:

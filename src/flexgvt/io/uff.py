@@ -3,7 +3,8 @@
 
 `read_uff(path)` returns a `UFFData` whose arrays can go straight to the EMA functions:
 `data.frfs.frequencies_hz`, `data.frfs.H` (n_freq, n_outputs, n_inputs), `data.geometry`.
-Coordinates are converted to SI with the 164 length factor (I-DEAS convention: divide by it); function ordinates are kept in the
+Coordinates are converted to SI with the 164 length factor (I-DEAS convention: divide by it); function ordinates are \
+kept in the
 file's units, whose labels are carried with them.
 """
 
@@ -377,7 +378,8 @@ def write_uff(path: str | Path, *, geometry: TestGeometry | None = None, frfs: F
             cols = {f"r{i + 1}": shp[:, i] for i in range(shp.shape[1])}
             std = {}
             if modes.frequency_std_hz is not None and modes.damping_std is not None:
-                std["id5"] = f"STD FREQ_HZ={float(modes.frequency_std_hz[m]):.6g} DAMP={float(modes.damping_std[m]):.6g}"
+                std["id5"] = (f"STD FREQ_HZ={float(modes.frequency_std_hz[m]):.6g} "
+                              f"DAMP={float(modes.damping_std[m]):.6g}")
             sets.append(pyuff.prepare_55(**std, model_type=1, analysis_type=2, data_ch=2, spec_data_type=8, data_type=2,
                                          n_data_per_node=shp.shape[1], load_case=1, mode_n=m + 1,
                                          freq=float(modes.frequencies_hz[m]), modal_m=1.0,

@@ -9,5 +9,6 @@ from .section import (CircularTubeSection, GeneralSection, RectangularSection, R
                       end_properties, rectangle_torsion_constant)
 
 __all__ = ["BeamGroup", "CircularTubeSection", "ConcentratedMass", "Configuration", "Cord", "DistributedLoad",
-           "GeneralSection", "InterpolationLink", "LinearConstraint", "Material", "Model", "NodalLoad", "RectangularSection", "RodSection", "RigidLink", "Spring",
-           "STANDARD_GRAVITY", "TaperedSection", "end_properties", "parse_dofs", "rectangle_torsion_constant"]
+           "GeneralSection", "InterpolationLink", "LinearConstraint", "Material", "Model", "NodalLoad",
+           "RectangularSection", "RodSection", "RigidLink", "Spring", "STANDARD_GRAVITY", "TaperedSection",
+           "end_properties", "parse_dofs", "rectangle_torsion_constant"]

@@ -261,8 +261,8 @@ class Model:
             line = np.linalg.eigh(J)[1][:, -1] if np.abs(r).max() > 0 else np.zeros(3)
             off_line = np.linalg.norm(arm - (arm @ line) * line)
             if 3 in dofs or off_line > 1e-9 * max(size, np.linalg.norm(arm), 1e-300):
-                raise ModelError(f"{where}: the nodes lie on one line (or coincide), so the fitted rotation about it is "
-                                 "not defined; add a node off the line, or tie only the translations (components="
+                raise ModelError(f"{where}: the nodes lie on one line (or coincide), so the fitted rotation about it "
+                                 "is not defined; add a node off the line, or tie only the translations (components="
                                  "'123') of a reference on the line")
         linked = {n for link in self.rigid_links for n in (link.independent, *link.dependents)}
         refs = {i.reference for i in self._interpolations}

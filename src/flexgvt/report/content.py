@@ -119,7 +119,10 @@ class StabilisationData:
             orders.append(np.full(len(s), order, dtype=np.int64))
             poles.append(np.abs(s) / (2 * np.pi))
             stable.append(np.asarray(st, dtype=bool))
-        cat = lambda parts, dt: np.concatenate(parts) if parts else np.zeros(0, dtype=dt)
+
+        def cat(parts, dt):
+            return np.concatenate(parts) if parts else np.zeros(0, dtype=dt)
+
         H = np.asarray(stab.H)
         indicator = np.abs(H).reshape(len(H), -1).sum(axis=1)
         return cls(np.asarray(stab.frequencies_hz, float), indicator, cat(orders, np.int64),

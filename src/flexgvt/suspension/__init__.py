@@ -15,6 +15,6 @@ from .removal import Removal, remove_suspension
 from .support import SupportCorrection, support_correction, two_mass_model
 
 __all__ = ["Attachment", "Bungee", "Layout", "LayoutResult", "Line", "LineElement", "Removal", "driving_point",
-           "effective_independence", "layout_configuration", "place_sensors", "plan_suspension", "SupportCorrection", "SuspensionPoint", "identify_block",
-           "modulus_from_tip_load", "parallel", "remove_suspension", "series", "support_correction",
-           "two_mass_model"]
+           "effective_independence", "layout_configuration", "place_sensors", "plan_suspension", "SupportCorrection",
+           "SuspensionPoint", "identify_block", "modulus_from_tip_load", "parallel", "remove_suspension", "series",
+           "support_correction", "two_mass_model"]

@@ -98,7 +98,10 @@ def identify_block(mass: float, frequency_hz=None, damping_ratio=None, *, decay=
         raise ModelError(f"identify_block: frequencies must be > 0 and damping ratios in [0, 1), got {f}, {z}")
     K, C, wn = _values(mass, f, z)
     n = len(f)
-    std = (lambda a: float(np.std(a, ddof=1)) if n > 1 else 0.0)
+
+    def std(a):
+        return float(np.std(a, ddof=1)) if n > 1 else 0.0
+
     fn = wn / (2 * np.pi)
     f_std = std(fn) if n > 1 else fit_std[0]
     z_std = std(z) if n > 1 else fit_std[1]

@@ -149,7 +149,8 @@ class Line:
         l0 = reach - stretch
         if l0 <= 0:
             raise ModelError(f"suspension line: it would stretch {stretch:.3g} m under {load:.3g} N, more "
-                             f"than the {reach:.3g} m from anchor to attachment; raise the anchor or use a stiffer line")
+                             f"than the {reach:.3g} m from anchor to attachment; raise the anchor or use a stiffer "
+                             "line")
         # Without a pulley the line's weight hangs on the structure (Cord.mass); with one, the pulley
         # carries the line above it and the short segment below is left massless.
         mass = sum(e.mass for e in self.elements) if self.after_pulley is None else 0.0

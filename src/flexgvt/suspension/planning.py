@@ -165,6 +165,7 @@ def driving_point(modes, candidates=None, mode_indices=None):
     best = int(np.argmax(res.min(axis=1)))
     if res[best].min() < 1e-3:
         weak = idx[np.argmin(res[best])]
-        raise ModelError(f"driving_point: no candidate drives mode {weak + 1} ({modes.labels[weak] if modes.labels else ''});"
+        raise ModelError(f"driving_point: no candidate drives mode {weak + 1} "
+                         f"({modes.labels[weak] if modes.labels else ''});"
                          " add candidate points off the elastic axis or in other directions")
     return best, res[best]

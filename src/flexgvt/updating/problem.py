@@ -137,7 +137,8 @@ class UpdatingProblem:
             raise ModelError(f"updating: configuration names must be unique, got {names}")
         for m in measured:
             if not isinstance(m, Measured):
-                raise ModelError("updating: give measured data as flexgvt.updating.Measured (or Measured.from_modal_set)")
+                raise ModelError("updating: give measured data as flexgvt.updating.Measured "
+                                 "(or Measured.from_modal_set)")
             if m.configuration not in names:
                 raise ModelError(f"updating: measured data for configuration '{m.configuration}', which is not among "
                                  f"the configurations {names}; name the configuration it was measured in")
@@ -279,8 +280,8 @@ class UpdatingProblem:
         try:
             lam, phi = real_modes(K, M, n, None, system.clamped, system.cholmod_cache)
         except Exception as exc:  # ARPACK or factorisation failure at this design point
-            raise DesignPointFailure(f"configuration '{name}': the eigen-solution failed at this design point ({exc})") \
-                from exc
+            raise DesignPointFailure(f"configuration '{name}': the eigen-solution failed at this design point "
+                                     f"({exc})") from exc
         T = system.transformation(x, R) if system.has_links else None
         f = modal_frequencies_hz(lam, K, M, system, x, T)  # rigid-body modes at 0 Hz, as solve_modes
         self.states[name] = state

@@ -52,8 +52,8 @@ class UpdateResult:
 
     def as_dict(self) -> dict:
         """A JSON-ready dictionary (the documented --json layout)."""
-        return jsonable({"method": self.method, "message": self.message, "success": self.success, "seconds": self.seconds,
-                "solves": self.solves, "gradients": self.gradients, "x": self.x.tolist(),
+        return jsonable({"method": self.method, "message": self.message, "success": self.success,
+                "seconds": self.seconds, "solves": self.solves, "gradients": self.gradients, "x": self.x.tolist(),
                 "objective": {"initial": self.initial.objective, "final": self.final.objective},
                 "variables": self.variables, "configurations": self.tables,
                 "mac": {n: None if m is None else {"initial": m[0].tolist(), "updated": m[1].tolist()}

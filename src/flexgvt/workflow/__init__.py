@@ -16,6 +16,6 @@ from .runner import RunResult, identify_all, run
 from .steps import Prediction, check, objective, predict, score, update_model
 from .template import example_project, write_example
 
-__all__ = ["Identified", "Prediction", "Project", "ProjectError", "RunResult", "check", "example_project", "write_example",
-           "identify", "identify_all", "load_project", "objective", "predict", "read_modes", "run", "score",
-           "SubcaseResult", "solve_deck", "update_model", "write_outputs"]
+__all__ = ["Identified", "Prediction", "Project", "ProjectError", "RunResult", "check", "example_project",
+           "write_example", "identify", "identify_all", "load_project", "objective", "predict", "read_modes", "run",
+           "score", "SubcaseResult", "solve_deck", "update_model", "write_outputs"]

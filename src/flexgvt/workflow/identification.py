@@ -118,7 +118,8 @@ def _from_frfs(project: Project, name: str, t) -> Identified:
     return Identified(name, np.asarray(modes.frequencies_hz), np.asarray(modes.damping_ratio),
                       np.asarray(modes.shapes), np.asarray(modes.outputs), (), ", ".join(files), stab, frfs,
                       frequency_std_hz=None if std is None else np.asarray(std, float),
-                      damping_std=None if getattr(modes, "damping_std", None) is None else np.asarray(modes.damping_std))
+                      damping_std=(None if getattr(modes, "damping_std", None) is None
+                                   else np.asarray(modes.damping_std)))
 
 
 def read_modes(path: Path, name: str = "", key: str | None = None) -> Identified:

@@ -21,7 +21,8 @@ def objective(project: Project):
     target = None
     if o.measured_mass is not None:
         m = o.measured_mass
-        target = MassTarget(m.mass, None if m.cg is None else tuple(m.cg), None if m.inertia is None else tuple(m.inertia))
+        target = MassTarget(m.mass, None if m.cg is None else tuple(m.cg),
+                            None if m.inertia is None else tuple(m.inertia))
     return Objective(frequency=o.frequency, mac=o.mac, mass=o.mass, cg=o.cg, inertia=o.inertia,
                      orthogonality=o.orthogonality, mac_min=o.mac_min, mac_floor=o.mac_floor,
                      max_frequency_ratio=o.max_frequency_ratio,

@@ -36,8 +36,8 @@ def _code(direction) -> int:
 
 
 def synthetic_gvt(model, configuration, sensors: dict, references: list[str], *, f_max_hz: float = 10.0,
-                  df_hz: float = 0.02, n_modes: int = 40, structural_damping: float = 0.015, snr_db: float | None = 30.0,
-                  seed: int = 0) -> SyntheticGVT:
+                  df_hz: float = 0.02, n_modes: int = 40, structural_damping: float = 0.015,
+                  snr_db: float | None = 30.0, seed: int = 0) -> SyntheticGVT:
     """FRFs of ``model`` in ``configuration`` at ``sensors`` ({name: (node, offset (3,), direction (3,))};
     each reads along the global axis nearest its direction, as UFF direction codes 1-3 say; test
     point k + 1 per distinct (node, offset) in order) for forces

@@ -27,7 +27,8 @@ DIMENSIONS = {
     "mass": (1, 0, 0, 0), "length": (0, 1, 0, 0), "time": (0, 0, 1, 0), "frequency": (0, 0, -1, 0),
     "force": (1, 1, -2, 0), "stiffness": (1, 0, -2, 0), "damping": (1, 0, -1, 0), "modulus": (1, -1, -2, 0),
     "density": (1, -3, 0, 0), "angle": (0, 0, 0, 1), "force_per_length": (1, 0, -2, 0),
-    "rotational_stiffness": (1, 2, -2, -1), "moment": (1, 2, -2, 0), "inertia": (1, 2, 0, 0), "acceleration": (0, 1, -2, 0),
+    "rotational_stiffness": (1, 2, -2, -1), "moment": (1, 2, -2, 0), "inertia": (1, 2, 0, 0),
+    "acceleration": (0, 1, -2, 0),
 }
 
 _TOKEN = re.compile(r"([A-Za-z]+)(?:\^?(-?\d+))?")
@@ -82,4 +83,5 @@ def quantity(value, dimension: str, where: str = "") -> float:
 def _example(dimension: str) -> str:
     return {"mass": "kg", "length": "m or mm", "time": "s", "frequency": "Hz", "force": "N", "stiffness": "N/m",
             "damping": "N s/m", "modulus": "Pa or GPa", "density": "kg/m^3", "angle": "rad or deg",
-            "rotational_stiffness": "N m/rad", "moment": "N m", "inertia": "kg m^2", "acceleration": "m/s^2"}.get(dimension, "SI")
+            "rotational_stiffness": "N m/rad", "moment": "N m", "inertia": "kg m^2",
+            "acceleration": "m/s^2"}.get(dimension, "SI")

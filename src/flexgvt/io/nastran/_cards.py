@@ -9,7 +9,8 @@ import numpy as np
 BEAM_CARDS = ("CBAR", "CBEAM")
 ROD_CARDS = ("CROD", "CONROD")
 BEAM_PROPERTIES = ("PBAR", "PBARL", "PBEAM", "PBEAML")
-SUPPORTED_ELEMENTS = BEAM_CARDS + ROD_CARDS + ("CONM2", "CONM1", "CELAS1", "CELAS2", "CDAMP1", "CDAMP2", "CVISC", "CBUSH", "RBE2", "RBE3", "RBAR")
+SUPPORTED_ELEMENTS = BEAM_CARDS + ROD_CARDS + ("CONM2", "CONM1", "CELAS1", "CELAS2", "CDAMP1", "CDAMP2", "CVISC",
+                                               "CBUSH", "RBE2", "RBE3", "RBAR")
 SUPPORTED_PROPERTIES = BEAM_PROPERTIES + ("PROD", "PELAS", "PDAMP", "PVISC", "PBUSH")
 SUPPORTED_LOADS = ("FORCE", "MOMENT", "GRAV", "PLOAD1", "SPCD")
 # Cards that carry no structure or are read through the case control (methods, solution controls).
@@ -24,16 +25,16 @@ NON_STRUCTURAL = {"AERO", "AEROS", "CAERO1", "CAERO2", "CAERO3", "CAERO4", "CAER
                   "DESVAR", "DVPREL1", "DVPREL2", "DVMREL1", "DVMREL2", "DVCREL1", "DVCREL2", "DVGRID", "DRESP1",
                   "DRESP2", "DRESP3", "DCONSTR", "DCONADD", "DOPTPRM", "DEQATN", "DTABLE", "DLINK", "DSCREEN",
                   "DLOAD", "TLOAD1", "TLOAD2", "RLOAD1", "RLOAD2", "TABLED1", "TABLED2", "TABLED3", "TABLED4",
-                  "TABDMP1", "TABRND1", "TABRNDG", "DAREA", "DELAY", "DPHASE", "RANDPS", "NLCNTLG", "MONDSP1", "EPOINT", "AECOMP",
-                  "AECOMPL", "PLOTEL", "UXVEC", "AEDW", "AEFORCE", "AEPRESS", "SPLINRB"}
+                  "TABDMP1", "TABRND1", "TABRNDG", "DAREA", "DELAY", "DPHASE", "RANDPS", "NLCNTLG", "MONDSP1", "EPOINT",
+                  "AECOMP", "AECOMPL", "PLOTEL", "UXVEC", "AEDW", "AEFORCE", "AEPRESS", "SPLINRB"}
 # Case control selectors of DMIG matrices (direct matrix input).
 DMIG_SELECTORS = ("K2GG", "M2GG", "B2GG", "K42GG", "K2PP", "M2PP", "B2PP")
 # Static (Guyan) reduction sets: flexgvt solves the full model (named in a note).
 REDUCTION_CARDS = {"ASET", "ASET1", "OMIT", "OMIT1"}
 # Bulk cards flexgvt reads (anything else present in the deck is reported as unsupported).
 READ_CARDS = set(SUPPORTED_ELEMENTS + SUPPORTED_PROPERTIES + SUPPORTED_LOADS) | {
-    "GRID", "GRDSET", "MAT1", "CORD2R", "CORD2C", "CORD2S", "CORD1R", "CORD1C", "CORD1S", "SPC", "SPC1", "SPCADD", "LOAD",
-    "MPC", "MPCADD", "SUPORT", "SUPORT1", "CMASS1", "CMASS2", "PMASS"}
+    "GRID", "GRDSET", "MAT1", "CORD2R", "CORD2C", "CORD2S", "CORD1R", "CORD1C", "CORD1S", "SPC", "SPC1", "SPCADD",
+    "LOAD", "MPC", "MPCADD", "SUPORT", "SUPORT1", "CMASS1", "CMASS2", "PMASS"}
 # Cards read by pyNastran into dictionaries we inspect, mapped to where unsupported ones are listed.
 # Id namespaces as pyNastran keeps them (Nastran accepts, e.g., an RBAR and a CONM2 with the same id).
 ELEMENT_NAMESPACE = ("CBAR", "CBEAM", "CROD", "CONROD", "CTUBE", "CQUAD4", "CTRIA3", "CQUAD8", "CTRIA6", "CQUADR",
@@ -87,7 +88,8 @@ class CardsMixin:
                         selected.setdefault(name, set()).add(key)
         for name, matrix in sorted(dmigs.items()):
             uses = selected.get(str(name).upper(), set())
-            pairs = [np.asarray(matrix.GCj, dtype=object).reshape(-1, 2), np.asarray(matrix.GCi, dtype=object).reshape(-1, 2)]
+            pairs = [np.asarray(matrix.GCj, dtype=object).reshape(-1, 2),
+                     np.asarray(matrix.GCi, dtype=object).reshape(-1, 2)]
             points = {int(g) for block in pairs for g, _ in block}
             if not uses:
                 self.notes.append(f"{self.at('DMIG', name)}: not selected by K2GG/M2GG/B2GG/K2PP/M2PP/B2PP in any "

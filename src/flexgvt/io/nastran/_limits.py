@@ -71,9 +71,9 @@ class ExpansionBudget:
                 self.replicated += int(replicate.group(1))
                 if self.replicated > MAX_REPLICATED_CARDS:
                     raise FileFormatError(
-                        f"{path}:{lineno}: replication {head.strip()} brings the deck to {self.replicated:,} replicated "
-                        f"cards, more than the {MAX_REPLICATED_CARDS:,} flexgvt expands; write the cards out or fix "
-                        "the count")
+                        f"{path}:{lineno}: replication {head.strip()} brings the deck to {self.replicated:,} "
+                        f"replicated cards, more than the {MAX_REPLICATED_CARDS:,} flexgvt expands; write the cards "
+                        "out or fix the count")
             if head and head[0] not in "+*" and not head.startswith("="):
                 self._card(card, path, start, name)
                 card, start, name = [], lineno, head.rstrip("*").upper()

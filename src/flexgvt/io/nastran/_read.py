@@ -54,7 +54,8 @@ class BdfDeck:
     (card, element id, end 'A'/'B') -> the node flexgvt added for a CBAR/CBEAM offset or pin
     flag, or the CBUSH end's arm to the spring location (ids above the deck's grids);
     interpolation_sources: RBE3 id per model.interpolations; constraint_sources: MPC set id per
-    model.constraints (the one set all subcases select); n_modes: configuration -> EIGRL ND of its METHOD (None if not given);
+    model.constraints (the one set all subcases select); n_modes: configuration -> EIGRL ND of its METHOD (None if \
+not given);
     methods: configuration -> its EigenMethod (EIGRL/EIGR: ND, window, normalisation) or None;
     subcases: configuration -> subcase id; unsupported: card (feature) -> ids that were not read;
     notes: things read with an approximation or ignored on purpose.
@@ -343,7 +344,8 @@ class _Reader(BeamsMixin, MassesMixin, CardsMixin, ConfigurationsMixin):
                 if n not in nodes:
                     miss.append(f"{self.at(elem.type, eid)} refers to node {n}, which is not defined")
             pid = getattr(elem, "pid", None)
-            if elem.type in ("CBAR", "CBEAM", "CROD", "CELAS1", "CDAMP1", "CVISC", "CBUSH") and pid not in bdf.properties:
+            if (elem.type in ("CBAR", "CBEAM", "CROD", "CELAS1", "CDAMP1", "CVISC", "CBUSH")
+                    and pid not in bdf.properties):
                 miss.append(f"{self.at(elem.type, eid)} refers to property {pid}, which is not defined")
             g0 = getattr(elem, "g0", None)
             if elem.type in ("CBAR", "CBEAM", "CBUSH") and g0 not in (None, 0) and g0 not in nodes:
@@ -426,10 +428,10 @@ class _Reader(BeamsMixin, MassesMixin, CardsMixin, ConfigurationsMixin):
                              f"({len(bad)} grid(s)); give real numbers for X1-X3")
         far = np.flatnonzero(np.abs(xyz).max(axis=1) > MAX_COORDINATE_M)
         if len(far):
-            raise ModelError(f"{self.at('GRID', nids[far[0]])}: basic coordinates {xyz[far[0]] / u.length} lie more than "
-                             f"{MAX_COORDINATE_M:g} m from the origin ({len(far)} grid(s)); element lengths of that size "
-                             "overflow the stiffness and mass products. Fix the coordinates, their CP system or the "
-                             "deck's units")
+            raise ModelError(f"{self.at('GRID', nids[far[0]])}: basic coordinates {xyz[far[0]] / u.length} lie "
+                             f"more than {MAX_COORDINATE_M:g} m from the origin ({len(far)} grid(s)); element lengths "
+                             "of that size overflow the stiffness and mass products. Fix the coordinates, their CP "
+                             "system or the deck's units")
         self.xyz = dict(zip(nids, xyz))
         self.xyz_deck = {n: x / u.length for n, x in self.xyz.items()}
         model.add_nodes(xyz, ids=nids)

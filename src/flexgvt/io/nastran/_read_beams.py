@@ -285,18 +285,18 @@ class BeamsMixin:
             bad = {k: v for k, v in values.items() if v is not None and not (math.isfinite(v) and abs(v) <= MAX_VALUE)}
             if bad:
                 listing = ", ".join(f"{k} = {v:.3g}" for k, v in bad.items())
-                raise ModelError(f"{self.at(prop.type, prop.pid)}: section properties {listing} (SI) exceed {MAX_VALUE:g}"
-                                 " in magnitude (stiffness products of such values overflow); check the dimensions "
-                                 "and the deck's units")
+                raise ModelError(f"{self.at(prop.type, prop.pid)}: section properties {listing} (SI) exceed "
+                                 f"{MAX_VALUE:g} in magnitude (stiffness products of such values overflow); check the "
+                                 "dimensions and the deck's units")
             # Bending and torsion stiffness of one section act on the same rotations: beyond a ratio of
             # 1e12 the weaker is lost in double precision (a PBEAM J of 1e16 with I1 = 0.8 gave
             # negative frequencies, 1e20 an eigensolver that ran 97 s before failing).
             moments = {k: abs(values[k]) for k in ("Iy", "Iz", "J") if values.get(k)}
             if len(moments) > 1 and max(moments.values()) > MAX_SECTION_RATIO * min(moments.values()):
                 listing = ", ".join(f"{k} = {v:.3g}" for k, v in moments.items())
-                raise ModelError(f"{self.at(prop.type, prop.pid)}: section moments {listing} (SI) differ by more than a "
-                                 f"factor {MAX_SECTION_RATIO:g}, beyond what double precision resolves in one stiffness "
-                                 "matrix; check the value (I1, I2, J)")
+                raise ModelError(f"{self.at(prop.type, prop.pid)}: section moments {listing} (SI) differ by more "
+                                 f"than a factor {MAX_SECTION_RATIO:g}, beyond what double precision resolves in one "
+                                 "stiffness matrix; check the value (I1, I2, J)")
 
     def _beam_end(self, elem, end: int) -> int:
         """Node at end A (0) or B (1) of a CBAR/CBEAM: its grid, or for an offset (WA/WB) or a pin

@@ -115,9 +115,9 @@ class ConfigurationsMixin:
                               "element: fixed in every configuration (as Nastran's AUTOSPC does)")
         if self.autospc_rotations:
             r = self.autospc_rotations
-            self.notes.append(f"node(s) {r[:10]}{' ...' if len(r) > 10 else ''} have no rotational stiffness (joined "
-                              "only by rods, RBE2s without 456 or RBE3s): their rotations are fixed in every configuration "
-                              "(as Nastran's AUTOSPC does)")
+            self.notes.append(f"node(s) {r[:10]}{' ...' if len(r) > 10 else ''} have no rotational stiffness "
+                              "(joined only by rods, RBE2s without 456 or RBE3s): their rotations are fixed in every "
+                              "configuration (as Nastran's AUTOSPC does)")
         for name, sub, sid in cases:
             self.configuration(name, sub, sid)
 
@@ -129,8 +129,8 @@ class ConfigurationsMixin:
             try:
                 return int(value)
             except (TypeError, ValueError):
-                raise ModelError(f"{self.path}: case control {key} = {value!r} (SUBCASE {getattr(sub, 'id', 0)}) is not "
-                                 "a set id; give the integer id of a bulk data set") from None
+                raise ModelError(f"{self.path}: case control {key} = {value!r} (SUBCASE {getattr(sub, 'id', 0)}) "
+                                 "is not a set id; give the integer id of a bulk data set") from None
         return value
 
     def configuration(self, name: str, sub, sid: int) -> None:
@@ -256,8 +256,8 @@ class ConfigurationsMixin:
         if sid is not None:
             found = getattr(self.bdf, "suport1", {}).get(int(sid))
             if found is None:
-                raise ModelError(f"{self.path}: the case control asks for SUPORT1 = {sid}, which the bulk data lacks; add "
-                                 "the SUPORT1 set or remove the request")
+                raise ModelError(f"{self.path}: the case control asks for SUPORT1 = {sid}, which the bulk data lacks; "
+                                 "add the SUPORT1 set or remove the request")
             cards.append(found)
         for card in cards:
             for node, comps in zip(card.nodes, card.Cs):
@@ -343,8 +343,8 @@ class ConfigurationsMixin:
                                  f"{MAX_ENFORCED_SIZES:g} times the structure's size ({extent / self.units.length:.4g} "
                                  "in deck units); check the value and its units")
             if d > 3 and abs(si) > 2 * math.pi:
-                raise ModelError(f"{where}: enforced rotation {value:g} rad on node {nid} component {d} is more than one "
-                                 "turn (2 pi); check the value (rotations are in radians)")
+                raise ModelError(f"{where}: enforced rotation {value:g} rad on node {nid} component {d} is more than "
+                                 "one turn (2 pi); check the value (rotations are in radians)")
             prescribed.setdefault(int(nid), {})[d] = si
 
     def _load(self, card, scale: float, forces: list, distributed: list, gravity_terms: list) -> None:

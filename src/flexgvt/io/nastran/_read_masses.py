@@ -210,7 +210,8 @@ class MassesMixin:
                 self._pending_rbe3(elem)
                 continue
             if elem.type == "RBAR":  # all six DOFs of one end independent: an RBE2 with one dependent
-                norm = {k: "".join(sorted(set(str(getattr(elem, k) or "").strip()))) for k in ("cna", "cnb", "cma", "cmb")}
+                norm = {k: "".join(sorted(set(str(getattr(elem, k) or "").strip())))
+                        for k in ("cna", "cnb", "cma", "cmb")}
                 if norm["cna"] == "123456" and not norm["cnb"] and not norm["cma"] and norm["cmb"]:
                     gn, cm, gmi = elem.ga, norm["cmb"], [elem.gb]
                 elif norm["cnb"] == "123456" and not norm["cna"] and not norm["cmb"] and norm["cma"]:
@@ -230,7 +231,8 @@ class MassesMixin:
             for d in deps:
                 if d in owner:
                     raise ModelError(f"{self.at(elem.type, eid)}: node {d} is already a dependent of rigid element "
-                                     f"{owner[d]}; a node can depend on one rigid element only (Nastran rejects this too)")
+                                     f"{owner[d]}; a node can depend on one rigid element only "
+                                     "(Nastran rejects this too)")
                 owner[d] = eid
             key = (int(gn), cm)
             links[key] = links.get(key, []) + deps
