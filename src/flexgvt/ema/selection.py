@@ -58,9 +58,9 @@ def _macs(pts, idx, b):
 
 def clusters(stab, min_fraction: float = 0.3, tol_f: float = 0.01, min_orders: int = 4,
              min_mac: float = 0.9, max_damping: float = 0.3) -> list[Cluster]:
-    """Candidate modes of a stabilisation diagram (stab: a `flexgvt.ema.Stabilisation`): strong clusters (as \
-`select()`) and weak ones
-    (criterion 2 of the module docstring), sorted by frequency; poles within two lines of the band
+    """Candidate modes of a stabilisation diagram (stab: a `flexgvt.ema.Stabilisation`): strong
+    clusters (as `select()`) and weak ones (criterion 2 of the module docstring), sorted by
+    frequency; poles within two lines of the band
     edges left out."""
     pts = [(s, L, k) for k, (ss, Ls, st) in enumerate(zip(stab.poles, stab.participations, stab.stable))
            for s, L, ok in zip(ss, Ls, st) if ok]
@@ -129,8 +129,8 @@ def _pole(ms):
 def select_ml(stab, variance=None, alpha: float = 1e-6, min_fraction: float = 0.3,
               tol_f: float = 0.01, min_orders: int = 4, min_mac: float = 0.9, max_damping: float = 0.3,
               max_trials: int = 6, return_info: bool = False):
-    """Physical modes of a stabilisation diagram (stab: a `flexgvt.ema.Stabilisation`) by the criteria of this \
-module, refined by maximum
+    """Physical modes of a stabilisation diagram (stab: a `flexgvt.ema.Stabilisation`) by the criteria of this
+    module, refined by maximum
     likelihood with frequency_std_hz and damping_std. variance: as `refine` (default: estimated
     from the fit residual). Returns a ModalSet (and, with return_info, a dict with the candidate
     clusters, the kept ones and the refinement diagnostics)."""

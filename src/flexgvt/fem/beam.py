@@ -3,9 +3,8 @@
 The element frame follows the chord and the mean of the nodal e2 directions (Crisfield); the
 local element is a Timoshenko beam, uniform or tapered (element_coefficients), whose axial strain
 carries the shallow-arch term, so the tangent contains both the chord-rotation (P-Delta) and the
-in-element (P-delta) geometric stiffness. Nodal rotations are updated by spatial spins and local rotations are \
-measured with
-the SO(3) logarithm, so large rotations (a cantilever rolled into a full circle) are exact.
+in-element (P-delta) geometric stiffness. Nodal rotations are updated by spatial spins and local
+rotations are measured with the SO(3) logarithm, so large rotations (a cantilever rolled into a full circle) are exact.
 
 The tangent is the derivative of the internal-force vector with respect to (dx, spin) and is
 obtained by forward differentiation of every kinematic quantity by hand (all elements at once).

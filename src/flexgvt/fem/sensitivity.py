@@ -170,8 +170,8 @@ class ValueChange:
     """d(compiled values)/dp of one parameter, per item (items not listed do not change).
 
     beams: (element indices (k,), d kernel coefficients (k, 8) (see beam.element_coefficients),
-    d rho A (k, 2), d inertia per length (k, 2, 3) at the elements' two nodes); masses: (indices into the system's \
-point masses,
+    d rho A (k, 2), d inertia per length (k, 2, 3) at the elements' two nodes); masses: (indices into the system's
+    point masses,
     (mass, offset) at p + h, (mass, offset) at p - h, 1 / (2 h)): masses enter linearly and
     offsets quadratically, so this central difference is exact; springs: (indices, d stiffness
     (k, 6)); cords: (indices, d stiffness (k,)); cord_offsets: (indices, samples) with samples

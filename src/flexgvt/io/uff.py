@@ -3,7 +3,7 @@
 
 `read_uff(path)` returns a `UFFData` whose arrays can go straight to the EMA functions:
 `data.frfs.frequencies_hz`, `data.frfs.H` (n_freq, n_outputs, n_inputs), `data.geometry`.
-Coordinates are converted to SI with the 164 length factor (I-DEAS convention: divide by it); function ordinates are \
+Coordinates are converted to SI with the 164 length factor (I-DEAS convention: divide by it); function ordinates are
 kept in the
 file's units, whose labels are carried with them.
 """

@@ -35,8 +35,8 @@ class GeneralSection:
 
     A [m^2], Iy, Iz [m^4] (about local y, z), J torsion constant [m^4], Ay, Az shear areas [m^2]
     (None: no shear deformation, Euler-Bernoulli), Ip polar moment for torsional inertia
-    [m^4] (default Iy + Iz; 0: no torsional inertia, as Nastran's CBAR). Iy, Iz or J = 0 leaves that bending plane or \
-torsion without
+    [m^4] (default Iy + Iz; 0: no torsional inertia, as Nastran's CBAR). Iy, Iz or J = 0 leaves that bending plane or
+    torsion without
     stiffness (as Nastran allows): constraints must then hold those motions.
     """
 

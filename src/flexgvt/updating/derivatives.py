@@ -22,7 +22,7 @@ The state part (dK/du)[du/dp] of the modes' derivatives comes from element-level
 exploded nodes (fem.sensitivity.modal_state_terms: 36 kernel calls whatever the number of
 variables), with rigid links' own terms in closed form (linear constraints need none: their map is
 constant); systems with interpolation links use a four-point difference of the tangent along each
-du/dp instead (state_direction), h |du| = 1e-3 rad or 1e-3 of the structure's size. Mode-shape derivatives are \
+du/dp instead (state_direction), h |du| = 1e-3 rad or 1e-3 of the structure's size. Mode-shape derivatives are
 projected on what
 the objective reads (the sensors, or one MAC per mode) and solved by the adjoint when that has
 fewer rows than there are variables.

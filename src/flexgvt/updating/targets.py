@@ -100,8 +100,8 @@ class Objective:
 
     frequency, mac, mass, cg, inertia, static, orthogonality: weights of the residual groups (each
     residual is a relative error; a MAC residual is 1 - MAC; the cross-orthogonality residuals are
-    XOR - I over the paired modes, XOR through the SEREP mass of the paired analytical modes). mac_min: pairs below \
-it violate a constraint
+    XOR - I over the paired modes, XOR through the SEREP mass of the paired analytical modes). mac_min: pairs below
+    it violate a constraint
     (SLSQP, trust-constr) or are penalised (least squares, Nelder-Mead); mass_limits: relative
     band the mass properties must stay in (e.g. 0.1 = +-10 %); use_std: weight frequency errors
     by the measured standard deviations when given (relative scatter over the median's);

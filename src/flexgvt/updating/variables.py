@@ -118,8 +118,8 @@ def cord(name: str, cords: int | Iterable[int] | None = None, attribute: str = "
          configurations: Iterable[str] | None = None, scale: float = 0.01) -> Variable:
     """Stiffness, damping, attachment offset (offset_x/y/z: the attachment point's arm from its node
     [m], shifted by (x - 1) scale) or position ``along`` its element [m] (a cord with node_b: the
-    attachment slides between the two nodes, shifted by (x - 1) scale) of suspension cords (indices in each \
-configuration's suspension; None: all) in the named
+    attachment slides between the two nodes, shifted by (x - 1) scale) of suspension cords (indices in each
+    configuration's suspension; None: all) in the named
     configurations (None: all)."""
     cords = () if cords is None else ((cords,) if np.isscalar(cords) else tuple(cords))
     return Variable(name, "cord", attribute, tuple(int(c) for c in cords), bounds, scale,

@@ -54,8 +54,8 @@ class BdfDeck:
     (card, element id, end 'A'/'B') -> the node flexgvt added for a CBAR/CBEAM offset or pin
     flag, or the CBUSH end's arm to the spring location (ids above the deck's grids);
     interpolation_sources: RBE3 id per model.interpolations; constraint_sources: MPC set id per
-    model.constraints (the one set all subcases select); n_modes: configuration -> EIGRL ND of its METHOD (None if \
-not given);
+    model.constraints (the one set all subcases select); n_modes: configuration -> EIGRL ND of its METHOD (None if
+    not given);
     methods: configuration -> its EigenMethod (EIGRL/EIGR: ND, window, normalisation) or None;
     subcases: configuration -> subcase id; unsupported: card (feature) -> ids that were not read;
     notes: things read with an approximation or ignored on purpose.
