@@ -329,8 +329,7 @@ def _limit_rotation(delta: np.ndarray, system: System, limit: float = 0.5) -> np
 @serial_blas
 def solve_static(model: Model, configuration: Configuration, *, settings: StaticSettings | None = None,
                  start: State | None = None, load_factors: np.ndarray | None = None,
-                 progress: Callable[[float], None] | None = None, keep_steps: bool = False,
-                 _warm_only: bool = False):
+                 progress: Callable[[float], None] | None = None, keep_steps: bool = False):
     """Geometrically nonlinear static equilibrium of ``model`` in ``configuration``.
 
     start: a previous State to warm-start from (same model, e.g. another design point); the full
