@@ -13,8 +13,8 @@ import pytest
 SRC = Path(__file__).resolve().parents[1] / "src" / "flexgvt"
 
 # Bottom first; a package may import its own modules and any package of a lower row, nothing on
-# its row or above (docs/architecture.md, from ../shared/DESIGN.md "Layers (imports only point
-# down)"). The facade flexgvt/__init__.py sits above every row and no package imports it.
+# its row or above (docs/architecture.md, the project design's layer table: imports only point
+# down). The facade flexgvt/__init__.py sits above every row and no package imports it.
 LAYERS = (
     ("errors", "_threads"),      # the error hierarchy and the thread policy, usable by all
     ("model", "data"),           # plain data: the structural model; shipped tables

@@ -1,5 +1,6 @@
 """Every citation of docs/method.md in the project names a section (and case) that exists there;
-nothing cites METHOD.md (outside the project) or builds a path into ../shared."""
+nothing cites METHOD.md (outside the project), and no script or module reaches a folder beside the
+repository (a clone has nothing beside it)."""
 
 import re
 from pathlib import Path
@@ -24,8 +25,12 @@ def test_citations_resolve():
         if where.as_posix() not in ("tests/test_method_references.py", "tests/data/test_shipped_tables.py",
                                     "src/flexgvt/data/README.md"):
             assert "METHOD.md" not in text, f"{where} cites METHOD.md: cite docs/method.md section N"
-        if path.suffix == ".py":  # no path built into the folder beside the repository
-            assert not re.search(r"[\"']\.\./shared|/ *[\"']shared[\"']", text), where
+        if path.suffix == ".py":  # no path built above the repository's root
+            depth = len(where.parts) - 1  # parents[depth] of this file is the root
+            for m in re.finditer(r"__file__\)?(?:\.resolve\(\))?\.parents\[(\d+)\]", text):
+                assert int(m.group(1)) <= depth, f"{where}: parents[{m.group(1)}] leaves the repository"
+            if where.parts[0] in ("src", "bench", "examples"):  # nor a relative path climbing out to a folder
+                assert not re.search(r"[\"']\.\./[\w.-]+/", text), where
         for m in re.finditer(r"method\.md(?:\]\([^)]*\))? sections? (\d)(?:-(\d))?(?: case (\d))?", text):
             cited += 1
             first, last, case = m.group(1), m.group(2), m.group(3)
