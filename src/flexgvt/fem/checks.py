@@ -53,7 +53,6 @@ def check_values(system) -> None:
     """Refuse node coordinates, element, mass, spring and cord values that would overflow the solvers
     (NaN, inf, or beyond VALUE_LIMIT / COORDINATE_LIMIT), naming the first offending entity."""
     cm, where = system.cm, f"configuration '{system.config.name}'"
-    remedy = _REMEDY
     check_coordinates(cm.node_ids, cm.xyz, where)
     b = cm.beams
     if len(b.L0):
@@ -64,7 +63,7 @@ def check_values(system) -> None:
             raise ModelError(f"{where}: beam element(s) {_ids(cm.beam_element_ids[bad])} (group "
                              f"'{cm.beam_group_names[k]}') have stiffness or mass terms that are not finite or "
                              f"exceed {VALUE_LIMIT:g} (SI): check the group's material (E, G, rho) and section "
-                             f"(A, I, J) values; {remedy}")
+                             f"(A, I, J) values; {_REMEDY}")
     m = system.masses
     if len(m.nodes):
         with np.errstate(over="ignore", invalid="ignore"):
@@ -74,26 +73,26 @@ def check_values(system) -> None:
         if np.any(bad):
             raise ModelError(f"{where}: concentrated mass(es) at node(s) {_ids(cm.node_ids[m.nodes[bad]])} have a "
                              f"mass, offset or inertia that is not finite or too large (offset beyond "
-                             f"{COORDINATE_LIMIT:g} m or m |offset|^2 beyond {VALUE_LIMIT:g} kg m^2): {remedy}")
+                             f"{COORDINATE_LIMIT:g} m or m |offset|^2 beyond {VALUE_LIMIT:g} kg m^2): {_REMEDY}")
     s = system.springs
     if len(s.b):
         bad = _bad(s.stiffness) | _bad(s.damping)
         if np.any(bad):
             raise ModelError(f"{where}: spring(s) at node(s) {_ids(cm.node_ids[s.b[bad]])} have a stiffness or damping "
                              f"that is not finite or exceeds {VALUE_LIMIT:g} (SI): to clamp a DOF fix it "
-                             f"(fixed={{node: '123456'}}); otherwise {remedy}")
+                             f"(fixed={{node: '123456'}}); otherwise {_REMEDY}")
     if len(system.cord_nodes):
         bad = (_bad(system.cord_k) | _bad(system.cord_c) | _bad(system.cord_anchor, COORDINATE_LIMIT)
                | _bad(system.cord_l0, COORDINATE_LIMIT) | _bad(system.cord_offset, COORDINATE_LIMIT))
         if np.any(bad):
             raise ModelError(f"{where}: cord(s) {_ids(np.flatnonzero(bad))} (at node(s) "
                              f"{_ids(cm.node_ids[system.cord_nodes[bad]])}) have a stiffness, damping, anchor, "
-                             f"length or offset that is not finite or too large: {remedy}")
+                             f"length or offset that is not finite or too large: {_REMEDY}")
     f = system.applied.reshape(-1, 6)
     bad = _bad(f)
     if np.any(bad):
         raise ModelError(f"{where}: the applied loads at node(s) {_ids(cm.node_ids[bad])} are not finite or exceed "
-                         f"{VALUE_LIMIT:g} N: check the loads, gravity and masses there; {remedy}")
+                         f"{VALUE_LIMIT:g} N: check the loads, gravity and masses there; {_REMEDY}")
 
 
 def reduced_nodes(system, reduced_dofs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

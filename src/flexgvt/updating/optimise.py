@@ -46,12 +46,7 @@ class _Replayed:
 def continuation(problem: UpdatingProblem) -> dict[str, np.ndarray]:
     """What the next evaluation of ``problem`` depends on besides x, as arrays: each configuration's
     last equilibrium (the warm start: positions, rotations) and pairing reference (fit, shapes)."""
-    out = {}
-    for k, (name, s) in enumerate(sorted(problem.states.items())):
-        out[f"state_name{k}"], out[f"positions{k}"], out[f"rotations{k}"] = np.array(name), s.positions, s.rotations
-    for k, (name, (fit, shapes)) in enumerate(sorted(problem._tracking.items())):
-        out[f"pair_name{k}"], out[f"fit{k}"], out[f"shapes{k}"] = np.array(name), np.array(fit, float), shapes
-    return out
+    return reference_arrays({"states": problem.states, "pairing": problem._tracking})
 
 
 def reference_arrays(reference: dict) -> dict[str, np.ndarray]:
@@ -283,6 +278,7 @@ def _summary(p: Point) -> dict:
     return {"frequencies_hz": {n: c.frequencies_hz[np.maximum(c.paired, 0)].tolist()
                                for n, c in p.configurations.items()},
             "mac": {n: np.nan_to_num(c.mac, nan=-1.0).tolist() for n, c in p.configurations.items()}}
+
 
 def minimise(problem: UpdatingProblem, x0: np.ndarray, method: str = "least_squares", store=None, run: int = 0,
              max_iterations: int = 100, tolerance: float = 1e-10, callback: Callable | None = None) -> dict:
