@@ -77,7 +77,7 @@ class Stabilisation:
         band = (self.frequencies_hz >= f_lo) & (self.frequencies_hz <= f_hi)
         modes = lsfd(self.frequencies_hz[band], self.H[band], s, L, self.outputs, self.inputs, weighting=self.weighting)
         if refine:
-            from ..io.uff import FRFs
+            from ..modal import FRFs
 
             modes = _refine(FRFs(self.frequencies_hz, self.H, self.outputs, self.inputs), modes, variance=variance,
                             frequency_band=self.band)
@@ -189,7 +189,7 @@ def _reduced_normal_matrices(r, g, G, same, P):
 def polymax(frfs, max_order: int = 40, frequency_band=None, orders=None, weighting: str = "unit") -> Stabilisation:
     """Stabilisation diagram of pLSCF poles for model orders 1..max_order (or ``orders``).
 
-    frfs: an FRFs container (flexgvt.io.uff), an FRFEstimate, or a tuple (frequencies_hz, H (n_freq, n_out, n_in)).
+    frfs: FRFs (flexgvt.modal: read from a UFF file or estimated), or a tuple (frequencies_hz, H (n_freq, n_out, n_in)).
     frequency_band: (f_min, f_max) [Hz] to fit (default: the whole axis above 0).
     weighting: "unit", or "inverse" (each output's lines by 1/|H_o|, so every mode counts whatever
     its amplitude: receptances of very flexible structures span decades).
@@ -199,7 +199,7 @@ def polymax(frfs, max_order: int = 40, frequency_band=None, orders=None, weighti
         outputs, inputs = np.zeros((0, 2)), np.zeros((0, 2))
     else:
         freq, H = frfs.frequencies_hz, frfs.H
-        outputs = getattr(frfs, "outputs", np.zeros((0, 2)))  # an FRFEstimate has none
+        outputs = getattr(frfs, "outputs", np.zeros((0, 2)))  # any object with frequencies_hz and H
         inputs = getattr(frfs, "inputs", np.zeros((0, 2)))
     freq, H, keep, (lo, hi) = checked_frfs(freq, H, frequency_band)
     fk, Hk = freq[keep], H[keep]

@@ -30,7 +30,7 @@ import numpy as np
 
 from ..errors import EMAError
 from .._threads import serial_blas
-from .modal_set import ModalSet, checked_frfs
+from .modal_set import ModalSet, checked_frfs, warn_flag
 
 _BLOCK = 1 << 17  # entries (products x lines) of one block of the weighted products: 1 MB, cache-sized
 
@@ -444,7 +444,7 @@ def _solve(prob, theta0, max_iter, tol):
 
 @serial_blas  # as polymax: medium products (outputs x lines x a few hundred), one BLAS thread
 def refine(frfs, modal_set, variance=None, frequency_band=None, max_iter: int = 30, tol: float = 1e-3,
-           return_info: bool = False):
+           return_info: bool = False) -> ModalSet:
     """Maximum-likelihood refinement of poles, participation factors, shapes and residuals.
 
     frfs: FRFs container (frequencies_hz, H, outputs, inputs; optional `variance`) or a tuple
@@ -459,7 +459,8 @@ def refine(frfs, modal_set, variance=None, frequency_band=None, max_iter: int = 
     and by max(1, chi2/dof) when given). The refined set is accepted only if it lowers the
     weighted cost and every mode stays sane (damping in (0, 0.95), frequency within the band and
     within three half-power bandwidths of the start); else the start is returned with its standard
-    deviations evaluated at the start and a warning. With return_info, returns (ModalSet, RefineInfo).
+    deviations evaluated at the start and a warning. The diagnostics are ``result.info['refine']``
+    (a RefineInfo); return_info=True (deprecated) returns (ModalSet, RefineInfo) as before.
     """
     if isinstance(frfs, tuple):
         freq, H = frfs
@@ -560,10 +561,13 @@ def refine(frfs, modal_set, variance=None, frequency_band=None, max_iter: int = 
     part = L * pk[:, None]
     outputs = np.zeros((0, 2)) if isinstance(frfs, tuple) else getattr(frfs, "outputs", np.zeros((0, 2)))
     inputs = np.zeros((0, 2)) if isinstance(frfs, tuple) else getattr(frfs, "inputs", np.zeros((0, 2)))
-    out = ModalSet(wn / (2 * np.pi), z, shapes, part, R, outputs, inputs, frequency_std_hz=f_std, damping_std=z_std)
+    info = RefineInfo(float(cost_start), float(cost), int(dof), int(iters), bool(converged), bool(accepted),
+                      source, float(cost / dof), signif, V_full)
+    out = ModalSet(wn / (2 * np.pi), z, shapes, part, R, outputs, inputs, frequency_std_hz=f_std, damping_std=z_std,
+                   info={"refine": info})
     if return_info:
-        return out, RefineInfo(float(cost_start), float(cost), int(dof), int(iters), bool(converged), bool(accepted),
-                               source, float(cost / dof), signif, V_full)
+        warn_flag("refine", "return_info", "result.info['refine']")
+        return out, info
     return out
 
 
