@@ -18,6 +18,7 @@ from scipy.linalg.blas import dtrsm
 
 from ..errors import EMAError
 from .._threads import serial_blas
+from ..modal import mac_paired
 from .modal_set import ModalSet, checked_frfs  # noqa: F401  (ModalSet re-exported: flexgvt.ema.polymax.ModalSet)
 from .refine import refine as _refine
 from .selection import select_ml
@@ -98,14 +99,12 @@ def _stability(prev_s, prev_L, s, L, df_hz=0.0, tol_f=0.01, tol_z=0.05, tol_mac=
     f, z = np.abs(s), -s.real / np.abs(s)
     fp, zp = np.abs(prev_s), -prev_s.real / np.abs(prev_s)
     j = np.argmin(np.abs(fp[None, :] - f[:, None]), axis=1)
-    num = np.abs(np.sum(prev_L[j].conj() * L, axis=1)) ** 2
-    den = np.maximum(np.sum(np.abs(prev_L[j]) ** 2, axis=1) * np.sum(np.abs(L) ** 2, axis=1), 1e-300)
     dfreq = np.abs(fp[j] - f)
     # f in rad/s: 2 zeta f_hz = zeta f / pi is the half-power bandwidth [Hz], df / (2 f_hz) = pi df / f.
     resolution_limited = (dfreq <= 0.1 * tol_f * f) & (z * f / np.pi < 5 * df_hz)
     floor = np.where(resolution_limited, np.pi * df_hz / f, 0.0)
     tol_dz = np.maximum(tol_z * np.maximum(z, 1e-12), floor)
-    return (dfreq <= tol_f * f) & (np.abs(zp[j] - z) <= tol_dz) & (num / den >= tol_mac)
+    return (dfreq <= tol_f * f) & (np.abs(zp[j] - z) <= tol_dz) & (mac_paired(prev_L[j], L) >= tol_mac)
 
 
 _GRAM_PIVOT = 1e-6  # smallest squared Cholesky pivot of the basis Gram matrix, relative to its diagonal

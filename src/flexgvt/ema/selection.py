@@ -32,6 +32,7 @@ from scipy.stats import chi2
 
 from ..errors import EMAError
 from .._threads import serial_blas
+from ..modal import mac_paired
 from .clustering import group_by_gap, representative, split_by_order
 from .modal_set import ModalSet, warn_flag
 from .refine import SignificanceScreen, refine
@@ -52,8 +53,7 @@ class Cluster:
 
 def _macs(pts, idx, b):
     """MAC of the participation vectors of poles idx with b."""
-    a = np.array([pts[i][1] for i in idx])
-    return np.abs(a.conj() @ b) ** 2 / np.maximum(np.sum(np.abs(a) ** 2, axis=1) * np.vdot(b, b).real, 1e-300)
+    return mac_paired(np.array([pts[i][1] for i in idx]), b)
 
 
 def clusters(stab, min_fraction: float = 0.3, tol_f: float = 0.01, min_orders: int = 4,

@@ -7,8 +7,8 @@ coherence and variance), DOF labels and the one MAC kernel.
 
 from .dofs import as_dofs, common_dofs, dof_array, dof_names
 from .frfs import FRFs
-from .mac import mac_columns, mac_rows
+from .mac import mac_columns, mac_paired, mac_rows
 from .modal_set import ModalSet, aligned_shapes
 
 __all__ = ["FRFs", "ModalSet", "aligned_shapes", "as_dofs", "common_dofs", "dof_array", "dof_names", "mac_columns",
-           "mac_rows"]
+           "mac_paired", "mac_rows"]
