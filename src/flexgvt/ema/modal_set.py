@@ -7,9 +7,23 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import EMAError
-from ..modal import ModalSet
+from ..modal import FRFs, ModalSet
 
-__all__ = ["ModalSet", "checked_frfs", "warn_flag"]
+__all__ = ["ModalSet", "as_frfs", "checked_frfs", "warn_flag"]
+
+
+def as_frfs(frfs) -> FRFs:
+    """The FRFs every EMA function takes: FRFs as they are; a tuple (frequencies_hz, H) as FRFs without
+    DOF labels."""
+    if isinstance(frfs, FRFs):
+        return frfs
+    if isinstance(frfs, tuple) and len(frfs) == 2:
+        return FRFs(*frfs)
+    if hasattr(frfs, "frequencies_hz") and hasattr(frfs, "H"):  # a look-alike (e.g. a user's own container)
+        return FRFs(frfs.frequencies_hz, frfs.H, getattr(frfs, "outputs", None), getattr(frfs, "inputs", None),
+                    variance=getattr(frfs, "variance", None))
+    raise EMAError(f"expected FRFs (flexgvt.modal.FRFs, e.g. read_uff(path).frfs or estimate_frf(...)) or a tuple "
+                   f"(frequencies_hz, H), got {type(frfs).__name__}")
 
 
 def warn_flag(function: str, flag: str, instead: str) -> None:

@@ -19,7 +19,7 @@ from scipy.linalg.blas import dtrsm
 from ..errors import EMAError
 from .._threads import serial_blas
 from ..modal import mac_paired
-from .modal_set import ModalSet, checked_frfs  # noqa: F401  (ModalSet re-exported: flexgvt.ema.polymax.ModalSet)
+from .modal_set import ModalSet, as_frfs, checked_frfs  # noqa: F401  (ModalSet re-exported: flexgvt.ema.polymax.ModalSet)
 from .refine import refine as _refine
 from .selection import select_ml
 
@@ -193,13 +193,8 @@ def polymax(frfs, max_order: int = 40, frequency_band=None, orders=None, weighti
     weighting: "unit", or "inverse" (each output's lines by 1/|H_o|, so every mode counts whatever
     its amplitude: receptances of very flexible structures span decades).
     """
-    if isinstance(frfs, tuple):
-        freq, H = frfs
-        outputs, inputs = np.zeros((0, 2)), np.zeros((0, 2))
-    else:
-        freq, H = frfs.frequencies_hz, frfs.H
-        outputs = getattr(frfs, "outputs", np.zeros((0, 2)))  # any object with frequencies_hz and H
-        inputs = getattr(frfs, "inputs", np.zeros((0, 2)))
+    frfs = as_frfs(frfs)
+    freq, H, outputs, inputs = frfs.frequencies_hz, frfs.H, frfs.outputs, frfs.inputs
     freq, H, keep, (lo, hi) = checked_frfs(freq, H, frequency_band)
     fk, Hk = freq[keep], H[keep]
     n_i = Hk.shape[2]
@@ -338,7 +333,8 @@ def identify(frfs, max_order: int = 40, frequency_band=None, variance=None, weig
     """PolyMAX (`polymax`) + automatic selection with maximum-likelihood refinement (`select_ml`) in one
     call: modes with frequency_std_hz [Hz] and damping_std. frfs: FRFs container or (frequencies_hz,
     H); variance as `refine` (default: the frfs' `variance` if any, else estimated from the residual)."""
-    if variance is None and not isinstance(frfs, tuple):
-        variance = getattr(frfs, "variance", None)
+    frfs = as_frfs(frfs)
+    if variance is None:
+        variance = frfs.variance
     stab = polymax(frfs, max_order=max_order, frequency_band=frequency_band, weighting=weighting)
     return select_ml(stab, variance=variance, alpha=alpha, **select_kwargs)
