@@ -62,3 +62,11 @@ def test_bad_mode_files(tmp_path, name, text, match):
     (tmp_path / name).write_text(text)
     with pytest.raises(ProjectError, match=match):
         read_modes(tmp_path / name)
+
+
+def test_identify_is_the_deprecated_name_of_identify_configuration(monkeypatch):
+    import flexgvt.workflow.identification as ident
+
+    monkeypatch.setattr(ident, "identify_configuration", lambda project, name: ("identified", name))
+    with pytest.warns(DeprecationWarning, match="identify_configuration"):
+        assert ident.identify(None, "outboard") == ("identified", "outboard")
