@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import csv
 import json
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -14,11 +15,21 @@ from ..modal import ModalSet
 from .projectbase import Project, ProjectError
 
 
-# The measured modes of one configuration are a flexgvt.modal.ModalSet: name is the configuration
-# (also read as .configuration), source the file(s) read, dofs (.outputs) the (test point, direction
-# code) of each shape column, stabilisation and frfs those of an identification from FRFs, and
-# info['diagram'] (.diagram) the stabilisation diagram's plain data kept for the report.
-Identified = ModalSet
+@dataclass(frozen=True, eq=False)
+class Identified(ModalSet):
+    """The measured modes of one configuration: a flexgvt.modal.ModalSet (name: the configuration,
+    also read as .configuration; source: the file(s) read; dofs (.outputs): the (test point,
+    direction code) of each shape column; stabilisation and frfs: those of an identification from
+    FRFs; info['diagram'] (.diagram): the stabilisation diagram's plain data kept for the report).
+    It adds nothing but the former method measured(project), kept for old callers."""
+
+    def measured(self, project: Project):
+        """Deprecated: flexgvt.workflow.measured(item, project)."""
+        import warnings
+
+        warnings.warn("Identified.measured(project) is deprecated: use flexgvt.workflow.measured(item, project)",
+                      DeprecationWarning, stacklevel=2)
+        return measured(self, project)
 
 
 def measured(item: ModalSet, project: Project):
@@ -63,7 +74,7 @@ def identify_configuration(project: Project, name: str) -> ModalSet:
     if t.labels is not None and len(t.labels) != len(keep):
         raise ProjectError(f"{where}.labels: {len(t.labels)} labels for {len(keep)} modes")
     pick = (lambda v: None if v is None else v[keep])  # noqa: E731
-    return ModalSet(out.frequencies_hz[keep], out.damping_ratio[keep], pick(out.shapes), dofs=out.dofs,
+    return Identified(out.frequencies_hz[keep], out.damping_ratio[keep], pick(out.shapes), dofs=out.dofs,
                     frequency_std_hz=pick(out.frequency_std_hz), damping_std=pick(out.damping_std), labels=labels,
                     name=name, source=out.source, stabilisation=out.stabilisation, frfs=out.frfs)
 
@@ -95,7 +106,7 @@ def _from_frfs(project: Project, name: str, t) -> ModalSet:
         stab = polymax(frfs, max_order=t.max_order, frequency_band=band)
         modes = stab.select(frequencies_hz=t.select_hz, min_fraction=t.min_fraction, refine=t.refine)
     std = modes.frequency_std_hz
-    return ModalSet(np.asarray(modes.frequencies_hz), np.asarray(modes.damping_ratio), np.asarray(modes.shapes),
+    return Identified(np.asarray(modes.frequencies_hz), np.asarray(modes.damping_ratio), np.asarray(modes.shapes),
                     dofs=np.asarray(modes.dofs), frequency_std_hz=None if std is None else np.asarray(std, float),
                     damping_std=None if modes.damping_std is None else np.asarray(modes.damping_std),
                     name=name, source=", ".join(files), stabilisation=stab, frfs=frfs)
@@ -113,7 +124,7 @@ def read_modes(path: Path, name: str = "", key: str | None = None) -> ModalSet:
             raise ProjectError(f"{path}: no modal dataset 55 in the file")
         m = data.modes
         translations = np.abs(m.dofs[:, 1]) <= 3  # UFF 55 lays out (point, 1..3 or 1..6) per point
-        return ModalSet(m.frequencies_hz, m.damping_ratio, m.shapes[:, translations], dofs=m.dofs[translations],
+        return Identified(m.frequencies_hz, m.damping_ratio, m.shapes[:, translations], dofs=m.dofs[translations],
                         name=name, source=str(path))
     if suffix == ".csv":
         return _read_csv(path, name)
@@ -160,7 +171,7 @@ def _from_json(obj, path: Path, name: str) -> ModalSet:
             if v.shape != f.shape or not np.all(np.isfinite(v)) or np.any(v < 0):
                 raise ProjectError(f"{path}: '{key}' must hold {len(f)} finite values >= 0")
             std[key] = v
-    return ModalSet(f, z, shapes, dofs=outputs, labels=labels, name=name, source=str(path), **std)
+    return Identified(f, z, shapes, dofs=outputs, labels=labels, name=name, source=str(path), **std)
 
 
 def _read_csv(path: Path, name: str) -> ModalSet:
@@ -190,5 +201,5 @@ def _read_csv(path: Path, name: str) -> ModalSet:
             labels.append(r[head.index("label")])
     outputs = np.array([(int(m.group(1)), (1 if m.group(2) == "+" else -1) * (" XYZ".index(m.group(3))))
                         for _, m in channels]) if channels else None
-    return ModalSet(np.asarray(f), np.asarray(z), np.asarray(shapes) if channels else None, dofs=outputs,
+    return Identified(np.asarray(f), np.asarray(z), np.asarray(shapes) if channels else None, dofs=outputs,
                     labels=tuple(labels), name=name, source=str(path))
