@@ -10,7 +10,7 @@ value replaced by a wrong type, a negative, a huge number, 0, empty, nan/inf, a 
 rich markup, a wrong unit, or (for a path) a missing, binary, device, folder, 5,000-character, NUL,
 '../' or absolute path; a key deleted or unknown key added; a list item dropped or repeated; or a
 named data file corrupted (truncated, lines dropped, bytes changed, numbers replaced). Steps: load_project;
-each configuration's modes read (identify) and mapped to the model (measured); the objective;
+each configuration's modes read (identify_configuration) and mapped to the model (measured); the objective;
 PolyMAX identification when the change touched an FRF test table; the free-flying prediction when it
 touched the prediction, the suspension or a configuration. Updating itself is not run (every
 variable is bound and checked by load_project; one iteration costs seconds).
@@ -196,7 +196,7 @@ def run_case(payload) -> str:
     its corrupt files; load_project and the first steps."""
     import warnings
 
-    from flexgvt.workflow import identify, load_project
+    from flexgvt.workflow import identify_configuration, load_project, measured
     from flexgvt.workflow.steps import objective, predict
 
     base, text, extra, steps = payload
@@ -215,7 +215,7 @@ def run_case(payload) -> str:
         objective(project)
         for c in project.spec.configurations:
             if c.test is not None and (c.test.modes is not None or c.name in steps):
-                identify(project, c.name).measured(project)
+                measured(identify_configuration(project, c.name), project)
         if "predict" in steps and project.spec.prediction.free_free:
             predict(project, project.model, n_modes=4)
     return "loaded"

@@ -17,7 +17,7 @@ SRC = Path(__file__).resolve().parents[1] / "src" / "flexgvt"
 # down). The facade flexgvt/__init__.py sits above every row and no package imports it.
 LAYERS = (
     ("errors", "_threads"),      # the error hierarchy and the thread policy, usable by all
-    ("model", "data"),           # plain data: the structural model; shipped tables
+    ("model", "data", "modal"),  # plain data: the structural model; shipped tables; modes and FRFs
     ("io",),                     # file formats: reads into model, never calls the solver
     ("cases",),                  # built-in structures: data, import model, io, data, errors only
     ("fem", "ema"),              # numerics: the structural solver; experimental modal analysis

@@ -26,7 +26,7 @@ __all__ = ["CircularTubeSection", "Configuration", "Cord", "DistributedLoad", "F
 
 def __getattr__(name: str):
     # Heavier layers load on first use so `import flexgvt` stays fast.
-    if name in ("data", "ema", "io", "correlation", "updating", "suspension", "workflow", "report"):
+    if name in ("data", "modal", "ema", "io", "correlation", "updating", "suspension", "workflow", "report"):
         import importlib
         return importlib.import_module(f".{name}", __name__)
     raise AttributeError(f"module 'flexgvt' has no attribute {name!r}")

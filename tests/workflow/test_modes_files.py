@@ -62,3 +62,23 @@ def test_bad_mode_files(tmp_path, name, text, match):
     (tmp_path / name).write_text(text)
     with pytest.raises(ProjectError, match=match):
         read_modes(tmp_path / name)
+
+
+def test_identify_is_the_deprecated_name_of_identify_configuration(monkeypatch):
+    import flexgvt.workflow.identification as ident
+
+    monkeypatch.setattr(ident, "identify_configuration", lambda project, name: ("identified", name))
+    with pytest.warns(DeprecationWarning, match="identify_configuration"):
+        assert ident.identify(None, "outboard") == ("identified", "outboard")
+
+
+def test_identified_is_a_modal_set_whose_measured_method_is_deprecated(tmp_path, monkeypatch):
+    import flexgvt.workflow.identification as ident
+    from flexgvt.modal import ModalSet
+
+    (tmp_path / "m.json").write_text(json.dumps({"frequencies_hz": [1.0, 2.0]}))
+    item = read_modes(tmp_path / "m.json", "outboard")
+    assert isinstance(item, ModalSet) and item.configuration == "outboard"
+    monkeypatch.setattr(ident, "measured", lambda it, project: ("measured", it.name))
+    with pytest.warns(DeprecationWarning, match=r"flexgvt.workflow.measured\(item, project\)"):
+        assert item.measured(None) == ("measured", "outboard")

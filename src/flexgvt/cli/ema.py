@@ -34,8 +34,8 @@ def _identify_one(path, fit_band, max_order, poles, wide, refine):
     if refine and not poles:
         from ..ema import select_ml
 
-        modes, info = select_ml(stab, return_info=True)
-        return frfs, (stab, info["kept"]), modes
+        modes = select_ml(stab)
+        return frfs, (stab, modes.info["kept"]), modes
     modes = stab.select(frequencies_hz=[float(v) for v in poles.split(",")] if poles else None, refine=refine)
     return frfs, (stab, None), modes
 
@@ -77,7 +77,8 @@ def identify(paths: list[Path] = typer.Argument(..., help="UFF file(s) with FRFs
         per_test = [m for _, _, m in runs]
         table_tests = None
         if len(paths) > 1:
-            modes, table_tests = average_tests(per_test, return_table=True)
+            modes = average_tests(per_test)
+            table_tests = modes.info["tests"]
         else:
             modes = per_test[0]
         out.mkdir(parents=True, exist_ok=True)

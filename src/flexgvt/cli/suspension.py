@@ -79,23 +79,9 @@ def identify(mass: float = typer.Option(..., help="block mass [kg]: the mass the
         table.add_row(name, format(v, fmt), "" if s is None else format(s, ".2g"))
     console.print(table)
     if out is not None:
-        import matplotlib
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
+        from ..report.plots import suspension_response
         out.mkdir(parents=True, exist_ok=True)
-        f = np.linspace(0.01, 4 * point.frequency_hz, 600)
-        w, wn = 2 * np.pi * f, 2 * np.pi * point.frequency_hz
-        H = 1 / (point.stiffness - point.mass * w**2 + 1j * w * point.damping)
-        fig, ax = plt.subplots(figsize=(6, 3.5))
-        ax.semilogy(f, np.abs(H) * point.stiffness)
-        ax.axvline(point.frequency_hz, ls=":", c="k")
-        ax.set_xlabel("frequency [Hz]")
-        ax.set_ylabel("|x / x_static|")
-        ax.set_title(f"suspension point: K = {point.stiffness:.3g} N/m, C = {point.damping:.3g} N s/m, "
-                     f"f_n = {wn / 2 / np.pi:.3g} Hz", fontsize=9)
-        fig.tight_layout()
-        fig.savefig(out / "suspension_point.png", dpi=120)
-        plt.close(fig)
+        suspension_response(point).savefig(out / "suspension_point.png", dpi=120)
         console.print(f"figure: {out / 'suspension_point.png'}")
     _write_json(json_path, point.as_dict())
 
@@ -141,22 +127,8 @@ def plan(case: str = typer.Argument("strip_366", help="built-in case to hang"),
                         "elastic": r.elastic, "problems": r.problems})
     console.print(table)
     if out is not None:
-        import matplotlib
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
+        from ..report.plots import hung_shapes
         out.mkdir(parents=True, exist_ok=True)
-        fig, ax = plt.subplots(figsize=(7, 3.5))
-        for r in results:
-            if r.state is not None:
-                ax.plot(r.state.positions[:, 1], r.state.positions[:, 2], label=r.layout.name)
-        ax.plot(xyz[:, 1], xyz[:, 2], "k:", label="jig shape")
-        ax.set_xlabel("y [m]")
-        ax.set_ylabel("z [m]")
-        ax.set_aspect("equal", adjustable="datalim")
-        ax.legend(fontsize=7)
-        ax.set_title(f"{c.name}: hung shapes under self-weight")
-        fig.tight_layout()
-        fig.savefig(out / "hung_shapes.png", dpi=120)
-        plt.close(fig)
+        hung_shapes(c.name, results, xyz).savefig(out / "hung_shapes.png", dpi=120)
         console.print(f"figure: {out / 'hung_shapes.png'}")
     _write_json(json_path, {"case": c.name, "layouts": records})

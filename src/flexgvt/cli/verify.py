@@ -62,22 +62,6 @@ def register(app: typer.Typer, console: Console) -> None:
 
 
 def _mac_figure(result, path: Path) -> None:
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    from ..report.plots import verification_mac
 
-    names = [n for n, m in result.multi.mac.items() if m is not None]
-    k = max(len(names), 1)
-    fig, axes = plt.subplots(1, k, figsize=(4.2 * k + 1, 3.8), squeeze=False)
-    for ax, name in zip(axes[0], names):
-        mac = result.multi.mac[name][1]
-        im = ax.imshow(mac, vmin=0, vmax=1, cmap="viridis",
-                       extent=(0.5, mac.shape[1] + 0.5, mac.shape[0] + 0.5, 0.5))
-        ax.set_title(name, fontsize=10)
-        ax.set_xlabel("analytical mode")
-        ax.set_ylabel("measured mode")
-    fig.suptitle(f"verification '{result.case}', seed {result.seed}: MAC after multi-configuration updating",
-                 fontsize=10)
-    fig.colorbar(im, ax=axes[0].tolist(), shrink=0.8, label="MAC")
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+    verification_mac(result).savefig(path, dpi=120)

@@ -1,9 +1,11 @@
 """MAC, auto-MAC, COMAC and cross-orthogonality between measured and analytical mode sets.
 
-Mode sets are taken as they come: an ema ModalSet (shapes (n_modes, n_channels), its outputs
-giving the sensors), fem Modes (shapes (n_modes, n_nodes, 6), reduced to the sensors about their
-own state), or plain (n_modes, n_dof) arrays. MAC uses the conjugate transpose, so real and
-complex shapes mix.
+Mode sets are taken as they come: a ModalSet (shapes (n_modes, n_dofs), its DOF labels giving
+the sensors), fem Modes (shapes (n_modes, n_nodes, 6), reduced to the sensors about their own
+state), or plain (n_modes, n_dof) arrays. Two ModalSets with different DOF labels are compared
+over the DOFs both have, aligned by label (fem Modes.at(sensors) gives FE modes at the sensors as
+a ModalSet). MAC uses the conjugate transpose (flexgvt.modal's kernel), so real and complex
+shapes mix.
 
 Rigid-body modes: the zero-frequency modes of a free structure span a 6-dimensional space in
 which any rotation of the basis is as valid as another, so their individual MACs mean nothing.
@@ -15,7 +17,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import ModelError
-from ..fem.labels import mac_matrix
+from ..modal import aligned_shapes, mac_rows
 
 
 def _is_fem_modes(x) -> bool:
@@ -50,7 +52,15 @@ def sensors_of(x):
     return Sensors.from_outputs(outputs)
 
 
+def _labelled(x) -> bool:
+    return not _is_fem_modes(x) and getattr(x, "shapes", None) is not None and np.size(getattr(x, "dofs", ())) > 0
+
+
 def _pair_shapes(a, b, sensors):
+    if sensors is None and _labelled(a) and _labelled(b):
+        shapes_of(a), shapes_of(b)  # checked
+        A, B = aligned_shapes(a, b)
+        return A, B, None
     sensors = sensors or sensors_of(a) or sensors_of(b)
     A, B = shapes_of(a, sensors), shapes_of(b, sensors)
     if A.shape[1] != B.shape[1]:
@@ -60,9 +70,8 @@ def _pair_shapes(a, b, sensors):
 
 
 def mac_of(A: np.ndarray, B: np.ndarray) -> np.ndarray:
-    """MAC between the rows of A (na, n) and B (nb, n), real or complex (the solver's own MAC,
-    fem.labels.mac_matrix, on columns)."""
-    return mac_matrix(np.asarray(A).T, np.asarray(B).T)
+    """MAC between the rows of A (na, n) and B (nb, n), real or complex (flexgvt.modal.mac_rows)."""
+    return mac_rows(A, B)
 
 
 def mac(a, b, sensors=None) -> np.ndarray:

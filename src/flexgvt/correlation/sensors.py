@@ -65,6 +65,16 @@ class Sensors:
     def names(self) -> list[str]:
         return [s.name or f"{s.node}:{np.round(s.direction, 3).tolist()}" for s in self._items]
 
+    @property
+    def dofs(self) -> np.ndarray:
+        """(n_sensors, 2) DOF labels (FE node, direction code +-1..3) of the sensors; 0 for a sensor
+        along no axis (it then aligns by position only)."""
+        d = np.round(self.directions, 12)
+        axis = np.argmax(np.abs(d), axis=1)
+        along = np.isclose(np.abs(d[np.arange(len(d)), axis]), 1.0)
+        code = np.where(along, np.sign(d[np.arange(len(d)), axis]) * (axis + 1), 0).astype(int)
+        return np.column_stack([self.nodes, code])
+
     @classmethod
     def uniaxial(cls, nodes: Iterable[int], directions, offsets=None) -> "Sensors":
         """One sensor per node along ``directions`` ((n, 3) or one (3,)), at ``offsets`` ((n, 3) or None)."""

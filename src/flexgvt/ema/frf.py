@@ -7,27 +7,18 @@ Shapes: force (n_inputs, n_samples) or (n_samples,), response (n_outputs, n_samp
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import numpy as np
 
 from ..errors import EMAError
+from ..modal import FRFs
 
 
-@dataclass(frozen=True)
-class FRFEstimate:
-    """frequencies_hz (n_freq,); H (n_freq, n_out, n_in); coherence (n_freq, n_out) (multiple
-    coherence for several inputs); n_averages; estimator ('H1', 'H2', 'Hv'); variance (n_freq,
-    n_out, n_in): E|H_est - H|^2 per line from the averaging [H units squared], the weights of
-    flexgvt.ema.refine (noise on the response, independent blocks: overlapped windowed blocks are
-    correlated and make it somewhat optimistic)."""
-
-    frequencies_hz: np.ndarray
-    H: np.ndarray
-    coherence: np.ndarray
-    n_averages: int
-    estimator: str
-    variance: np.ndarray | None = None
+def FRFEstimate(frequencies_hz, H, coherence, n_averages: int, estimator: str, variance=None) -> FRFs:  # noqa: N802
+    """An estimate as the one FRFs type (the former FRFEstimate's positional order): frequencies_hz
+    (n_freq,); H (n_freq, n_out, n_in); coherence (n_freq, n_out); n_averages; estimator ('H1',
+    'H2', 'Hv'); variance (n_freq, n_out, n_in) E|H_est - H|^2 per line [H units squared]."""
+    return FRFs(frequencies_hz, H, coherence=coherence, variance=variance, n_averages=n_averages,
+                estimator=estimator)
 
 
 def hann(n: int) -> np.ndarray:
@@ -109,9 +100,13 @@ def spectra(force, response, fs: float, nperseg: int | None = None, overlap: flo
     return np.fft.rfftfreq(nperseg, 1 / fs), Gff, Gyf, Gyy, fb.shape[1]
 
 
-def estimate_frf(force, response, fs: float, estimator: str = "H1", **kwargs) -> FRFEstimate:
+def estimate_frf(force, response, fs: float, estimator: str = "H1", **kwargs) -> FRFs:
     """H1 (noise on the response), H2 (noise on the force, single input) or Hv (total least
-    squares, single input) with coherence. kwargs go to :func:`spectra`."""
+    squares, single input) as FRFs with coherence (n_freq, n_out) (multiple coherence for several
+    inputs), n_averages, estimator and variance (n_freq, n_out, n_in): E|H_est - H|^2 per line
+    from the averaging [H units squared], the weights of flexgvt.ema.refine (noise on the
+    response, independent blocks: overlapped windowed blocks are correlated and make it somewhat
+    optimistic). kwargs go to :func:`spectra`."""
     if estimator not in ("H1", "H2", "Hv"):
         raise EMAError(f"estimator '{estimator}' must be 'H1', 'H2' or 'Hv'")
     freq, Gff, Gyf, Gyy, nav = spectra(force, response, fs, **kwargs)
@@ -150,7 +145,7 @@ def estimate_frf(force, response, fs: float, estimator: str = "H1", **kwargs) ->
             d = gff - Gyy
             root = np.sqrt(d * d + 4 * np.abs(gyf) ** 2)
             H = ((Gyy - gff + root) / (2 * np.where(np.abs(gyf.conj()) > 0, gyf.conj(), 1.0)))[:, :, None]
-    return FRFEstimate(freq, H, coherence, nav, estimator, variance)
+    return FRFs(freq, H, coherence=coherence, variance=variance, n_averages=nav, estimator=estimator)
 
 
 def stepped_sine_frf(steps) -> tuple[np.ndarray, np.ndarray]:

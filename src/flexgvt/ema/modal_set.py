@@ -1,33 +1,37 @@
-"""The identified-modes container (ModalSet) and the FRF-array check shared by PolyMAX, LSFD,
-refinement and selection: the bottom of ema, so that polymax, refine and selection import it
-and not each other in a circle."""
+"""The identified-modes container (ModalSet, flexgvt.modal's one type for every set of modes) and
+the FRF-array check shared by PolyMAX, LSFD, refinement and selection: the bottom of ema, so that
+polymax, refine and selection import it and not each other in a circle."""
 
 from __future__ import annotations
-
-from dataclasses import dataclass, field
 
 import numpy as np
 
 from ..errors import EMAError
+from ..modal import FRFs, ModalSet
+
+__all__ = ["ModalSet", "as_frfs", "checked_frfs", "warn_flag"]
 
 
-@dataclass(frozen=True)
-class ModalSet:
-    """Identified modes: frequencies_hz, damping_ratio (n_modes,); shapes (n_modes, n_outputs)
-    complex (normalised to a unit largest component); participation (n_modes, n_inputs);
-    residues (n_modes, n_outputs, n_inputs); outputs/inputs as in the FRFs; frequency_std_hz and
-    damping_std (n_modes,) standard deviations where known (maximum-likelihood refinement, averaging
-    of repeated tests), else None."""
+def as_frfs(frfs) -> FRFs:
+    """The FRFs every EMA function takes: FRFs as they are; a tuple (frequencies_hz, H) as FRFs without
+    DOF labels."""
+    if isinstance(frfs, FRFs):
+        return frfs
+    if isinstance(frfs, tuple) and len(frfs) == 2:
+        return FRFs(*frfs)
+    if hasattr(frfs, "frequencies_hz") and hasattr(frfs, "H"):  # a look-alike (e.g. a user's own container)
+        return FRFs(frfs.frequencies_hz, frfs.H, getattr(frfs, "outputs", None), getattr(frfs, "inputs", None),
+                    variance=getattr(frfs, "variance", None))
+    raise EMAError(f"expected FRFs (flexgvt.modal.FRFs, e.g. read_uff(path).frfs or estimate_frf(...)) or a tuple "
+                   f"(frequencies_hz, H), got {type(frfs).__name__}")
 
-    frequencies_hz: np.ndarray
-    damping_ratio: np.ndarray
-    shapes: np.ndarray
-    participation: np.ndarray
-    residues: np.ndarray
-    outputs: np.ndarray = field(default_factory=lambda: np.zeros((0, 2)))
-    inputs: np.ndarray = field(default_factory=lambda: np.zeros((0, 2)))
-    frequency_std_hz: np.ndarray | None = None  # (n_modes,) standard deviation [Hz], e.g. from refine()
-    damping_std: np.ndarray | None = None  # (n_modes,) standard deviation of the damping ratio
+
+def warn_flag(function: str, flag: str, instead: str) -> None:
+    """DeprecationWarning for a flag that changed a function's return type (one result object now)."""
+    import warnings
+
+    warnings.warn(f"{function}({flag}=True) is deprecated: {function} returns one ModalSet; read {instead}",
+                  DeprecationWarning, stacklevel=3)
 
 
 def checked_frfs(freq, H, frequency_band=None, where: str = ""):

@@ -18,7 +18,8 @@ from scipy.linalg.blas import dtrsm
 
 from ..errors import EMAError
 from .._threads import serial_blas
-from .modal_set import ModalSet, checked_frfs  # noqa: F401  (ModalSet re-exported: flexgvt.ema.polymax.ModalSet)
+from ..modal import mac_paired
+from .modal_set import ModalSet, as_frfs, checked_frfs  # noqa: F401  (ModalSet re-exported: flexgvt.ema.polymax.ModalSet)
 from .refine import refine as _refine
 from .selection import select_ml
 
@@ -77,7 +78,7 @@ class Stabilisation:
         band = (self.frequencies_hz >= f_lo) & (self.frequencies_hz <= f_hi)
         modes = lsfd(self.frequencies_hz[band], self.H[band], s, L, self.outputs, self.inputs, weighting=self.weighting)
         if refine:
-            from ..io.uff import FRFs
+            from ..modal import FRFs
 
             modes = _refine(FRFs(self.frequencies_hz, self.H, self.outputs, self.inputs), modes, variance=variance,
                             frequency_band=self.band)
@@ -98,14 +99,12 @@ def _stability(prev_s, prev_L, s, L, df_hz=0.0, tol_f=0.01, tol_z=0.05, tol_mac=
     f, z = np.abs(s), -s.real / np.abs(s)
     fp, zp = np.abs(prev_s), -prev_s.real / np.abs(prev_s)
     j = np.argmin(np.abs(fp[None, :] - f[:, None]), axis=1)
-    num = np.abs(np.sum(prev_L[j].conj() * L, axis=1)) ** 2
-    den = np.maximum(np.sum(np.abs(prev_L[j]) ** 2, axis=1) * np.sum(np.abs(L) ** 2, axis=1), 1e-300)
     dfreq = np.abs(fp[j] - f)
     # f in rad/s: 2 zeta f_hz = zeta f / pi is the half-power bandwidth [Hz], df / (2 f_hz) = pi df / f.
     resolution_limited = (dfreq <= 0.1 * tol_f * f) & (z * f / np.pi < 5 * df_hz)
     floor = np.where(resolution_limited, np.pi * df_hz / f, 0.0)
     tol_dz = np.maximum(tol_z * np.maximum(z, 1e-12), floor)
-    return (dfreq <= tol_f * f) & (np.abs(zp[j] - z) <= tol_dz) & (num / den >= tol_mac)
+    return (dfreq <= tol_f * f) & (np.abs(zp[j] - z) <= tol_dz) & (mac_paired(prev_L[j], L) >= tol_mac)
 
 
 _GRAM_PIVOT = 1e-6  # smallest squared Cholesky pivot of the basis Gram matrix, relative to its diagonal
@@ -189,18 +188,13 @@ def _reduced_normal_matrices(r, g, G, same, P):
 def polymax(frfs, max_order: int = 40, frequency_band=None, orders=None, weighting: str = "unit") -> Stabilisation:
     """Stabilisation diagram of pLSCF poles for model orders 1..max_order (or ``orders``).
 
-    frfs: an FRFs container (flexgvt.io.uff), an FRFEstimate, or a tuple (frequencies_hz, H (n_freq, n_out, n_in)).
+    frfs: FRFs (flexgvt.modal: read from a UFF file or estimated), or a tuple (frequencies_hz, H (n_freq, n_out, n_in)).
     frequency_band: (f_min, f_max) [Hz] to fit (default: the whole axis above 0).
     weighting: "unit", or "inverse" (each output's lines by 1/|H_o|, so every mode counts whatever
     its amplitude: receptances of very flexible structures span decades).
     """
-    if isinstance(frfs, tuple):
-        freq, H = frfs
-        outputs, inputs = np.zeros((0, 2)), np.zeros((0, 2))
-    else:
-        freq, H = frfs.frequencies_hz, frfs.H
-        outputs = getattr(frfs, "outputs", np.zeros((0, 2)))  # an FRFEstimate has none
-        inputs = getattr(frfs, "inputs", np.zeros((0, 2)))
+    frfs = as_frfs(frfs)
+    freq, H, outputs, inputs = frfs.frequencies_hz, frfs.H, frfs.outputs, frfs.inputs
     freq, H, keep, (lo, hi) = checked_frfs(freq, H, frequency_band)
     fk, Hk = freq[keep], H[keep]
     n_i = Hk.shape[2]
@@ -339,7 +333,8 @@ def identify(frfs, max_order: int = 40, frequency_band=None, variance=None, weig
     """PolyMAX (`polymax`) + automatic selection with maximum-likelihood refinement (`select_ml`) in one
     call: modes with frequency_std_hz [Hz] and damping_std. frfs: FRFs container or (frequencies_hz,
     H); variance as `refine` (default: the frfs' `variance` if any, else estimated from the residual)."""
-    if variance is None and not isinstance(frfs, tuple):
-        variance = getattr(frfs, "variance", None)
+    frfs = as_frfs(frfs)
+    if variance is None:
+        variance = frfs.variance
     stab = polymax(frfs, max_order=max_order, frequency_band=frequency_band, weighting=weighting)
     return select_ml(stab, variance=variance, alpha=alpha, **select_kwargs)

@@ -30,7 +30,7 @@ import numpy as np
 
 from ..errors import EMAError
 from .._threads import serial_blas
-from .modal_set import ModalSet, checked_frfs
+from .modal_set import ModalSet, as_frfs, checked_frfs, warn_flag
 
 _BLOCK = 1 << 17  # entries (products x lines) of one block of the weighted products: 1 MB, cache-sized
 
@@ -292,8 +292,8 @@ def mode_significance(frfs, modal_set, variance, frequency_band=None) -> np.ndar
     """Likelihood-ratio significance of each mode of modal_set at its pole (not refined), with the
     given FRF variances (n_freq, n_out, n_in): see `_significance` (and `SignificanceScreen` for one
     candidate mode added to a fixed set, many candidates in turn)."""
-    freq, H = (frfs if isinstance(frfs, tuple) else (frfs.frequencies_hz, frfs.H))
-    freq, H, keep, _ = checked_frfs(freq, H, frequency_band, "mode_significance")
+    frfs = as_frfs(frfs)
+    freq, H, keep, _ = checked_frfs(frfs.frequencies_hz, frfs.H, frequency_band, "mode_significance")
     V = np.asarray(variance, float)
     L0 = np.asarray(modal_set.participation)
     M = len(L0)
@@ -313,8 +313,8 @@ class SignificanceScreen:
     of the full inverse Gram), y = G_bb^-1 b_b. Poles s [rad/s], participations L."""
 
     def __init__(self, frfs, poles, participation, variance, frequency_band=None):
-        freq, H = (frfs if isinstance(frfs, tuple) else (frfs.frequencies_hz, frfs.H))
-        freq, H, keep, _ = checked_frfs(freq, H, frequency_band, "significance screen")
+        frfs = as_frfs(frfs)
+        freq, H, keep, _ = checked_frfs(frfs.frequencies_hz, frfs.H, frequency_band, "significance screen")
         V = np.asarray(variance, float)
         self.prob = _Problem(2 * np.pi * freq[keep], H[keep], 2.0 / V[keep], len(poles), np.zeros(len(poles), int))
         A, _, _ = self.prob.design(self._theta(self.prob, poles, participation))
@@ -444,7 +444,7 @@ def _solve(prob, theta0, max_iter, tol):
 
 @serial_blas  # as polymax: medium products (outputs x lines x a few hundred), one BLAS thread
 def refine(frfs, modal_set, variance=None, frequency_band=None, max_iter: int = 30, tol: float = 1e-3,
-           return_info: bool = False):
+           return_info: bool = False) -> ModalSet:
     """Maximum-likelihood refinement of poles, participation factors, shapes and residuals.
 
     frfs: FRFs container (frequencies_hz, H, outputs, inputs; optional `variance`) or a tuple
@@ -459,14 +459,12 @@ def refine(frfs, modal_set, variance=None, frequency_band=None, max_iter: int = 
     and by max(1, chi2/dof) when given). The refined set is accepted only if it lowers the
     weighted cost and every mode stays sane (damping in (0, 0.95), frequency within the band and
     within three half-power bandwidths of the start); else the start is returned with its standard
-    deviations evaluated at the start and a warning. With return_info, returns (ModalSet, RefineInfo).
+    deviations evaluated at the start and a warning. The diagnostics are ``result.info['refine']``
+    (a RefineInfo); return_info=True (deprecated) returns (ModalSet, RefineInfo) as before.
     """
-    if isinstance(frfs, tuple):
-        freq, H = frfs
-        var_given = variance
-    else:
-        freq, H = frfs.frequencies_hz, frfs.H
-        var_given = variance if variance is not None else getattr(frfs, "variance", None)
+    frfs = as_frfs(frfs)
+    freq, H = frfs.frequencies_hz, frfs.H
+    var_given = variance if variance is not None else frfs.variance
     freq, H, keep, (lo, hi) = checked_frfs(freq, H, frequency_band, "refine")
     w, Hk = 2 * np.pi * freq[keep], H[keep]
     n_f, n_o, n_i = Hk.shape
@@ -558,12 +556,14 @@ def refine(frfs, modal_set, variance=None, frequency_band=None, max_iter: int = 
     pk = psi[imax, np.arange(M)]
     shapes = (psi / pk[None, :]).T
     part = L * pk[:, None]
-    outputs = np.zeros((0, 2)) if isinstance(frfs, tuple) else getattr(frfs, "outputs", np.zeros((0, 2)))
-    inputs = np.zeros((0, 2)) if isinstance(frfs, tuple) else getattr(frfs, "inputs", np.zeros((0, 2)))
-    out = ModalSet(wn / (2 * np.pi), z, shapes, part, R, outputs, inputs, frequency_std_hz=f_std, damping_std=z_std)
+    outputs, inputs = frfs.outputs, frfs.inputs
+    info = RefineInfo(float(cost_start), float(cost), int(dof), int(iters), bool(converged), bool(accepted),
+                      source, float(cost / dof), signif, V_full)
+    out = ModalSet(wn / (2 * np.pi), z, shapes, part, R, outputs, inputs, frequency_std_hz=f_std, damping_std=z_std,
+                   info={"refine": info})
     if return_info:
-        return out, RefineInfo(float(cost_start), float(cost), int(dof), int(iters), bool(converged), bool(accepted),
-                               source, float(cost / dof), signif, V_full)
+        warn_flag("refine", "return_info", "result.info['refine']")
+        return out, info
     return out
 
 

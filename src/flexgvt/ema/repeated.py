@@ -7,15 +7,12 @@ import warnings
 import numpy as np
 
 from ..errors import EMAError
-from .polymax import ModalSet
-
-
-def _mac(a, b):
-    return abs(np.vdot(a, b)) ** 2 / max(np.vdot(a, a).real * np.vdot(b, b).real, 1e-300)
+from ..modal import mac_rows
+from .modal_set import ModalSet, warn_flag
 
 
 def average_tests(modal_sets, tol_f: float = 0.05, min_mac: float = 0.8, min_tests: int | None = None,
-                  return_table: bool = False):
+                  return_table: bool = False) -> ModalSet:
     """Average the modes of repeated tests (ModalSets of the same outputs) with their spread.
 
     Modes are paired with those of the test holding the most modes: in each other test, the mode
@@ -24,8 +21,9 @@ def average_tests(modal_sets, tol_f: float = 0.05, min_mac: float = 0.8, min_tes
     Returns a ModalSet: mean frequency [Hz] and damping, shapes averaged after phase alignment;
     frequency_std_hz and damping_std are the sample standard deviations over the tests (the
     spread, as a GVT report gives it), or the single test's own standard deviations when a mode is
-    found once. With return_table: (ModalSet, {"frequencies_hz", "damping_ratio"} each
-    (n_modes, n_tests) with NaN where a test missed the mode, "n_tests" (n_modes,)).
+    found once. ``result.info['tests']``: {"frequencies_hz", "damping_ratio"} each (n_modes, n_tests)
+    with NaN where a test missed the mode, "n_tests" (n_modes,); return_table=True (deprecated)
+    returns (ModalSet, that table) as before.
     """
     sets = list(modal_sets)
     if not sets:
@@ -49,10 +47,11 @@ def average_tests(modal_sets, tol_f: float = 0.05, min_mac: float = 0.8, min_tes
         f = np.asarray(s.frequencies_hz, float)
         used = set()
         pairs = []
+        macs = mac_rows(np.asarray(s.shapes), np.asarray(ref.shapes)) if len(f) and n_m else None
         for m in range(n_m):
             for j in range(len(f)):
                 if abs(f[j] / ref.frequencies_hz[m] - 1) <= tol_f:
-                    mac = _mac(s.shapes[j], ref.shapes[m])
+                    mac = float(macs[j, m])
                     if mac >= min_mac:
                         pairs.append((mac, m, j))
         for mac, m, j in sorted(pairs, reverse=True):
@@ -91,10 +90,14 @@ def average_tests(modal_sets, tol_f: float = 0.05, min_mac: float = 0.8, min_tes
         mean = np.mean([p for p in shapes[m] if p is not None], axis=0)
         sh.append(mean / mean[np.argmax(np.abs(mean))])
     sh = np.array(sh).reshape(len(keep), -1)
-    part = (np.asarray(ref.participation)[keep] if len(np.asarray(ref.participation)) == n_m
-            else np.zeros((len(keep), 0)))
-    res = np.asarray(ref.residues)[keep] if len(np.asarray(ref.residues)) == n_m else np.zeros((len(keep), 0, 0))
-    out = ModalSet(fm, zm, sh, part, res, ref.outputs, ref.inputs, frequency_std_hz=fs, damping_std=zs)
+    part = (np.asarray(ref.participation)[keep] if ref.participation is not None
+            and len(np.asarray(ref.participation)) == n_m else np.zeros((len(keep), 0)))
+    res = (np.asarray(ref.residues)[keep] if ref.residues is not None and len(np.asarray(ref.residues)) == n_m
+           else np.zeros((len(keep), 0, 0)))
+    table = {"frequencies_hz": F[keep], "damping_ratio": Z[keep], "n_tests": count[keep]}
+    out = ModalSet(fm, zm, sh, part, res, ref.outputs, ref.inputs, frequency_std_hz=fs, damping_std=zs,
+                   info={"tests": table})
     if return_table:
-        return out, {"frequencies_hz": F[keep], "damping_ratio": Z[keep], "n_tests": count[keep]}
+        warn_flag("average_tests", "return_table", "result.info['tests']")
+        return out, table
     return out

@@ -32,8 +32,9 @@ from scipy.stats import chi2
 
 from ..errors import EMAError
 from .._threads import serial_blas
+from ..modal import mac_paired
 from .clustering import group_by_gap, representative, split_by_order
-from .modal_set import ModalSet
+from .modal_set import ModalSet, warn_flag
 from .refine import SignificanceScreen, refine
 
 
@@ -52,8 +53,7 @@ class Cluster:
 
 def _macs(pts, idx, b):
     """MAC of the participation vectors of poles idx with b."""
-    a = np.array([pts[i][1] for i in idx])
-    return np.abs(a.conj() @ b) ** 2 / np.maximum(np.sum(np.abs(a) ** 2, axis=1) * np.vdot(b, b).real, 1e-300)
+    return mac_paired(np.array([pts[i][1] for i in idx]), b)
 
 
 def clusters(stab, min_fraction: float = 0.3, tol_f: float = 0.01, min_orders: int = 4,
@@ -128,12 +128,14 @@ def _pole(ms):
 @serial_blas  # as refine
 def select_ml(stab, variance=None, alpha: float = 1e-6, min_fraction: float = 0.3,
               tol_f: float = 0.01, min_orders: int = 4, min_mac: float = 0.9, max_damping: float = 0.3,
-              max_trials: int = 6, return_info: bool = False):
+              max_trials: int = 6, return_info: bool = False) -> ModalSet:
     """Physical modes of a stabilisation diagram (stab: a `flexgvt.ema.Stabilisation`) by the criteria of this
     module, refined by maximum
     likelihood with frequency_std_hz and damping_std. variance: as `refine` (default: estimated
-    from the fit residual). Returns a ModalSet (and, with return_info, a dict with the candidate
-    clusters, the kept ones and the refinement diagnostics)."""
+    from the fit residual). Returns a ModalSet whose ``info`` holds the candidate clusters
+    ('candidates'), the kept ones ('kept'), the refinement diagnostics ('refine', a RefineInfo), the
+    likelihood-ratio 'threshold' and the trial 'log'; return_info=True (deprecated) returns
+    (ModalSet, that dict) as before."""
     cands = clusters(stab, min_fraction, tol_f, min_orders, min_mac, max_damping)
     strong = [c for c in cands if c.strong]
     weak = sorted([c for c in cands if not c.strong], key=lambda c: -len(set(c.orders)))
@@ -141,7 +143,7 @@ def select_ml(stab, variance=None, alpha: float = 1e-6, min_fraction: float = 0.
         raise EMAError("no stable pole cluster in the diagram: raise max_order or widen the frequency band")
     n_o = stab.H.shape[1]
     threshold = float(chi2.isf(alpha, 2 * n_o))
-    from ..io.uff import FRFs
+    from ..modal import FRFs
 
     frfs = FRFs(stab.frequencies_hz, stab.H, stab.outputs, stab.inputs)
     band = stab.band
@@ -150,8 +152,8 @@ def select_ml(stab, variance=None, alpha: float = 1e-6, min_fraction: float = 0.
         ms0 = _start(stab, poles, parts)
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
-            ms, info = refine(frfs, ms0, variance=start_var, frequency_band=band, return_info=True)
-        return ms, info, [str(w.message) for w in caught]
+            ms = refine(frfs, ms0, variance=start_var, frequency_band=band)
+        return ms, ms.info["refine"], [str(w.message) for w in caught]
 
     base = strong if strong else weak[:1]
     poles = [c.s for c in base]
@@ -213,6 +215,9 @@ def select_ml(stab, variance=None, alpha: float = 1e-6, min_fraction: float = 0.
         ms, info, notes = fit(_pole(ms), ms.participation, None)
     for n in notes:
         warnings.warn(n, stacklevel=2)
+    details = {"candidates": cands, "kept": kept, "refine": info, "threshold": threshold, "log": log}
+    ms = ms.with_info(**details)
     if return_info:
-        return ms, {"candidates": cands, "kept": kept, "refine": info, "threshold": threshold, "log": log}
+        warn_flag("select_ml", "return_info", "result.info (candidates, kept, refine, threshold, log)")
+        return ms, details
     return ms

@@ -8,7 +8,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import EMAError
-from ..io.uff import FRFs
+from ..modal import FRFs
 
 _QUANTITY_POWER = {"receptance": 0, "mobility": 1, "accelerance": 2}
 

@@ -9,6 +9,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..errors import ModelError
+from ..modal import ModalSet, as_dofs
 from .checks import check_matrix
 from .eigen import (_NO_MASS, DEFAULT_SHIFT, DENSE_LIMIT, complex_modes, modal_frequencies_hz,  # noqa: F401
                     real_modes, rigid_count)
@@ -51,6 +52,35 @@ class Modes:
         return [{"mode": i + 1, "frequency_hz": float(f), "damping_ratio": float(z),
                  "label": self.labels[i] if self.labels else ""}
                 for i, (f, z) in enumerate(zip(self.frequencies_hz, self.damping_ratio))]
+
+    def at(self, sensors, complex: bool = False) -> ModalSet:
+        """These modes at ``sensors`` as a ModalSet (shapes (n_modes, n_sensors), DOF-labelled like test
+        modes, so MAC aligns the two by their common DOFs).
+
+        sensors: a flexgvt.correlation.Sensors (readings d . (u + theta x r), turning with the nodes
+        of ``state`` when the modes have one), or DOF labels (n, 2) of (node id, direction code
+        +-1..6): the node's translation or rotation, with the code's sign. complex: the complex
+        shapes where the modes have them (else the real, mass-normalised ones)."""
+        src = self.complex_shapes if complex and self.complex_shapes is not None else self.shapes
+        if hasattr(sensors, "matrix"):
+            S = sensors.matrix(self.node_ids, self.state)
+            shapes = np.asarray(S @ np.asarray(src).reshape(len(src), -1).T).T
+            dofs = sensors.dofs
+        else:
+            dofs = as_dofs(sensors, "Modes.at")
+            codes = dofs[:, 1].astype(int)
+            if np.any(codes == 0):
+                raise ModelError("Modes.at: direction code 0 (a scalar channel) is not a DOF of the FE nodes; use "
+                                 "+-1..3 for translations and +-4..6 for rotations")
+            order = np.argsort(self.node_ids)
+            pos = np.clip(np.searchsorted(self.node_ids, dofs[:, 0], sorter=order), 0, len(order) - 1)
+            rows = order[pos]
+            missing = self.node_ids[rows] != dofs[:, 0]
+            if np.any(missing):
+                raise ModelError(f"Modes.at: node(s) {sorted(set(dofs[missing, 0].tolist()))[:10]} are not in the "
+                                 "model; give DOFs of FE nodes (map test points with correlation.Sensors)")
+            shapes = src[:, rows, np.abs(codes) - 1] * np.sign(codes)
+        return ModalSet(self.frequencies_hz, self.damping_ratio, shapes, dofs=dofs, labels=self.labels)
 
 
 def _align_rigid_modes(phi: np.ndarray, zero: np.ndarray, system, x: np.ndarray, T, M) -> np.ndarray:

@@ -15,7 +15,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import FileFormatError
+from ..errors import FileFormatError, ModelError
+from ..modal import FRFs, ModalSet
 
 DIRECTIONS = {1: "+X", 2: "+Y", 3: "+Z", 4: "+RX", 5: "+RY", 6: "+RZ",
               -1: "-X", -2: "-Y", -3: "-Z", -4: "-RX", -5: "-RY", -6: "-RZ", 0: "scalar"}
@@ -59,34 +60,12 @@ class Function:
     denominator_label: str = ""
 
 
-@dataclass(frozen=True)
-class FRFs:
-    """FRF matrix on a common frequency axis.
-
-    frequencies_hz (n_freq,); H (n_freq, n_outputs, n_inputs) complex; outputs/inputs:
-    (n, 2) arrays of (point id, direction code); units: ordinate/denominator labels.
-    """
-
-    frequencies_hz: np.ndarray
-    H: np.ndarray
-    outputs: np.ndarray
-    inputs: np.ndarray
-    units: str = ""
-
-
-@dataclass(frozen=True)
-class ModalResults:
-    """Dataset 55 modes: frequencies_hz (n,), damping_ratio (n,), shapes (n, n_points, 3 or 6), point_ids;
-    frequency_std_hz, damping_std (n,) or None. UFF 55 has no field for standard deviations: flexgvt
-    writes them on the fifth ID line of each dataset as 'STD FREQ_HZ=<f> DAMP=<z>' and reads them back
-    from there (other readers show the line as text)."""
-
-    frequencies_hz: np.ndarray
-    damping_ratio: np.ndarray
-    shapes: np.ndarray
-    point_ids: np.ndarray
-    frequency_std_hz: np.ndarray | None = None
-    damping_std: np.ndarray | None = None
+# The one FRFs and ModalSet types (flexgvt.modal). ModalResults, the former dataset-55 type, is the
+# ModalSet constructor from per-point shapes: ModalResults(frequencies_hz, damping_ratio, shapes
+# (n, n_points, 3 or 6), point_ids, frequency_std_hz=None, damping_std=None) -> ModalSet whose DOFs
+# are (point, 1..3 or 1..6). UFF 55 has no field for standard deviations: flexgvt writes them on the
+# fifth ID line of each dataset as 'STD FREQ_HZ=<f> DAMP=<z>' and reads them back from there.
+ModalResults = ModalSet.from_points
 
 
 @dataclass(frozen=True)
@@ -96,7 +75,7 @@ class UFFData:
     path: str
     geometry: TestGeometry | None
     functions: tuple[Function, ...]
-    modes: ModalResults | None
+    modes: ModalSet | None
     units: dict = field(default_factory=dict)
     skipped: tuple[int, ...] = ()
 
@@ -275,7 +254,7 @@ def read_uff(path: str | Path) -> UFFData:
     return UFFData(str(path), geometry, tuple(functions), _modes(modes, path), units, tuple(skipped))
 
 
-def _modes(sets, path) -> ModalResults | None:
+def _modes(sets, path) -> ModalSet | None:
     if not sets:
         return None
     freqs, damps, shapes, fstd, zstd = [], [], [], [], []
@@ -322,8 +301,9 @@ def _modes(sets, path) -> ModalResults | None:
         fstd.append(fs)
         zstd.append(zs)
     has_std = np.all(np.isfinite(fstd))
-    return ModalResults(np.array(freqs), np.array(damps), np.array(shapes), ids,
-                        np.array(fstd) if has_std else None, np.array(zstd) if has_std else None)
+    return ModalSet.from_points(np.array(freqs), np.array(damps), np.array(shapes), ids,
+                                np.array(fstd) if has_std else None, np.array(zstd) if has_std else None,
+                                source=str(path))
 
 
 def shapes_at_points(shapes: np.ndarray, outputs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -341,8 +321,9 @@ def shapes_at_points(shapes: np.ndarray, outputs: np.ndarray) -> tuple[np.ndarra
 
 
 def write_uff(path: str | Path, *, geometry: TestGeometry | None = None, frfs: FRFs | None = None,
-              modes: ModalResults | None = None, binary: bool = False) -> Path:
-    """Write geometry (15), units (164, SI), FRFs (58, complex) and modes (55) to a new UFF file."""
+              modes: ModalSet | None = None, binary: bool = False) -> Path:
+    """Write geometry (15), units (164, SI), FRFs (58, complex) and modes (55: a ModalSet with labelled
+    translation or rotation DOFs, laid out per point) to a new UFF file."""
     import pyuff
 
     for name, arr in (("geometry", None if geometry is None else geometry.xyz),
@@ -373,8 +354,12 @@ def write_uff(path: str | Path, *, geometry: TestGeometry | None = None, frfs: F
                                              abscissa_spec_data_type=18, ordinate_spec_data_type=12,
                                              orddenom_spec_data_type=13, id1="FRF", data=frfs.H[:, a, b], x=f))
     if modes is not None:
+        try:
+            point_ids, point_shapes = modes.point_shapes()
+        except ModelError as exc:
+            raise FileFormatError(f"{path}: cannot write the modes as dataset 55: {exc}") from None
         for m in range(len(modes.frequencies_hz)):
-            shp = modes.shapes[m]
+            shp = point_shapes[m]
             cols = {f"r{i + 1}": shp[:, i] for i in range(shp.shape[1])}
             std = {}
             if modes.frequency_std_hz is not None and modes.damping_std is not None:
@@ -384,6 +369,6 @@ def write_uff(path: str | Path, *, geometry: TestGeometry | None = None, frfs: F
                                          n_data_per_node=shp.shape[1], load_case=1, mode_n=m + 1,
                                          freq=float(modes.frequencies_hz[m]), modal_m=1.0,
                                          modal_damp_vis=float(modes.damping_ratio[m]), modal_damp_his=0.0,
-                                         node_nums=[int(i) for i in modes.point_ids], **cols))
+                                         node_nums=[int(i) for i in point_ids], **cols))
     uff.write_sets(sets, mode="add")
     return path

@@ -91,7 +91,11 @@ class StabilisationData:
     frequencies_hz, indicator: (nf,) the FRF frequency axis [Hz] and a positive mode indicator on
     it (sum of |H|, CMIF...), drawn on a log axis.
     orders, poles_hz, stable: (n_poles,) model order, pole frequency [Hz] and stability flag of
-    every pole of every order. selected_hz: (k,) the selected modes [Hz].
+    every pole of every order. selected_hz: (k,) the selected modes [Hz]; selected_std_hz: (k,)
+    their standard deviations [Hz] (drawn as +-2 sigma bands; NaN where unknown) or None.
+    ringed_hz, ringed_orders, ringed_strong: (m,) poles of the candidate clusters an automatic
+    selection kept (flexgvt.ema.select_ml's info['kept']), strong or weak (stable over a narrow
+    band of orders).
     """
 
     frequencies_hz: np.ndarray
@@ -100,6 +104,10 @@ class StabilisationData:
     poles_hz: np.ndarray
     stable: np.ndarray
     selected_hz: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    selected_std_hz: np.ndarray | None = None
+    ringed_hz: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    ringed_orders: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int64))
+    ringed_strong: np.ndarray = field(default_factory=lambda: np.zeros(0, bool))
 
     def __post_init__(self):
         nf = len(_array(self, "frequencies_hz", (None,)))
@@ -107,27 +115,42 @@ class StabilisationData:
         n = len(_array(self, "orders", (None,), dtype=np.int64))
         _array(self, "poles_hz", (n,))
         _array(self, "stable", (n,), dtype=bool)
-        _array(self, "selected_hz", (None,))
+        k = len(_array(self, "selected_hz", (None,)))
+        if self.selected_std_hz is not None:
+            _array(self, "selected_std_hz", (k,))
+        m = len(_array(self, "ringed_hz", (None,)))
+        _array(self, "ringed_orders", (m,), dtype=np.int64)
+        _array(self, "ringed_strong", (m,), dtype=bool)
 
     @classmethod
-    def from_stabilisation(cls, stab, selected_hz=None) -> StabilisationData:
+    def from_stabilisation(cls, stab, selected_hz=None, selected_std_hz=None, clusters=None,
+                           band: bool = False) -> StabilisationData:
         """From a `flexgvt.ema.polymax` Stabilisation (poles as complex s [rad/s] per order); the
-        indicator is the sum of |H| over all outputs and inputs."""
+        indicator is the sum of |H| over all outputs and inputs. clusters: the kept candidate
+        clusters of an automatic selection (ringed); band: only the fitted band (lines and poles)."""
+        lo, hi = stab.band if band else (-np.inf, np.inf)
         orders, poles, stable = [], [], []
         for order, s, st in zip(stab.orders, stab.poles, stab.stable):
-            s = np.asarray(s)
-            orders.append(np.full(len(s), order, dtype=np.int64))
-            poles.append(np.abs(s) / (2 * np.pi))
-            stable.append(np.asarray(st, dtype=bool))
+            f = np.abs(np.asarray(s)) / (2 * np.pi)
+            keep = (f >= lo) & (f <= hi)
+            orders.append(np.full(int(keep.sum()), order, dtype=np.int64))
+            poles.append(f[keep])
+            stable.append(np.asarray(st, dtype=bool)[keep])
 
         def cat(parts, dt):
             return np.concatenate(parts) if parts else np.zeros(0, dtype=dt)
 
-        H = np.asarray(stab.H)
+        freq = np.asarray(stab.frequencies_hz, float)
+        lines = (freq >= lo) & (freq <= hi)
+        H = np.asarray(stab.H)[lines]
         indicator = np.abs(H).reshape(len(H), -1).sum(axis=1)
-        return cls(np.asarray(stab.frequencies_hz, float), indicator, cat(orders, np.int64),
-                   cat(poles, float), cat(stable, bool),
-                   np.zeros(0) if selected_hz is None else np.atleast_1d(np.asarray(selected_hz, float)))
+        rings = [(np.asarray(c.frequencies_hz, float), np.asarray(stab.orders)[np.asarray(c.orders)],
+                  np.full(len(c.frequencies_hz), bool(c.strong))) for c in (clusters or ())]
+        return cls(freq[lines], indicator, cat(orders, np.int64), cat(poles, float), cat(stable, bool),
+                   np.zeros(0) if selected_hz is None else np.atleast_1d(np.asarray(selected_hz, float)),
+                   None if selected_std_hz is None else np.atleast_1d(np.asarray(selected_std_hz, float)),
+                   cat([r[0] for r in rings], float), cat([r[1] for r in rings], np.int64),
+                   cat([r[2] for r in rings], bool))
 
 
 @dataclass(frozen=True)

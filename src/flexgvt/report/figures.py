@@ -12,7 +12,7 @@ import numpy as np
 
 from .content import ConfigurationSection, StabilisationData
 
-BLUE, GREY, RED = "#1f5fbf", "#999999", "#d62728"
+BLUE, GREY, RED, ORANGE, PURPLE = "#1f5fbf", "#999999", "#d62728", "#ff7f0e", "#9467bd"
 
 
 def _figure(figsize):
@@ -79,9 +79,11 @@ def deformed_shape(section: ConfigurationSection):
     return fig
 
 
-def stabilisation(data: StabilisationData, title: str):
-    """Poles by order (stable filled blue, others open grey), selected modes as red dashed lines and
-    the indicator on a secondary log axis."""
+def stabilisation(data: StabilisationData, title: str = "Stabilisation diagram"):
+    """The stabilisation diagram (the one drawing of it: the HTML report's and `flexgvt ema
+    identify`'s): poles by order (stable filled blue, others open grey), the kept clusters' poles
+    ringed (strong orange, weak purple), selected modes as red dashed lines with a +-2 sigma band
+    where known, and the indicator on a secondary log axis."""
     fig = _figure((9, 4.8))
     ax = fig.add_subplot()
     f = data.frequencies_hz
@@ -94,8 +96,18 @@ def stabilisation(data: StabilisationData, title: str):
     ns, st = ~data.stable, data.stable
     ax.scatter(data.poles_hz[ns], data.orders[ns], s=10, facecolors="none", edgecolors=GREY, label="not stable")
     ax.scatter(data.poles_hz[st], data.orders[st], s=10, color=BLUE, label="stable")
+    if len(data.ringed_hz):
+        for strong, color, lab in ((True, ORANGE, "strong cluster"),
+                                   (False, PURPLE, "weak cluster (narrow band of orders)")):
+            pick = data.ringed_strong == strong
+            if pick.any():
+                ax.scatter(data.ringed_hz[pick], data.ringed_orders[pick], s=45, facecolors="none",
+                           edgecolors=color, linewidths=1.0, label=lab)
     for k, s in enumerate(data.selected_hz):
         ax.axvline(s, color=RED, ls="--", lw=0.8, label="selected" if k == 0 else None)
+        sd = None if data.selected_std_hz is None else data.selected_std_hz[k]
+        if sd is not None and np.isfinite(sd):
+            ax.axvspan(s - 2 * sd, s + 2 * sd, color=RED, alpha=0.15, lw=0)
     ax.set_xlabel("frequency [Hz]")
     ax.set_ylabel("model order")
     ax.set_title(title)

@@ -1,20 +1,23 @@
-"""Report-ready matplotlib figures of static shapes, mode shapes and frequency-versus-load charts, and
-of experimental modal analysis: stabilisation diagram over the sum FRF, CMIF, FRF fits."""
+"""Report-ready matplotlib figures of static shapes, mode shapes and frequency-versus-load charts, of
+experimental modal analysis (stabilisation diagram over the sum FRF, CMIF, FRF fits), and of the
+command line's suspension and verification results.
+
+Object API only (matplotlib.figure.Figure, written with fig.savefig): no pyplot state, no backend
+chosen here, so a script's own matplotlib setup is left alone."""
 
 from __future__ import annotations
 
 import numpy as np
 
 from ..ema.indicators import cmif, synthesize_from_modes
+from . import figures
+from .content import StabilisationData
 
 
 def _figure(*args, **kwargs):
-    import matplotlib
+    from matplotlib.figure import Figure
 
-    matplotlib.use("Agg", force=False)
-    import matplotlib.pyplot as plt
-
-    return plt.figure(*args, **kwargs)
+    return Figure(*args, **kwargs)
 
 
 def static_shape(states, title: str = "Static shape"):
@@ -87,44 +90,16 @@ def frequency_versus_load(tracking, title: str = "Frequencies versus load"):
 
 
 def stabilisation_diagram(stab, modes=None, title: str = "Stabilisation diagram", clusters=None):
-    """Poles per model order (stable: filled) over the sum of |FRF| in the fitted band.
+    """The stabilisation diagram of a `flexgvt.ema.Stabilisation` in its fitted band (drawn by
+    `report.figures.stabilisation`, as in the HTML report).
 
-    clusters: the kept candidate clusters (`select_ml(..., return_info=True)[1]["kept"]`): their poles
-    ringed (strong clusters orange, weak ones, stable over a narrow band of orders, purple). modes: the
-    identified modes as dashed lines, with a +-2 sigma band where frequency_std_hz is known."""
-    fig = _figure(figsize=(9, 5))
-    ax = fig.subplots()
-    lo, hi = stab.band
-    band = (stab.frequencies_hz >= lo) & (stab.frequencies_hz <= hi)
-    for p, s, st in zip(stab.orders, stab.poles, stab.stable):
-        f = np.abs(s) / (2 * np.pi)
-        keep = (f >= lo) & (f <= hi)
-        ax.plot(f[keep & ~st], np.full((keep & ~st).sum(), p), "o", ms=2.5, mfc="none", color="0.6")
-        ax.plot(f[keep & st], np.full((keep & st).sum(), p), "o", ms=3, color="tab:green")
-    ax.set_xlabel("frequency [Hz]")
-    ax.set_ylabel("model order")
-    ax2 = ax.twinx()
-    ax2.semilogy(stab.frequencies_hz[band], np.abs(stab.H[band]).sum(axis=(1, 2)), color="tab:blue", lw=1)
-    ax2.set_ylabel("sum |FRF|")
-    if clusters:
-        for c in clusters:
-            color = "tab:orange" if c.strong else "tab:purple"
-            orders = np.asarray(stab.orders)[np.asarray(c.orders)]
-            ax.plot(c.frequencies_hz, orders, "o", ms=7, mfc="none", color=color, mew=1.0)
-        from matplotlib.lines import Line2D
-
-        ax.legend(handles=[Line2D([], [], marker="o", ls="", mfc="none", color="tab:orange", label="strong cluster"),
-                           Line2D([], [], marker="o", ls="", mfc="none", color="tab:purple",
-                                  label="weak cluster (narrow band of orders)")], fontsize=8, loc="lower right")
-    if modes is not None:
-        sd = getattr(modes, "frequency_std_hz", None)
-        for k, f in enumerate(modes.frequencies_hz):
-            ax.axvline(f, color="tab:red", lw=0.8, ls="--")
-            if sd is not None and np.isfinite(sd[k]):
-                ax.axvspan(f - 2 * sd[k], f + 2 * sd[k], color="tab:red", alpha=0.15, lw=0)
-    ax.set_title(title)
-    fig.tight_layout()
-    return fig
+    clusters: the kept candidate clusters (`select_ml(...).info["kept"]`): their poles ringed (strong
+    clusters orange, weak ones, stable over a narrow band of orders, purple). modes: the identified
+    modes as dashed lines, with a +-2 sigma band where frequency_std_hz is known."""
+    data = StabilisationData.from_stabilisation(
+        stab, None if modes is None else modes.frequencies_hz,
+        None if modes is None else getattr(modes, "frequency_std_hz", None), clusters, band=True)
+    return figures.stabilisation(data, title)
 
 
 def cmif_plot(frequencies_hz, H, modes=None, title: str = "CMIF"):
@@ -157,4 +132,62 @@ def frf_fit(frequencies_hz, H, modes, output: int, reference: int = 0, title: st
     ph.set_xlabel("frequency [Hz]")
     ph.set_ylabel("phase [deg]")
     fig.tight_layout()
+    return fig
+
+
+def suspension_response(point):
+    """Normalised receptance |x / x_static| of a suspension point (flexgvt.suspension SuspensionPoint:
+    mass [kg], stiffness [N/m], damping [N s/m], frequency_hz)."""
+    f = np.linspace(0.01, 4 * point.frequency_hz, 600)
+    w, wn = 2 * np.pi * f, 2 * np.pi * point.frequency_hz
+    H = 1 / (point.stiffness - point.mass * w**2 + 1j * w * point.damping)
+    fig = _figure(figsize=(6, 3.5))
+    ax = fig.subplots()
+    ax.semilogy(f, np.abs(H) * point.stiffness)
+    ax.axvline(point.frequency_hz, ls=":", c="k")
+    ax.set_xlabel("frequency [Hz]")
+    ax.set_ylabel("|x / x_static|")
+    ax.set_title(f"suspension point: K = {point.stiffness:.3g} N/m, C = {point.damping:.3g} N s/m, "
+                 f"f_n = {wn / 2 / np.pi:.3g} Hz", fontsize=9)
+    fig.tight_layout()
+    return fig
+
+
+def hung_shapes(name: str, results, xyz):
+    """Span (y) against height (z) [m] of each suspension layout's hung state (plan_suspension's
+    results) over the jig shape xyz (n, 3)."""
+    fig = _figure(figsize=(7, 3.5))
+    ax = fig.subplots()
+    for r in results:
+        if r.state is not None:
+            ax.plot(r.state.positions[:, 1], r.state.positions[:, 2], label=r.layout.name)
+    ax.plot(xyz[:, 1], xyz[:, 2], "k:", label="jig shape")
+    ax.set_xlabel("y [m]")
+    ax.set_ylabel("z [m]")
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.legend(fontsize=7)
+    ax.set_title(f"{name}: hung shapes under self-weight")
+    fig.tight_layout()
+    return fig
+
+
+def verification_mac(result):
+    """MAC after multi-configuration updating, one panel per configuration with shapes
+    (flexgvt.updating.verify's result: .multi.mac {name: (initial, updated) or None})."""
+    names = [n for n, m in result.multi.mac.items() if m is not None]
+    k = max(len(names), 1)
+    fig = _figure(figsize=(4.2 * k + 1, 3.8))
+    axes = fig.subplots(1, k, squeeze=False)
+    im = None
+    for ax, name in zip(axes[0], names):
+        mac = result.multi.mac[name][1]
+        im = ax.imshow(mac, vmin=0, vmax=1, cmap="viridis",
+                       extent=(0.5, mac.shape[1] + 0.5, mac.shape[0] + 0.5, 0.5))
+        ax.set_title(name, fontsize=10)
+        ax.set_xlabel("analytical mode")
+        ax.set_ylabel("measured mode")
+    fig.suptitle(f"verification '{result.case}', seed {result.seed}: MAC after multi-configuration updating",
+                 fontsize=10)
+    if im is not None:
+        fig.colorbar(im, ax=axes[0].tolist(), shrink=0.8, label="MAC")
     return fig

@@ -22,6 +22,7 @@ from ..fem.eigen import modal_frequencies_hz, real_modes
 from ..fem.system import System
 from ..model import Configuration, Model
 from ..correlation.mac import realise
+from ..modal import ModalSet
 from ..fem.beam_basis import beam_basis
 from .._threads import serial_blas
 from ..fem.sensitivity import value_derivative
@@ -311,12 +312,9 @@ class UpdatingProblem:
         fm = meas.frequencies_hz
         closeness = np.abs(np.log(np.where(f[None, :] > 0, f[None, :], 1e-300) / fm[:, None]))
         if shapes_s is not None:
-            from types import SimpleNamespace
-
             from ..correlation import pair
-            got = pair(SimpleNamespace(frequencies_hz=fm, shapes=meas.shapes), SimpleNamespace(frequencies_hz=f,
-                       shapes=shapes_s), mac_floor=self.objective.mac_floor,
-                       max_frequency_ratio=self.objective.max_frequency_ratio)
+            got = pair(ModalSet(fm, shapes=meas.shapes), ModalSet(f, shapes=shapes_s),
+                       mac_floor=self.objective.mac_floor, max_frequency_ratio=self.objective.max_frequency_ratio)
             paired = np.full(len(fm), -1)
             paired[got.measured] = got.analytical
             mac = np.full(len(fm), np.nan)

@@ -8,11 +8,12 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..errors import ModelError
+from ..modal import ModalSet
 
 
 @dataclass(frozen=True)
 class Measured:
-    """Test data of one configuration.
+    """Test data of one configuration: measured modes (``modal_set``) plus the targets and weights.
 
     frequencies_hz (n,); shapes (n, n_sensors) real or complex, rows in the order of ``sensors``
     (a flexgvt.correlation.Sensors), or None (frequencies only: modes are then paired by
@@ -71,14 +72,23 @@ class Measured:
                 raise ModelError(f"{where}: static deflection at {key} is not finite")
 
     @classmethod
-    def from_modal_set(cls, configuration: str, modal_set, sensors=None, **kwargs) -> "Measured":
-        """From the ModalSet flexgvt.ema identifies (its outputs give the sensors unless given)."""
-        if sensors is None:
+    def from_modal_set(cls, configuration: str, modal_set: ModalSet, sensors=None, **kwargs) -> "Measured":
+        """From a ModalSet (identified by flexgvt.ema or read by flexgvt.workflow.read_modes): its DOFs
+        give the sensors unless given."""
+        if sensors is None and modal_set.shapes is not None:
             from ..correlation import Sensors
-            sensors = Sensors.from_outputs(modal_set.outputs)
-        std = getattr(modal_set, "frequency_std_hz", None)
+            sensors = Sensors.from_outputs(modal_set.dofs)
+        kwargs.setdefault("labels", modal_set.labels)
         return cls(configuration, modal_set.frequencies_hz, modal_set.shapes, sensors,
-                   frequency_std_hz=std, **kwargs)
+                   frequency_std_hz=modal_set.frequency_std_hz, **kwargs)
+
+    @property
+    def modal_set(self) -> ModalSet:
+        """The measured modes as a ModalSet (DOFs: the sensors' (node, direction code)); the targets and
+        weights (static deflections, observed_by, visibility) are what Measured adds to it."""
+        dofs = None if self.sensors is None or self.shapes is None else self.sensors.dofs
+        return ModalSet(self.frequencies_hz, None, self.shapes, dofs=dofs, frequency_std_hz=self.frequency_std_hz,
+                        labels=self.labels, name=self.configuration)
 
 
 @dataclass(frozen=True)

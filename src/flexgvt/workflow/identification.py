@@ -11,61 +11,44 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import FlexGVTError
+from ..modal import ModalSet
 from .projectbase import Project, ProjectError
 
 
-@dataclass
-class Identified:
-    """Measured modes of one configuration.
-
-    frequencies_hz, damping_ratio (n,); shapes (n, n_channels) or None; outputs (n_channels, 2)
-    (test point, direction code); labels; stabilisation: the PolyMAX diagram when FRFs were
-    identified (else None); frfs: those FRFs; source: the file(s) read."""
-
-    configuration: str
-    frequencies_hz: np.ndarray
-    damping_ratio: np.ndarray
-    shapes: np.ndarray | None
-    outputs: np.ndarray | None
-    labels: tuple[str, ...]
-    source: str
-    stabilisation: object | None = None
-    frfs: object | None = None
-    diagram: dict | None = None
-    frequency_std_hz: np.ndarray | None = None
-    damping_std: np.ndarray | None = None
+@dataclass(frozen=True, eq=False)
+class Identified(ModalSet):
+    """The measured modes of one configuration: a flexgvt.modal.ModalSet (name: the configuration,
+    also read as .configuration; source: the file(s) read; dofs (.outputs): the (test point,
+    direction code) of each shape column; stabilisation and frfs: those of an identification from
+    FRFs; info['diagram'] (.diagram): the stabilisation diagram's plain data kept for the report).
+    It adds nothing but the former method measured(project), kept for old callers."""
 
     def measured(self, project: Project):
-        """The flexgvt.updating.Measured of this configuration (sensors mapped to the FE nodes)."""
-        from ..correlation import Sensors
-        from ..updating import Measured
-        sensors = None
-        if self.shapes is not None:
-            node_map, offsets = project.sensors.get(self.configuration, ({}, {}))
-            try:
-                sensors = Sensors.from_outputs(self.outputs, node_map or None, offsets or None)
-            except FlexGVTError as exc:
-                raise ProjectError(f"configuration '{self.configuration}' ({self.source}): {exc}") from None
-        return Measured(self.configuration, self.frequencies_hz, self.shapes, sensors, labels=self.labels,
-                        frequency_std_hz=self.frequency_std_hz)
+        """Deprecated: flexgvt.workflow.measured(item, project)."""
+        import warnings
 
-    def as_dict(self) -> dict:
-        """JSON layout (also read back as test data: modes = 'file.json')."""
-        out = {"configuration": self.configuration, "source": self.source,
-               "frequencies_hz": self.frequencies_hz.tolist(), "damping_ratio": self.damping_ratio.tolist(),
-               "labels": list(self.labels)}
-        if self.frequency_std_hz is not None:
-            out["frequency_std_hz"] = self.frequency_std_hz.tolist()
-        if self.damping_std is not None:
-            out["damping_std"] = self.damping_std.tolist()
-        if self.shapes is not None:
-            out["outputs"] = np.asarray(self.outputs).astype(int).tolist()
-            out["shapes_real"] = np.real(self.shapes).tolist()
-            out["shapes_imag"] = np.imag(self.shapes).tolist()
-        return out
+        warnings.warn("Identified.measured(project) is deprecated: use flexgvt.workflow.measured(item, project)",
+                      DeprecationWarning, stacklevel=2)
+        return measured(self, project)
 
 
-def identify(project: Project, name: str) -> Identified:
+def measured(item: ModalSet, project: Project):
+    """The flexgvt.updating.Measured of a configuration's identified modes (sensors mapped to the FE
+    nodes by the project's [sensors] tables)."""
+    from ..correlation import Sensors
+    from ..updating import Measured
+    sensors = None
+    if item.shapes is not None:
+        node_map, offsets = project.sensors.get(item.name, ({}, {}))
+        try:
+            sensors = Sensors.from_outputs(item.dofs, node_map or None, offsets or None)
+        except FlexGVTError as exc:
+            raise ProjectError(f"configuration '{item.name}' ({item.source}): {exc}") from None
+    return Measured(item.name, item.frequencies_hz, item.shapes, sensors, labels=item.labels,
+                    frequency_std_hz=item.frequency_std_hz)
+
+
+def identify_configuration(project: Project, name: str) -> ModalSet:
     """The measured modes of configuration ``name`` as its [configurations.test] table says."""
     spec = next(c for c in project.spec.configurations if c.name == name)
     t = spec.test
@@ -91,13 +74,21 @@ def identify(project: Project, name: str) -> Identified:
     if t.labels is not None and len(t.labels) != len(keep):
         raise ProjectError(f"{where}.labels: {len(t.labels)} labels for {len(keep)} modes")
     pick = (lambda v: None if v is None else v[keep])  # noqa: E731
-    return Identified(name, out.frequencies_hz[keep], out.damping_ratio[keep],
-                      None if out.shapes is None else out.shapes[keep], out.outputs, labels, out.source,
-                      out.stabilisation, out.frfs, frequency_std_hz=pick(out.frequency_std_hz),
-                      damping_std=pick(out.damping_std))
+    return Identified(out.frequencies_hz[keep], out.damping_ratio[keep], pick(out.shapes), dofs=out.dofs,
+                    frequency_std_hz=pick(out.frequency_std_hz), damping_std=pick(out.damping_std), labels=labels,
+                    name=name, source=out.source, stabilisation=out.stabilisation, frfs=out.frfs)
 
 
-def _from_frfs(project: Project, name: str, t) -> Identified:
+def identify(project: Project, name: str) -> ModalSet:
+    """Deprecated name of :func:`identify_configuration` (flexgvt.ema.identify is the EMA one)."""
+    import warnings
+
+    warnings.warn("flexgvt.workflow.identify is deprecated: use flexgvt.workflow.identify_configuration (the "
+                  "EMA identification of FRFs is flexgvt.ema.identify)", DeprecationWarning, stacklevel=2)
+    return identify_configuration(project, name)
+
+
+def _from_frfs(project: Project, name: str, t) -> ModalSet:
     from ..ema import identify_wide_band, polymax
     from ..io.uff import assemble_frfs, read_uff
     files = [t.frfs] if isinstance(t.frfs, str) else list(t.frfs)
@@ -114,17 +105,16 @@ def _from_frfs(project: Project, name: str, t) -> Identified:
     else:
         stab = polymax(frfs, max_order=t.max_order, frequency_band=band)
         modes = stab.select(frequencies_hz=t.select_hz, min_fraction=t.min_fraction, refine=t.refine)
-    std = getattr(modes, "frequency_std_hz", None)
-    return Identified(name, np.asarray(modes.frequencies_hz), np.asarray(modes.damping_ratio),
-                      np.asarray(modes.shapes), np.asarray(modes.outputs), (), ", ".join(files), stab, frfs,
-                      frequency_std_hz=None if std is None else np.asarray(std, float),
-                      damping_std=(None if getattr(modes, "damping_std", None) is None
-                                   else np.asarray(modes.damping_std)))
+    std = modes.frequency_std_hz
+    return Identified(np.asarray(modes.frequencies_hz), np.asarray(modes.damping_ratio), np.asarray(modes.shapes),
+                    dofs=np.asarray(modes.dofs), frequency_std_hz=None if std is None else np.asarray(std, float),
+                    damping_std=None if modes.damping_std is None else np.asarray(modes.damping_std),
+                    name=name, source=", ".join(files), stabilisation=stab, frfs=frfs)
 
 
-def read_modes(path: Path, name: str = "", key: str | None = None) -> Identified:
+def read_modes(path: Path, name: str = "", key: str | None = None) -> ModalSet:
     """Identified modes from UFF 55 (.uff/.unv), CSV (mode,frequency_hz,damping_ratio[,label][,<point><+-XYZ>
-    shape columns...]) or JSON (the layout Identified.as_dict writes, or any object with
+    shape columns...]) or JSON (the layout ModalSet.as_dict writes, or any object with
     'frequencies_hz' or 'measured_hz'; ``key`` selects a sub-object, dotted for nesting)."""
     suffix = path.suffix.lower()
     if suffix in (".uff", ".unv"):
@@ -133,10 +123,9 @@ def read_modes(path: Path, name: str = "", key: str | None = None) -> Identified
         if data.modes is None:
             raise ProjectError(f"{path}: no modal dataset 55 in the file")
         m = data.modes
-        comps = m.shapes[:, :, :3]
-        outputs = np.array([(p, d + 1) for p in m.point_ids for d in range(3)])
-        return Identified(name, m.frequencies_hz, m.damping_ratio, comps.reshape(len(comps), -1), outputs, (),
-                          str(path))
+        translations = np.abs(m.dofs[:, 1]) <= 3  # UFF 55 lays out (point, 1..3 or 1..6) per point
+        return Identified(m.frequencies_hz, m.damping_ratio, m.shapes[:, translations], dofs=m.dofs[translations],
+                        name=name, source=str(path))
     if suffix == ".csv":
         return _read_csv(path, name)
     if suffix == ".json":
@@ -153,7 +142,7 @@ def read_modes(path: Path, name: str = "", key: str | None = None) -> Identified
     raise ProjectError(f"{path}: identified modes must be UFF (.uff/.unv, dataset 55), .csv or .json")
 
 
-def _from_json(obj, path: Path, name: str) -> Identified:
+def _from_json(obj, path: Path, name: str) -> ModalSet:
     if not isinstance(obj, dict):
         raise ProjectError(f"{path}: expected an object with 'frequencies_hz'")
     f = obj.get("frequencies_hz", obj.get("measured_hz"))
@@ -182,10 +171,10 @@ def _from_json(obj, path: Path, name: str) -> Identified:
             if v.shape != f.shape or not np.all(np.isfinite(v)) or np.any(v < 0):
                 raise ProjectError(f"{path}: '{key}' must hold {len(f)} finite values >= 0")
             std[key] = v
-    return Identified(name, f, z, shapes, outputs, labels, str(path), **std)
+    return Identified(f, z, shapes, dofs=outputs, labels=labels, name=name, source=str(path), **std)
 
 
-def _read_csv(path: Path, name: str) -> Identified:
+def _read_csv(path: Path, name: str) -> ModalSet:
     import re
     try:
         rows = list(csv.reader(path.read_text().splitlines()))
@@ -212,5 +201,5 @@ def _read_csv(path: Path, name: str) -> Identified:
             labels.append(r[head.index("label")])
     outputs = np.array([(int(m.group(1)), (1 if m.group(2) == "+" else -1) * (" XYZ".index(m.group(3))))
                         for _, m in channels]) if channels else None
-    return Identified(name, np.asarray(f), np.asarray(z), np.asarray(shapes) if channels else None, outputs,
-                      tuple(labels), str(path))
+    return Identified(np.asarray(f), np.asarray(z), np.asarray(shapes) if channels else None, dofs=outputs,
+                    labels=tuple(labels), name=name, source=str(path))

@@ -1,7 +1,7 @@
 """`run(project)`: identification -> updating -> check -> suspension removal and prediction ->
 outputs, resumable from the project's results store (a second run picks up what is done).
 
-Every step is a public function (flexgvt.workflow.identify, update_model, check, predict,
+Every step is a public function (flexgvt.workflow.identify_configuration, update_model, check, predict,
 write_outputs); the runner only orders them and caches their results. It returns results and never
 renders: the report is the face's (flexgvt.report.write_project_report(result), which `flexgvt run`
 calls when the project's [outputs] report is on).
@@ -13,7 +13,7 @@ import hashlib
 import json
 import time
 import warnings
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Callable
 
@@ -21,7 +21,7 @@ import numpy as np
 
 from ..errors import FlexGVTError
 from ..updating.result import jsonable
-from .identification import Identified, _from_json, identify
+from .identification import Identified, _from_json, identify_configuration
 from .outputs import remove_temporaries, safe_name, write_json_atomic, write_text_atomic
 from .project import Project, ProjectError, load_project
 from .steps import Prediction, check, predict, update_model
@@ -76,7 +76,7 @@ def _identification_key(project: Project, name: str) -> str:
 
 def identify_all(project: Project, store: Path | None = None, log: Callable[[str], None] = lambda s: None,
                  resumed: list | None = None) -> dict[str, Identified]:
-    """identify() for every configuration with test data; cached in ``store`` (a folder) by a digest of
+    """identify_configuration() for every configuration with test data; cached in ``store`` (a folder) by a digest of
     the test settings and the files' bytes, so a second run reads them back. A cache that cannot be
     read (cut off, not JSON, wrongly shaped) is identified again, with a one-line notice."""
     out = {}
@@ -97,8 +97,8 @@ def identify_all(project: Project, store: Path | None = None, log: Callable[[str
                 log(f"identification '{spec.name}': the stored result {cache.name} is unusable ({why}); "
                     "identifying again")
         t0 = time.perf_counter()
-        item = identify(project, spec.name)
-        item.diagram = diagram(item)
+        item = identify_configuration(project, spec.name)
+        item = item.with_info(diagram=diagram(item))
         out[spec.name] = item
         log(f"identification '{spec.name}': {len(item.frequencies_hz)} modes from {item.source} "
             f"({time.perf_counter() - t0:.1f} s)")
@@ -135,8 +135,7 @@ def _read_cache(cache: Path, key: str, name: str) -> tuple[Identified | None, st
         return None, "no source"
     if d is not None and not _diagram_ok(d):
         return None, "a malformed stabilisation diagram"
-    item.source, item.diagram = source, d
-    return item, ""
+    return replace(item, source=source).with_info(diagram=d), ""
 
 
 def _diagram_ok(d) -> bool:

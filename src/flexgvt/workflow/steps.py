@@ -10,7 +10,7 @@ import numpy as np
 
 from ..errors import FlexGVTError
 from ..model import Configuration, Model
-from .identification import Identified
+from .identification import Identified, measured
 from .project import Project, ProjectError
 
 
@@ -39,7 +39,7 @@ def update_model(project: Project, identified: dict[str, Identified], store=None
     obj, target = objective(project)
     opt = project.spec.optimiser
     return update(project.model, [project.configurations[n] for n in names],
-                  [identified[n].measured(project) for n in names], project.variables, mass_target=target,
+                  [measured(identified[n], project) for n in names], project.variables, mass_target=target,
                   objective=obj, method=opt.method, starts=opt.starts, seed=opt.seed,
                   max_iterations=opt.max_iterations, tolerance=opt.tolerance, n_modes=opt.n_modes, store=store,
                   callback=callback)
@@ -59,8 +59,8 @@ def check(project: Project, model: Model, identified: dict[str, Identified], n_m
                             n_modes or 2 * len(meas.frequencies_hz) + 6, damped=False)
         rows = []
         if meas.shapes is not None:
-            m = meas.measured(project)
-            p = pair(_as_modal(meas), modes, m.sensors, mac_floor=project.spec.objective.mac_floor,
+            m = measured(meas, project)
+            p = pair(meas, modes, m.sensors, mac_floor=project.spec.objective.mac_floor,
                      max_frequency_ratio=project.spec.objective.max_frequency_ratio)
             got = {int(i): (int(j), float(v)) for i, j, v in zip(p.measured, p.analytical, p.mac)}
         else:
@@ -73,11 +73,6 @@ def check(project: Project, model: Model, identified: dict[str, Identified], n_m
                          "error_percent": None if fa is None else 100 * (fa - f) / f, "mac": mac})
         out[spec.name] = rows
     return out
-
-
-def _as_modal(meas: Identified):
-    from types import SimpleNamespace
-    return SimpleNamespace(frequencies_hz=meas.frequencies_hz, shapes=meas.shapes, outputs=meas.outputs)
 
 
 def _pair_by_frequency(measured, analytical) -> dict:
