@@ -12,8 +12,11 @@ import numpy as np
 
 from ...errors import ModelError
 from ...model import Configuration, Material, Model, RodSection, TaperedSection
-from ._common import Units, coord_axes, get_units
-from ._read import BdfDeck, _scale_section
+from ._common import Units, get_units
+from ._elements import scale_section as _scale_section
+from ._grids import coord_axes
+from ._parse import QuietLog as _QuietLog
+from ._read import BdfDeck
 from ._sections import library_dims, library_section, to_properties
 
 
@@ -96,7 +99,6 @@ def _copy_deck(bdf):
 
 
 def _write_into_template(model: Model, path: Path, deck: BdfDeck, size: int) -> list[str]:
-    from ._read import _QuietLog
     bdf = _copy_deck(deck.bdf)
     bdf.log = _QuietLog()
     u, w = deck.units, deck.wtmass
@@ -314,7 +316,6 @@ def _update_beam_property(bdf, prop, section, src, notes: list[str]) -> None:
 def _write_compact(model: Model, path: Path, configurations, u: Units, size: int, n_modes: int) -> list[str]:
     from pyNastran.bdf.bdf import BDF
 
-    from ._read import _QuietLog
     notes: list[str] = []
     bdf = BDF(log=_QuietLog())
     bdf.sol = 103
