@@ -10,7 +10,7 @@ from ...errors import FileFormatError, ModelError
 class UnsupportedCardsError(FileFormatError):
     """The deck holds cards (or card features) flexgvt cannot represent; ``unsupported`` maps card -> ids."""
 
-    def __init__(self, message: str, unsupported: dict[str, list] | None = None):
+    def __init__(self, message: str, unsupported: dict[str, list] | None = None) -> None:
         super().__init__(message)
         self.unsupported = dict(unsupported or {})
 

@@ -10,12 +10,13 @@ import contextlib
 import copy
 import io
 import warnings
+from collections.abc import Iterable
 from pathlib import Path
 
 import numpy as np
 
 from ...errors import ModelError
-from ...model import Model
+from ...model import Configuration, Model
 from ._common import Units, get_units
 from ._parse import QuietLog
 from ._read import BdfDeck
@@ -79,7 +80,8 @@ def _write_into_template(model: Model, path: Path, deck: BdfDeck, size: int) -> 
 
 
 # --------------------------------------------------------------------------- compact
-def _write_compact(model: Model, path: Path, configurations, u: Units, size: int, n_modes: int) -> list[str]:
+def _write_compact(model: Model, path: Path, configurations: Iterable[Configuration] | None, u: Units,
+                   size: int, n_modes: int) -> list[str]:
     from pyNastran.bdf.bdf import BDF
 
     notes: list[str] = []
@@ -101,7 +103,8 @@ def _write_compact(model: Model, path: Path, configurations, u: Units, size: int
     return notes
 
 
-def write_bdf(model: Model, path: str | Path, template: BdfDeck | None = None, *, configurations=None,
+def write_bdf(model: Model, path: str | Path, template: BdfDeck | None = None, *,
+              configurations: Iterable[Configuration] | None = None,
               units: str | Units = "SI", size: int = 16, n_modes: int = 10) -> Path:
     """Write ``model`` as Nastran bulk data to ``path``; returns the path.
 
