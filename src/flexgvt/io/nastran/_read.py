@@ -69,9 +69,10 @@ class BdfDeck:
                 f"units={self.units.name}, wtmass={self.wtmass}, mass='{self.mass}')")
 
 
-
 def _read(path: Path, units: Units, mass: str | None, rotary_inertia: bool,
           cbar_torsional_inertia: bool) -> BdfDeck:
+    """Parse and check the deck, run the card families in registry order, sort out the cards none
+    read, then the subcases (they need the whole model)."""
     deck = load_deck(path, units, mass, rotary_inertia, cbar_torsional_inertia, NEEDS_PROPERTY, NEEDS_MATERIAL)
     log = Findings(deck.notes)
     model = Model(path.stem)
