@@ -36,3 +36,25 @@ def test_translational_scalar_mass_is_named_unsupported(tmp_path):
     path.write_text(HEAD + BEAM + "CMASS2,20,0.5,2,2\nENDDATA\n")
     with pytest.raises(UnsupportedCardsError, match="CMASS2 \\(translational component"):
         fg.io.read_bdf(path)
+
+
+def test_updated_scalar_masses_are_written_into_the_template(tmp_path):
+    """write_bdf(template=) raised AttributeError ('CMASS2' object has no attribute 'cid') for a
+    changed CMASS; now the value goes back into CMASS2 and PMASS (split when shared)."""
+    from nastran_helpers import rebuild
+
+    path = tmp_path / "cmass.bdf"
+    path.write_text(HEAD + BEAM + "CMASS2,20,0.5,2,4\nCMASS1,21,7,2,6\nCMASS1,22,7,2,5\nPMASS,7,0.25\nENDDATA\n")
+    deck = fg.io.read_bdf(path)
+    updated = rebuild(deck.model, mass={0: 2.0, 1: 3.0})  # CMASS2 20 and CMASS1 21 (PMASS 7 shared with 22)
+    out = fg.io.write_bdf(updated, tmp_path / "out.bdf", template=deck)
+    again = fg.io.read_bdf(out)
+    for a, b in zip(again.model.masses, updated.masses):
+        np.testing.assert_allclose(a.inertia, b.inertia, rtol=1e-12, atol=1e-15)
+    assert again.mass_sources[:2] == [("CMASS2", 20), ("CMASS1", 21)]
+    assert len({again.bdf.elements.get(e, again.bdf.masses.get(e)).pid for e in (21, 22)}) == 2
+    off_axis = rebuild(deck.model)
+    off_axis.masses[0].inertia[0, 2] = 0.1
+    with pytest.raises(fg.errors.ModelError, match="CMASS2 20: the updated mass is no longer an inertia"):
+        fg.io.write_bdf(off_axis, tmp_path / "bad.bdf", template=deck)
+    assert deck.bdf.properties_mass[7].mass == 0.25  # the template deck itself is unchanged

@@ -1,41 +1,82 @@
-"""Configurations: one per SUBCASE, with SPC/MPC/SUPORT, loads (LOAD, FORCE, GRAV, PLOAD1, SPCD) and METHOD."""
+"""Subcases: one Configuration per SUBCASE, with SPC/MPC/SUPORT, loads (LOAD, FORCE, MOMENT, GRAV,
+PLOAD1, SPCD) and the eigenvalue METHOD (EIGRL/EIGR); the MPC set all subcases select becomes model
+constraints."""
 
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import numpy as np
 
 from ...errors import FileFormatError, ModelError
-from ...model import Configuration, DistributedLoad, NodalLoad, RodSection
-from ._common import EigenMethod, coord_axes
+from ...model import Configuration, DistributedLoad, Model, NodalLoad, RodSection
+from ._common import EigenMethod
+from ._deck import Deck, Findings, Parts
+from ._grids import coord_axes
 from ._limits import MAX_ENFORCED_SIZES
 
+CARDS = ("SPC", "SPC1", "SPCADD", "MPC", "MPCADD", "SUPORT", "SUPORT1", "LOAD", "FORCE", "MOMENT", "GRAV", "PLOAD1",
+         "SPCD")
 
-class ConfigurationsMixin:
-    """Part of the bulk data reader (see _read._Reader)."""
 
-    # ----------------------------------------------------------------- configurations
+@dataclass(frozen=True)
+class Cases:
+    """What the subcases give BdfDeck: configuration name -> Configuration, subcase id, EigenMethod
+    and its ND; the MPC set id behind each model constraint."""
+
+    configurations: dict[str, Configuration]
+    subcases: dict[str, int]
+    methods: dict[str, EigenMethod | None]
+    n_modes: dict[str, int | None]
+    constraint_sources: tuple[int, ...]
+
+
+def read_subcases(deck: Deck, model: Model, log: Findings, parts: Parts) -> Cases:
+    """The configurations of a model all structure families have read (AUTOSPC needs its elements)."""
+    reader = _Subcases(deck, model, log, parts.element_ids)
+    reader.read()
+    return Cases(reader.configurations, reader.subcases, reader.methods, reader.n_modes,
+                 tuple(reader.constraint_sources))
+
+
+class _Subcases:
+    """The subcase family's reading of one deck."""
+
+    def __init__(self, deck: Deck, model: Model, log: Findings, element_ids: dict[int, int]) -> None:
+        self.deck, self.model, self.log, self.element_ids = deck, model, log, element_ids
+        self.configurations: dict[str, Configuration] = {}
+        self.subcases: dict[str, int] = {}
+        self.methods: dict[str, EigenMethod | None] = {}
+        self.n_modes: dict[str, int | None] = {}
+        self.constraint_sources: list[int] = []
+        self.mpc_set: int | None = None  # the MPC set read into model constraints
+        self.autospc: list[int] = []  # nodes without elements, fixed in every configuration
+        self.autospc_rotations: list[int] = []  # nodes without rotational stiffness: rotations fixed
+
+    def at(self, name: str, ident) -> str:
+        return self.deck.at(name, ident)
+
     def _subcases(self) -> list[tuple[str, object, int]]:
         """(configuration name, case control subcase or None, subcase id) in reading order."""
-        ccd = self.bdf.case_control_deck
+        ccd = self.deck.bdf.case_control_deck
         subcases = {} if ccd is None else dict(ccd.subcases)
         numbered = {k: v for k, v in subcases.items() if k > 0}
         if numbered:
             return [(f"subcase_{sid}", sub, sid) for sid, sub in sorted(numbered.items())]
         if 0 in subcases and subcases[0].params:
-            return [(self.path.stem, subcases[0], 0)]
-        return [(self.path.stem, None, 0)]
+            return [(self.deck.path.stem, subcases[0], 0)]
+        return [(self.deck.path.stem, None, 0)]
 
     def read_constraints(self, cases) -> None:
         """The MPC set every subcase selects -> model linear constraints (translations; components
         in a grid's CD are expanded to basic axes). Different sets per subcase are listed unsupported."""
         ids = {self._get(sub, "MPC") for _, sub, _ in cases}
         self.mpc_set = None
-        defined = set(self.bdf.mpcs) | set(self.bdf.mpcadds)
+        defined = set(self.deck.bdf.mpcs) | set(self.deck.bdf.mpcadds)
         unselected = sorted(defined - {int(i) for i in ids if i is not None})
         if unselected:
-            self.notes.append(f"MPC set(s) {unselected} selected by no subcase: ignored (as Nastran does)")
+            self.log.note(f"MPC set(s) {unselected} selected by no subcase: ignored (as Nastran does)")
         if len(ids) != 1 or None in ids:
             return
         (conid,) = ids
@@ -47,11 +88,11 @@ class ConfigurationsMixin:
             for k, (n, comp, coef) in enumerate(zip(card.nodes, card.components, card.coefficients)):
                 comp = int(str(comp).strip() or 0)
                 if comp not in (1, 2, 3, 4, 5, 6):
-                    self.skip("MPC (scalar-point terms)", card.conid)
+                    self.log.skip("MPC (scalar-point terms)", card.conid)
                     break
-                if n not in self.bdf.nodes:
+                if n not in self.deck.bdf.nodes:
                     raise ModelError(f"{where} refers to node {n}, which is not defined")
-                axes = coord_axes(self.bdf, self.bdf.nodes[n].cd, self.xyz_deck[n], where)
+                axes = coord_axes(self.deck.bdf, self.deck.bdf.nodes[n].cd, self.deck.xyz_deck[n], where)
                 e = axes[:, (comp - 1) % 3]
                 base = 3 if comp > 3 else 0
                 if k == 0:
@@ -61,7 +102,7 @@ class ConfigurationsMixin:
                                          "axis in the grid's CD; give the grid a CD aligned with basic or make another "
                                          "term the first")
                     dependent = (int(n), base + big + 1)
-                scale = float(coef) * (self.units.length if comp > 3 else 1.0)  # rotation terms: deck -> SI units
+                scale = float(coef) * (self.deck.units.length if comp > 3 else 1.0)  # rotation terms: deck -> SI units
                 for j in range(3):
                     if abs(e[j]) > 1e-12:
                         key = (int(n), base + j + 1)
@@ -72,7 +113,7 @@ class ConfigurationsMixin:
                     self.model.add_constraint([(*first[0], first[1])] + [(*key, a) for key, a in terms.items()])
                 except ModelError as exc:
                     raise ModelError(f"{where}: {exc}") from None
-                self.deck.constraint_sources.append(int(card.conid))
+                self.constraint_sources.append(int(card.conid))
         self.mpc_set = int(conid)
 
     def _mpc_cards(self, conid: int, where: str, seen: set) -> list:
@@ -80,16 +121,16 @@ class ConfigurationsMixin:
             raise ModelError(f"{where}: MPCADD sets refer to each other in a loop")
         seen.add(conid)
         out = []
-        for card in self.bdf.mpcadds.get(conid, []):
+        for card in self.deck.bdf.mpcadds.get(conid, []):
             for sub in card.sets:
                 out += self._mpc_cards(int(sub), where, seen)
-        out += list(self.bdf.mpcs.get(conid, []))
+        out += list(self.deck.bdf.mpcs.get(conid, []))
         if not out:
             raise ModelError(f"{where}: the case control selects MPC = {conid} but no MPC or MPCADD card has that id")
         return out
 
-    def read_configurations(self) -> None:
-        bdf = self.bdf
+    def read(self) -> None:
+        bdf = self.deck.bdf
         cases = self._subcases()
         self.read_constraints(cases)
         connected = {int(n) for g in self.model.beams for n in g.nodes.ravel()}
@@ -108,14 +149,14 @@ class ConfigurationsMixin:
         loose = {n for link in self.model.rigid_links if "4" not in link.components for n in link.dependents}
         loose |= {n for ip in self.model.interpolations for n in (*ip.nodes, ip.reference)} - bending
         self.autospc_rotations = sorted((rod_nodes | loose) - bending)
-        if str(self.param("AUTOSPC", "YES")).upper() in ("NO", "N", "-1"):
+        if str(self.deck.param("AUTOSPC", "YES")).upper() in ("NO", "N", "-1"):
             self.autospc, self.autospc_rotations = [], []
         if self.autospc:
-            self.notes.append(f"node(s) {self.autospc[:10]}{' ...' if len(self.autospc) > 10 else ''} have no "
+            self.log.note(f"node(s) {self.autospc[:10]}{' ...' if len(self.autospc) > 10 else ''} have no "
                               "element: fixed in every configuration (as Nastran's AUTOSPC does)")
         if self.autospc_rotations:
             r = self.autospc_rotations
-            self.notes.append(f"node(s) {r[:10]}{' ...' if len(r) > 10 else ''} have no rotational stiffness "
+            self.log.note(f"node(s) {r[:10]}{' ...' if len(r) > 10 else ''} have no rotational stiffness "
                               "(joined only by rods, RBE2s without 456 or RBE3s): their rotations are fixed in every "
                               "configuration (as Nastran's AUTOSPC does)")
         for name, sub, sid in cases:
@@ -129,13 +170,13 @@ class ConfigurationsMixin:
             try:
                 return int(value)
             except (TypeError, ValueError):
-                raise ModelError(f"{self.path}: case control {key} = {value!r} (SUBCASE {getattr(sub, 'id', 0)}) "
+                raise ModelError(f"{self.deck.path}: case control {key} = {value!r} (SUBCASE {getattr(sub, 'id', 0)}) "
                                  "is not a set id; give the integer id of a bulk data set") from None
         return value
 
     def configuration(self, name: str, sub, sid: int) -> None:
-        bdf = self.bdf
-        where = f"{self.path}: subcase {sid}" if sub is not None and sid else f"{self.path}"
+        bdf = self.deck.bdf
+        where = f"{self.deck.path}: subcase {sid}" if sub is not None and sid else f"{self.deck.path}"
         spc_id = self._get(sub, "SPC")
         load_id = self._get(sub, "LOAD")
         if sub is None:  # bulk data only: use the one SPC/load set if unambiguous
@@ -144,16 +185,16 @@ class ConfigurationsMixin:
             if len(spc_sets) == 1:
                 spc_id = next(iter(spc_sets))
             elif spc_sets:
-                self.notes.append(f"{where}: no case control and several SPC sets {sorted(spc_sets)}: none applied; "
+                self.log.note(f"{where}: no case control and several SPC sets {sorted(spc_sets)}: none applied; "
                                   "add a SUBCASE with SPC = ...")
             if len(load_sets) == 1:
                 load_id = next(iter(load_sets))
             elif load_sets:
-                self.notes.append(f"{where}: no case control and several load sets {sorted(load_sets)}: none applied; "
+                self.log.note(f"{where}: no case control and several load sets {sorted(load_sets)}: none applied; "
                                   "add a SUBCASE with LOAD = ...")
         mpc_id = self._get(sub, "MPC")
         if mpc_id is not None and mpc_id != self.mpc_set:
-            self.skip("MPC (different MPC sets per subcase)", mpc_id)
+            self.log.skip("MPC (different MPC sets per subcase)", mpc_id)
         fixed: dict[int, set[int]] = {}
         prescribed: dict[int, dict[int, float]] = {}
         for nid in self.autospc:
@@ -174,7 +215,7 @@ class ConfigurationsMixin:
                         if val:
                             self._prescribe(prescribed, n, str(comp), float(val), self.at("SPC", card.conid))
                 else:
-                    self.skip(card.type, card.conid)
+                    self.log.skip(card.type, card.conid)
         forces, distributed, accel = [], [], np.zeros(3)
         gravity_terms = []
         if load_id is not None:
@@ -208,18 +249,18 @@ class ConfigurationsMixin:
                                 prescribed=prescribed, support=support, **kwargs)
         except ModelError as exc:
             raise ModelError(f"{where}: {exc}") from None
-        self.deck.configurations[name] = cfg
-        self.deck.subcases[name] = sid
+        self.configurations[name] = cfg
+        self.subcases[name] = sid
         method = self._get(sub, "METHOD")
         eig = self._method(int(method), where) if method is not None else None
-        self.deck.methods[name] = eig
-        self.deck.n_modes[name] = eig.nd if eig is not None else None
+        self.methods[name] = eig
+        self.n_modes[name] = eig.nd if eig is not None else None
 
     def _method(self, sid: int, where: str) -> EigenMethod | None:
         """EIGRL/EIGR ``sid`` as an EigenMethod (None, with a note, if the deck lacks it)."""
-        eig = self.bdf.methods.get(sid)
+        eig = self.deck.bdf.methods.get(sid)
         if eig is None:
-            self.notes.append(f"{where}: METHOD = {sid} names no EIGRL/EIGR in the bulk data; 10 modes are computed")
+            self.log.note(f"{where}: METHOD = {sid} names no EIGRL/EIGR in the bulk data; 10 modes are computed")
             return None
         where = self.at(eig.type, sid)
 
@@ -235,7 +276,7 @@ class ConfigurationsMixin:
         point = None
         if norm == "POINT":
             g, c = getattr(eig, "G", None), getattr(eig, "C", None)
-            if not g or not c or int(g) not in self.bdf.nodes or str(c).strip() not in tuple("123456"):
+            if not g or not c or int(g) not in self.deck.bdf.nodes or str(c).strip() not in tuple("123456"):
                 raise ModelError(f"{where}: NORM = POINT needs the grid G (got {g}) and component C (got {c}, one of "
                                  "1-6) of an existing grid")
             point = (int(g), int(c))
@@ -251,13 +292,13 @@ class ConfigurationsMixin:
         structure. Nastran uses them to split rigid-body from elastic motion; flexgvt solves the
         structure free-free (its rigid-body modes at 0 Hz, as Nastran prints them) and keeps them."""
         dofs: dict[int, set] = {}
-        cards = list(getattr(self.bdf, "suport", []) or [])
+        cards = list(getattr(self.deck.bdf, "suport", []) or [])
         sid = self._get(sub, "SUPORT1")
         if sid is not None:
-            found = getattr(self.bdf, "suport1", {}).get(int(sid))
+            found = getattr(self.deck.bdf, "suport1", {}).get(int(sid))
             if found is None:
-                raise ModelError(f"{self.path}: the case control asks for SUPORT1 = {sid}, which the bulk data lacks; "
-                                 "add the SUPORT1 set or remove the request")
+                raise ModelError(f"{self.deck.path}: the case control asks for SUPORT1 = {sid}, which the bulk data "
+                                 "lacks; add the SUPORT1 set or remove the request")
             cards.append(found)
         for card in cards:
             for node, comps in zip(card.nodes, card.Cs):
@@ -265,7 +306,7 @@ class ConfigurationsMixin:
         return {n: "".join(sorted(c)) for n, c in sorted(dofs.items()) if c}
 
     def _spc_cards(self, sid: int, where: str, depth: int = 0):
-        bdf = self.bdf
+        bdf = self.deck.bdf
         if depth > 10:
             raise ModelError(f"{where}: SPCADD sets refer to each other in a loop (set {sid})")
         found = False
@@ -283,7 +324,7 @@ class ConfigurationsMixin:
         return out
 
     def _load_cards(self, sid: int, where: str):
-        bdf = self.bdf
+        bdf = self.deck.bdf
         if sid in bdf.load_combinations:
             out = []
             for combo in bdf.load_combinations[sid]:
@@ -299,7 +340,7 @@ class ConfigurationsMixin:
                          "add it or fix the case control")
 
     def _fix(self, fixed: dict, nid: int, comps: str, where: str) -> None:
-        if nid not in self.bdf.nodes:
+        if nid not in self.deck.bdf.nodes:
             raise ModelError(f"{where} refers to node {nid}, which is not defined")
         comps = comps.strip()
         if comps in ("", "0"):
@@ -307,12 +348,12 @@ class ConfigurationsMixin:
         dofs = sorted({int(c) for c in comps})
         if any(not 1 <= d <= 6 for d in dofs):
             raise FileFormatError(f"{where}: components {comps!r} must be digits 1-6")
-        cd = self.bdf.nodes[nid].cd
+        cd = self.deck.bdf.nodes[nid].cd
         out = fixed.setdefault(int(nid), set())
         if cd in (None, 0):
             out.update(d - 1 for d in dofs)
             return
-        T = coord_axes(self.bdf, cd, self.xyz_deck[nid], f"{where} at node {nid}")
+        T = coord_axes(self.deck.bdf, cd, self.deck.xyz_deck[nid], f"{where} at node {nid}")
         for base, group in ((0, [d - 1 for d in dofs if d <= 3]), (3, [d - 4 for d in dofs if d > 3])):
             if not group:
                 continue
@@ -327,34 +368,35 @@ class ConfigurationsMixin:
 
     def _prescribe(self, prescribed: dict, nid: int, comps: str, value: float, where: str) -> None:
         """Enforced value [deck units] on components of a node (basic axes only)."""
-        if nid not in self.bdf.nodes:
+        if nid not in self.deck.bdf.nodes:
             raise ModelError(f"{where} refers to node {nid}, which is not defined")
-        if self.bdf.nodes[nid].cd not in (None, 0):
+        if self.deck.bdf.nodes[nid].cd not in (None, 0):
             raise ModelError(f"{where}: enforced values on node {nid}, whose CD is not basic, are not supported; "
                              "give the grid CD = 0 or enforce the motion with a stiff spring and a force")
         extent = float(np.ptp(self.model.xyz, axis=0).max()) if self.model.n_nodes > 1 else 0.0
         for c in comps.strip():
             d = int(c)
-            si = value * (self.units.length if d <= 3 else 1.0)
+            si = value * (self.deck.units.length if d <= 3 else 1.0)
             # The static solver steps the enforced motion up in increments of a fraction of the
             # structure's size: 10 sizes took 400 steps (1.3 s), 1e8 would never finish.
             if d <= 3 and extent > 0 and abs(si) > MAX_ENFORCED_SIZES * extent:
                 raise ModelError(f"{where}: enforced displacement {value:g} on node {nid} component {d} is more than "
-                                 f"{MAX_ENFORCED_SIZES:g} times the structure's size ({extent / self.units.length:.4g} "
-                                 "in deck units); check the value and its units")
+                                 f"{MAX_ENFORCED_SIZES:g} times the structure's size "
+                                 f"({extent / self.deck.units.length:.4g} in deck units); check the value and "
+                                 "its units")
             if d > 3 and abs(si) > 2 * math.pi:
                 raise ModelError(f"{where}: enforced rotation {value:g} rad on node {nid} component {d} is more than "
                                  "one turn (2 pi); check the value (rotations are in radians)")
             prescribed.setdefault(int(nid), {})[d] = si
 
     def _load(self, card, scale: float, forces: list, distributed: list, gravity_terms: list) -> None:
-        bdf, u = self.bdf, self.units
+        bdf, u = self.deck.bdf, self.deck.units
         where = self.at(card.type, card.sid)
         if card.type in ("FORCE", "MOMENT"):
             nid = card.node
             if nid not in bdf.nodes:
                 raise ModelError(f"{where} refers to node {nid}, which is not defined")
-            T = coord_axes(bdf, card.cid, self.xyz_deck[nid], where)
+            T = coord_axes(bdf, card.cid, self.deck.xyz_deck[nid], where)
             vec = scale * card.mag * (T @ np.asarray(card.xyz, float))
             if card.type == "FORCE":
                 forces.append(NodalLoad(int(nid), force=tuple(vec * u.force)))
@@ -365,43 +407,43 @@ class ConfigurationsMixin:
                 raise ModelError(f"{where} refers to coordinate system {card.cid}, which is not defined; add its CORD "
                                  "card or fix CID")
             if card.cid not in (None, 0) and bdf.coords[card.cid].Type != "R":
-                self.skip("GRAV (curvilinear CID)", card.sid)
+                self.log.skip("GRAV (curvilinear CID)", card.sid)
                 return
             if getattr(card, "mb", 0):
-                self.skip("GRAV (MB = -1: main bulk only)", card.sid)
+                self.log.skip("GRAV (MB = -1: main bulk only)", card.sid)
             T = coord_axes(bdf, card.cid, np.zeros(3), where)
             a = card.scale * (T @ np.asarray(card.N, float)) * u.length
             gravity_terms.append((scale, a))
         elif card.type == "PLOAD1":
             self._pload1(card, scale, distributed, where)
         else:
-            self.skip(card.type, card.sid)
+            self.log.skip(card.type, card.sid)
 
     def _pload1(self, card, scale, distributed, where) -> None:
-        u = self.units
+        u = self.deck.units
         eid = card.eid
-        if eid not in self.deck.element_ids:
-            if eid not in self.bdf.elements:
+        if eid not in self.element_ids:
+            if eid not in self.deck.bdf.elements:
                 raise ModelError(f"{where} refers to element {eid}, which is not defined")
-            self.skip("PLOAD1 (on an element that was not read as a beam)", card.sid)
+            self.log.skip("PLOAD1 (on an element that was not read as a beam)", card.sid)
             return
         if card.load_type not in ("FX", "FY", "FZ"):
-            self.skip(f"PLOAD1 (TYPE {card.load_type}: only FX, FY, FZ in basic axes)", card.sid)
+            self.log.skip(f"PLOAD1 (TYPE {card.load_type}: only FX, FY, FZ in basic axes)", card.sid)
             return
-        elem = self.bdf.elements[eid]
+        elem = self.deck.bdf.elements[eid]
         n1, n2 = elem.node_ids[:2]
-        axis = self.xyz_deck[n2] - self.xyz_deck[n1]
+        axis = self.deck.xyz_deck[n2] - self.deck.xyz_deck[n1]
         L = float(np.linalg.norm(axis))
         x1, x2 = card.x1, card.x2
         p1, p2 = card.p1, card.p2 if card.p2 is not None else card.p1
         full = x2 is not None and math.isclose(x1 or 0.0, 0.0, abs_tol=1e-9) and (
             math.isclose(x2, 1.0, rel_tol=1e-6) if card.scale in ("FR", "FRPR") else math.isclose(x2, L, rel_tol=1e-6))
         if not full or not math.isclose(p1, p2, rel_tol=1e-9, abs_tol=0.0):
-            self.skip("PLOAD1 (not uniform over the whole element)", card.sid)
+            self.log.skip("PLOAD1 (not uniform over the whole element)", card.sid)
             return
         direction = np.eye(3)["XYZ".index(card.load_type[1])]
         w = p1
         if card.scale in ("LEPR", "FRPR"):
             w = p1 * math.sqrt(max(0.0, 1.0 - (axis @ direction / L) ** 2))
-        distributed.append(DistributedLoad((self.deck.element_ids[eid],),
+        distributed.append(DistributedLoad((self.element_ids[eid],),
                                            tuple(scale * w * direction * u.force / u.length)))
