@@ -8,7 +8,9 @@ so one model is solved in many configurations without copying it.
 from __future__ import annotations
 
 import copy
+import threading
 import warnings
+import weakref
 from dataclasses import dataclass
 from functools import cached_property
 
@@ -84,9 +86,16 @@ class CompiledModel:
     mpc_terms: tuple[tuple[np.ndarray, np.ndarray], ...]  # per constraint: (full DOFs, weights) with u_d = w . u
 
 
+# Compiled arrays per model, weakly keyed (an entry lives as long as its model) and tagged with the
+# model's revision: the model stays plain data, the cache is fem's own.
+_COMPILED: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+_COMPILED_LOCK = threading.Lock()
+
+
 def compile_model(model: Model) -> CompiledModel:
-    """Compile the model's arrays, cached on the model itself against its revision."""
-    cached = model.solver_cache.get("compiled")
+    """Compile the model's arrays, cached in fem (weakly keyed by the model) against its revision."""
+    with _COMPILED_LOCK:
+        cached = _COMPILED.get(model)
     if cached is not None and cached[0] == model.revision:
         return cached[1]
     if model.n_nodes == 0:
@@ -157,7 +166,8 @@ def compile_model(model: Model) -> CompiledModel:
     compiled = CompiledModel(model.node_ids, xyz, beams, local_mass_matrices(beams), cat(eids, (0,)).astype(int),
                              cat(names, (0,)), _masses(model, model.masses), _springs(model, model.springs), links,
                              link_dofs, interp, mpc_dep, tuple(mpc_terms))
-    model.solver_cache["compiled"] = (model.revision, compiled)
+    with _COMPILED_LOCK:
+        _COMPILED[model] = (model.revision, compiled)
     return compiled
 
 
