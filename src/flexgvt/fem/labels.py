@@ -1,12 +1,16 @@
-"""Mode labelling from strain-energy fractions, and mode tracking across load steps by MAC."""
+"""Mode labelling from strain-energy fractions, and the MAC matrix.
+
+Labelling sits under the eigen kernel and solve_modes (which label their modes); tracking modes
+across load levels (fem.tracking) solves, so it sits above fem.static and fem.modes: two modules,
+one each side of the solver. mac_matrix stays here until the single MAC kernel replaces it.
+"""
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import replace
 
 import numba
 import numpy as np
-from scipy.optimize import linear_sum_assignment
 
 from .beam import current_frames
 
@@ -118,51 +122,3 @@ def mac_matrix(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     num = np.abs(a.conj().T @ b) ** 2
     den = np.outer(np.sum(np.abs(a) ** 2, axis=0), np.sum(np.abs(b) ** 2, axis=0))
     return num / np.where(den > 0, den, 1.0)
-
-
-@dataclass(frozen=True)
-class ModeTracking:
-    """Modes followed across load levels.
-
-    load_factors (n_levels,); frequencies_hz (n_levels, n_tracks) where column j follows one
-    physical mode; labels (n_tracks,) at the first level; mac (n_levels - 1, n_tracks): MAC
-    between consecutive levels; order (n_levels, n_tracks): index of the mode in each level's
-    sorted list.
-    """
-
-    load_factors: np.ndarray
-    frequencies_hz: np.ndarray
-    labels: tuple[str, ...]
-    mac: np.ndarray
-    order: np.ndarray
-    modes: tuple = ()
-
-
-def _weighted(modes) -> np.ndarray:
-    """(n_dof, n_modes) shapes scaled by sqrt(diag M): translations and rotations weighted by their inertia."""
-    state = modes.state
-    w = np.sqrt(np.abs(state.system.full_mass_matrix(state.positions, state.rotations).diagonal()))
-    return modes.matrix() * w[:, None]
-
-
-def track_modes(mode_sets, load_factors=None) -> ModeTracking:
-    """Pair the modes of successive levels by a mass-weighted MAC (Hungarian assignment).
-
-    The shapes are weighted by sqrt(diag M) so torsion modes (rotations only on a beam axis)
-    are compared as reliably as bending modes.
-    """
-    mode_sets = list(mode_sets)
-    n = min(m.n_modes for m in mode_sets)
-    order = np.zeros((len(mode_sets), n), dtype=int)
-    order[0] = np.arange(n)
-    macs = np.zeros((max(len(mode_sets) - 1, 0), n))
-    shapes = [_weighted(m) for m in mode_sets]
-    for k in range(1, len(mode_sets)):
-        M = mac_matrix(shapes[k - 1][:, order[k - 1]], shapes[k])
-        rows, cols = linear_sum_assignment(-M)
-        order[k, rows] = cols
-        macs[k - 1, rows] = M[rows, cols]
-    freqs = np.stack([mode_sets[k].frequencies_hz[order[k]] for k in range(len(mode_sets))])
-    lf = np.asarray(load_factors if load_factors is not None else np.arange(len(mode_sets)), float)
-    labels = tuple(mode_sets[0].labels[i] for i in order[0]) if mode_sets[0].labels else ()
-    return ModeTracking(lf, freqs, labels, macs, order, tuple(mode_sets))
