@@ -295,10 +295,6 @@ class System:
         """The element family called ``name`` ("beam", "mass", "cord", "spring")."""
         return self.families[self._family_index[name]]
 
-    def family_block(self, name: str) -> int:
-        """Index of family ``name`` among the pattern's blocks (Pattern.data_subset)."""
-        return self._family_index[name]
-
     @property
     def masses(self) -> PointMasses:
         """The point masses (the model's, the configuration's, then the heavy cords' share)."""
