@@ -93,6 +93,22 @@ class Family(Protocol):
                    gravity: np.ndarray, cache: dict) -> Derivative:
         """The change of the family's element terms for ValueChange.<field> = item."""
 
+    def check_values(self, where: str, node_ids: np.ndarray) -> None:
+        """Raise a ModelError naming the first elements whose values would overflow the solvers
+        (NaN, inf, beyond checks.VALUE_LIMIT or COORDINATE_LIMIT) and the remedy."""
+
+    def connections(self) -> np.ndarray:
+        """(k, 2) node pairs the family joins stiffly (checks.check_connected)."""
+
+    def held_nodes(self) -> np.ndarray:
+        """Nodes the family holds to the ground (a grounded spring, a cord to its anchor)."""
+
+    def used_nodes(self) -> np.ndarray:
+        """Nodes the family gives mass or stiffness (beyond its connections): not inert."""
+
+    def describe(self, nodes: np.ndarray) -> str:
+        """What of the family is attached to nodes (storage indices), for messages; "" if nothing."""
+
 
 def element_dofs(nodes: np.ndarray) -> np.ndarray:
     """(n, 6 p) full DOF numbers of elements with nodes (n, p)."""

@@ -10,6 +10,7 @@ import numpy as np
 from ...errors import ModelError
 from ...model import Configuration
 from ..beam import BeamData, beam_forces, beam_mass_matrices, local_mass_matrices, nodal_weights
+from ..checks import _REMEDY, VALUE_LIMIT, _bad, _ids
 from .base import Derivative, ElementTerms, zero_blocks
 
 
@@ -70,6 +71,34 @@ class BeamFamily:
         xf, Rf = xs.reshape(-1, 3), Rs.reshape(-1, 3, 3)
         _, K, _ = beam_forces(xf, Rf, data, True)
         return K, beam_mass_matrices(xf, Rf, data, self.local_mass)
+
+    def check_values(self, where: str, node_ids: np.ndarray) -> None:
+        b = self.data
+        if not len(b.L0):
+            return
+        bad = _bad(b.stiffness) | _bad(b.mass_per_length) | _bad(b.inertia_per_length) | _bad(self.local_mass)
+        if np.any(bad):
+            k = int(np.flatnonzero(bad)[0])
+            raise ModelError(f"{where}: beam element(s) {_ids(self.element_ids[bad])} (group "
+                             f"'{self.group_names[k]}') have stiffness or mass terms that are not finite or "
+                             f"exceed {VALUE_LIMIT:g} (SI): check the group's material (E, G, rho) and section "
+                             f"(A, I, J) values; {_REMEDY}")
+
+    def connections(self) -> np.ndarray:
+        return self.data.nodes
+
+    def held_nodes(self) -> np.ndarray:
+        return np.zeros(0, int)
+
+    def used_nodes(self) -> np.ndarray:
+        return np.zeros(0, int)
+
+    def describe(self, nodes: np.ndarray) -> str:
+        on = np.isin(self.data.nodes, nodes).any(axis=1)
+        if not np.any(on):
+            return ""
+        groups = sorted(set(self.group_names[on]))
+        return f"beam element(s) {_ids(self.element_ids[on])} (group(s) {', '.join(groups)})"
 
     def derivative(self, field, item, x, R, lam, gravity, cache) -> Derivative:
         """item = (element rows (k,), d kernel coefficients (k, 8), d rho A (k, 2), d inertia per

@@ -11,6 +11,7 @@ import numpy as np
 
 from ...errors import ModelError
 from ...model import Configuration, Model
+from ..checks import _REMEDY, COORDINATE_LIMIT, _bad, _ids
 from ..points import cord_damping, cord_forces
 from .base import Derivative, ElementTerms, zero_blocks
 from .mass import PointMasses
@@ -155,6 +156,29 @@ class CordFamily:
         _, K, _, _ = cord_forces(xs[:, 0], Rs[:, 0], xs[:, 1], Rs[:, 1], c.offset, c.anchor, c.stiffness,
                                  c.l0_at(lam), c.w)
         return K, None
+
+    def check_values(self, where: str, node_ids: np.ndarray) -> None:
+        c = self.cords
+        if not len(c.w):
+            return
+        bad = (_bad(c.stiffness) | _bad(c.damping) | _bad(c.anchor, COORDINATE_LIMIT) | _bad(c.l0, COORDINATE_LIMIT)
+               | _bad(c.offset, COORDINATE_LIMIT))
+        if np.any(bad):
+            raise ModelError(f"{where}: cord(s) {_ids(np.flatnonzero(bad))} (at node(s) "
+                             f"{_ids(node_ids[c.nodes_a[bad]])}) have a stiffness, damping, anchor, "
+                             f"length or offset that is not finite or too large: {_REMEDY}")
+
+    def connections(self) -> np.ndarray:
+        return self.nodes
+
+    def held_nodes(self) -> np.ndarray:
+        return np.r_[self.cords.nodes_a, self.cords.nodes_b]
+
+    def used_nodes(self) -> np.ndarray:
+        return np.zeros(0, int)
+
+    def describe(self, nodes: np.ndarray) -> str:
+        return ""
 
     def derivative(self, field, item, x, R, lam, gravity, cache) -> Derivative:
         """cords: (rows, d stiffness (k,)); cord_offsets: (rows, [(offsets (k, 3), weight), ...]) a

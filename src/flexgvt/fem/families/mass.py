@@ -7,7 +7,9 @@ from typing import ClassVar
 
 import numpy as np
 
+from ...errors import ModelError
 from ...model import Configuration
+from ..checks import _REMEDY, COORDINATE_LIMIT, VALUE_LIMIT, _bad, _ids
 from ..points import mass_gravity, mass_matrix
 from .base import Derivative, ElementTerms, zero_blocks
 
@@ -76,6 +78,31 @@ class PointMassFamily:
         m = self.masses
         _, K = mass_gravity(Rs[:, 0], m.offset, lam * self.weight)
         return K, mass_matrix(Rs[:, 0], m.offset, m.mass, m.inertia)
+
+    def check_values(self, where: str, node_ids: np.ndarray) -> None:
+        m = self.masses
+        if not len(m.nodes):
+            return
+        with np.errstate(over="ignore", invalid="ignore"):
+            arm = np.linalg.norm(np.nan_to_num(m.offset, nan=np.inf), axis=1)
+            moment = m.mass * arm ** 2
+        bad = _bad(m.mass) | _bad(m.inertia) | _bad(m.offset, COORDINATE_LIMIT) | _bad(moment)
+        if np.any(bad):
+            raise ModelError(f"{where}: concentrated mass(es) at node(s) {_ids(node_ids[m.nodes[bad]])} have a "
+                             f"mass, offset or inertia that is not finite or too large (offset beyond "
+                             f"{COORDINATE_LIMIT:g} m or m |offset|^2 beyond {VALUE_LIMIT:g} kg m^2): {_REMEDY}")
+
+    def connections(self) -> np.ndarray:
+        return np.zeros((0, 2), int)
+
+    def held_nodes(self) -> np.ndarray:
+        return np.zeros(0, int)
+
+    def used_nodes(self) -> np.ndarray:
+        return self.masses.nodes[self.masses.mass > 0]
+
+    def describe(self, nodes: np.ndarray) -> str:
+        return "concentrated mass(es)" if np.any(np.isin(self.masses.nodes, nodes)) else ""
 
     def derivative(self, field, item, x, R, lam, gravity, cache) -> Derivative:
         """item = (rows, (mass, offset) at p + h, (mass, offset) at p - h, 1 / (2 h)): masses enter

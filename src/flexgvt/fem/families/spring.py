@@ -10,8 +10,9 @@ from typing import ClassVar
 
 import numpy as np
 
-from ...errors import FlexGVTWarning
+from ...errors import FlexGVTWarning, ModelError
 from ...model import Configuration, Model
+from ..checks import _REMEDY, VALUE_LIMIT, _bad, _ids
 from ..points import spring_damping, spring_forces
 from .base import Derivative, ElementTerms
 
@@ -133,6 +134,35 @@ class SpringFamily:
         ia = np.where(s.a[rows] < 0, s.b[rows], s.a[rows])
         g, K = self._forces(x[ia], R[ia], x[s.b[rows]], R[s.b[rows]], rows, np.asarray(item[1], float))
         return Derivative(rows, g, None, K)
+
+    def check_values(self, where: str, node_ids: np.ndarray) -> None:
+        s = self.springs
+        if not len(s.b):
+            return
+        bad = _bad(s.stiffness) | _bad(s.damping)
+        if np.any(bad):
+            raise ModelError(f"{where}: spring(s) at node(s) {_ids(node_ids[s.b[bad]])} have a stiffness or damping "
+                             f"that is not finite or exceeds {VALUE_LIMIT:g} (SI): to clamp a DOF fix it "
+                             f"(fixed={{node: '123456'}}); otherwise {_REMEDY}")
+
+    @property
+    def _stiff(self) -> np.ndarray:
+        return np.any(self.springs.stiffness > 0, axis=1)
+
+    def connections(self) -> np.ndarray:
+        s = self.springs
+        pair = self._stiff & (s.a >= 0)
+        return np.column_stack([s.a[pair], s.b[pair]])
+
+    def held_nodes(self) -> np.ndarray:
+        return self.springs.b[self._stiff & (self.springs.a < 0)]
+
+    def used_nodes(self) -> np.ndarray:
+        return self.springs.b[self._stiff]
+
+    def describe(self, nodes: np.ndarray) -> str:
+        s = self.springs
+        return "spring(s)" if np.any(np.isin(s.b, nodes) | np.isin(s.a, nodes)) else ""
 
     def clamps(self, diag: np.ndarray, fixed: np.ndarray, link_dofs: np.ndarray, node_ids: np.ndarray,
                where: str) -> np.ndarray:
