@@ -9,10 +9,8 @@ from __future__ import annotations
 
 from dataclasses import replace
 
-import numba
 import numpy as np
 
-from .beam import current_frames
 
 CLASSES = ("OOP", "IP", "T", "EXT", "RB")
 CLASS_NAMES = {"OOP": "out-of-plane bending", "IP": "in-plane bending", "T": "torsion", "EXT": "extension",
@@ -20,57 +18,21 @@ CLASS_NAMES = {"OOP": "out-of-plane bending", "IP": "in-plane bending", "T": "to
 _RIGID = ("fore-aft", "lateral", "plunge", "roll", "pitch", "yaw")
 
 
-@numba.njit(cache=True, inline="always")
-def _bending_energy(kd, ko, dd, L, d1, r1, d2, r2, sign):  # pragma: no cover - compiled
-    """Energy of a bending block 1/2 ((kd + dd) a^2 + 2 ko a b + (kd - dd) b^2), a and b the end
-    rotations relative to the chord; sign=+1 for (v, rz), -1 for (w, ry)."""
-    chord = sign * (d2 - d1) / L
-    a, b = r1 - chord, r2 - chord
-    return 0.5 * ((kd + dd) * a * a + 2 * ko * a * b + (kd - dd) * b * b)
-
-
-@numba.njit(cache=True)
-def _beam_energies(shapes, nodes, Rr, stiffness, L, vertical, out):  # pragma: no cover - compiled
-    """out[m] += (OOP, IP, torsion, extension) strain energies of mode m summed over the beams
-    (stiffness: the kernel coefficients, beam.element_coefficients)."""
-    loc = np.empty((4, 3))  # local u1, t1, u2, t2
-    for m in range(shapes.shape[0]):
-        for e in range(nodes.shape[0]):
-            for blk in range(4):
-                node = nodes[e, blk // 2]
-                off = 3 * (blk % 2)
-                for j in range(3):
-                    loc[blk, j] = (shapes[m, node, off] * Rr[e, 0, j] + shapes[m, node, off + 1] * Rr[e, 1, j]
-                                   + shapes[m, node, off + 2] * Rr[e, 2, j])
-            EA, GJ, kdy, koy, kdz, koz, ddy, ddz = stiffness[e]
-            Le = L[e]
-            ext = 0.5 * EA / Le * (loc[2, 0] - loc[0, 0]) ** 2
-            tor = 0.5 * GJ / Le * (loc[3, 0] - loc[1, 0]) ** 2
-            by = _bending_energy(kdy, koy, ddy, Le, loc[0, 2], loc[1, 1], loc[2, 2], loc[3, 1], -1.0)
-            bz = _bending_energy(kdz, koz, ddz, Le, loc[0, 1], loc[1, 2], loc[2, 1], loc[3, 2], 1.0)
-            out[m, 0] += by if vertical[e] else bz
-            out[m, 1] += bz if vertical[e] else by
-            out[m, 2] += tor
-            out[m, 3] += ext
-
-
 def energy_fractions(modes, state) -> np.ndarray:
     """(n_modes, 5) fractions of OOP bending, IP bending, torsion, extension and 'rigid/suspension'.
 
-    Beam strain energy of each mode is split per element in its deformed local axes; bending
-    about the local axis closer to the global vertical plane is out-of-plane. Whatever of the
-    mode's potential energy (omega^2, mass-normalised) is not beam strain energy (springs,
-    cords, gravity) counts as rigid/suspension.
+    The strain energy of each mode comes from the element families that split theirs
+    (Family.strain_energies: the beams, per element in its deformed local axes, bending about the
+    local axis closer to the global vertical plane being out-of-plane). Whatever of the mode's
+    potential energy (omega^2, mass-normalised) is not strain energy (springs, cords, gravity)
+    counts as rigid/suspension.
     """
-    system = state.system
-    b = system.cm.beams
     shapes = modes.shapes
     out = np.zeros((len(shapes), 5))
-    if len(b.L0):
-        Rr = current_frames(state.positions, state.rotations, b)
-        vertical = np.abs(Rr[:, 2, 2]) >= np.abs(Rr[:, 2, 1])  # local z closer to global z: bending about y is OOP
-        _beam_energies(np.ascontiguousarray(shapes, dtype=float), b.nodes, np.ascontiguousarray(Rr),
-                       np.ascontiguousarray(b.stiffness, dtype=float), b.L0, vertical, out)
+    for family in state.system.families:
+        energies = getattr(family, "strain_energies", None)  # an optional hook of the element families
+        if energies is not None:
+            out[:, :4] += energies(shapes, state.positions, state.rotations)
     total_pe = 0.5 * np.abs(modes.eigenvalues.real if modes.eigenvalues is not None else 0.0)
     if modes.complex_shapes is not None:
         total_pe = 0.5 * (2 * np.pi * modes.frequencies_hz) ** 2

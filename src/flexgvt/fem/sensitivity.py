@@ -120,6 +120,8 @@ class ValueChange:
     [(offsets (k, 3), weight)] a finite-difference rule in the attachment offset (the cord's
     line of action is not polynomial in it); cord_along: (indices, samples) the same rule in the
     attachment fraction along the element. Derivatives are per unit of the parameter.
+    Each field belongs to one element family (Family.value_fields); a family without a field here
+    (a new one) takes its items from ``others`` by its field names.
     """
 
     beams: tuple | None = None
@@ -128,7 +130,21 @@ class ValueChange:
     cords: tuple | None = None
     cord_offsets: tuple | None = None  # (indices, [(offsets (k, 3), weight), ...]): a difference rule in the offset
     cord_along: tuple | None = None  # (indices, [(fractions (k,), weight), ...]): the same in the attachment fraction
+    others: dict = field(default_factory=dict)  # {field name: item} of families without a field above
     cache: dict = field(default_factory=dict, compare=False, repr=False)  # state-independent pieces, computed once
+
+    def item(self, name: str) -> tuple | None:
+        """The change's item for a family's value field ``name`` (None: unchanged)."""
+        return getattr(self, name) if name in _OWN_FIELDS else self.others.get(name)
+
+    @property
+    def beams_only(self) -> bool:
+        """Only beam values change."""
+        return self.beams is not None and not self.others and all(
+            getattr(self, name) is None for name in _OWN_FIELDS if name != "beams")
+
+
+_OWN_FIELDS = ("beams", "masses", "springs", "cords", "cord_offsets", "cord_along")
 
 
 def value_derivative(system, x: np.ndarray, R: np.ndarray, lam: float, change: ValueChange,
@@ -147,7 +163,7 @@ def value_derivative(system, x: np.ndarray, R: np.ndarray, lam: float, change: V
     gvec = system.config.gravity_vector
     for block, family in enumerate(system.families):
         for name in family.value_fields:
-            item = getattr(change, name)
+            item = change.item(name)
             if item is None:
                 continue
             d = family.derivative(name, item, x, R, lam, gvec, change.cache)

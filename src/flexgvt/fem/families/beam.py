@@ -9,7 +9,7 @@ import numpy as np
 
 from ...errors import ModelError
 from ...model import Configuration
-from ..beam import BeamData, beam_forces, beam_mass_matrices, local_mass_matrices, nodal_weights
+from ..beam import BeamData, beam_forces, beam_mass_matrices, local_mass_matrices, nodal_weights, strain_energies
 from ..checks import _REMEDY, VALUE_LIMIT, _bad, _ids
 from .base import Derivative, ElementTerms, zero_blocks
 
@@ -71,6 +71,10 @@ class BeamFamily:
         xf, Rf = xs.reshape(-1, 3), Rs.reshape(-1, 3, 3)
         _, K, _ = beam_forces(xf, Rf, data, True)
         return K, beam_mass_matrices(xf, Rf, data, self.local_mass)
+
+    def strain_energies(self, shapes: np.ndarray, x: np.ndarray, R: np.ndarray) -> np.ndarray:
+        """(n_modes, 4) OOP, IP, torsion and extension strain energies of mode shapes (mode labels)."""
+        return strain_energies(shapes, x, R, self.data)
 
     def check_values(self, where: str, node_ids: np.ndarray) -> None:
         b = self.data
