@@ -1,6 +1,11 @@
 """A model in one configuration, compiled to arrays: DOF numbering, constraints, and evaluation of
 internal forces, consistent tangent, mass and damping at any state.
 
+System assembles over a tuple of element families (fem.families: beams, point masses, cords,
+springs), each evaluating its own elements; it keeps what is not an element: fixed and
+prescribed DOFs, rigid and interpolation links, linear constraints, nodal loads, the sparsity
+pattern and the factorisation cache.
+
 The model's own arrays are compiled once per model revision and shared by every configuration,
 so one model is solved in many configurations without copying it.
 """
