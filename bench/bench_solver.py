@@ -289,6 +289,7 @@ def profile_breakdown(model, cfg):
     from flexgvt.fem import labels as fg_labels
     from flexgvt.fem import eigen as fg_eigen
     from flexgvt.fem import system as fg_system
+    from flexgvt.fem.families import beam as fg_beam_family
 
     acc = defaultdict(float)
     calls = defaultdict(int)
@@ -314,7 +315,7 @@ def profile_breakdown(model, cfg):
         return owner, name, fn
 
     patches = [
-        wrap(fg_system, "beam_forces", "beam kernel (numba, forces + tangent)"),
+        wrap(fg_beam_family, "beam_forces", "beam kernel (numba, forces + tangent)"),
         wrap(fg_assembly.Pattern, "assemble", "sparse assembly (compiled scatter -> csc)"),
         wrap(fg_system.System, "newton_matrix",
              "Newton matrix assembled (modes: symmetric part of the element tangents)"),

@@ -9,6 +9,7 @@
 from __future__ import annotations
 
 from . import cases, errors, fem, model
+from ._threads import blas_threads
 from .errors import FlexGVTError
 from .fem import (MassProperties, Modes, ModeTracking, State, StaticSettings, mass_properties, modes_versus_load,
                   solve_linear_static, solve_modes, solve_static, track_modes)
@@ -19,8 +20,8 @@ __version__ = "0.1.0"
 
 __all__ = ["CircularTubeSection", "Configuration", "Cord", "DistributedLoad", "FlexGVTError", "GeneralSection",
            "MassProperties", "Material", "Model", "ModeTracking", "Modes", "NodalLoad", "RectangularSection",
-           "RodSection", "Spring", "State", "TaperedSection", "StaticSettings", "cases", "errors", "fem",
-           "mass_properties", "model", "modes_versus_load", "solve_linear_static", "solve_modes", "solve_static",
+           "RodSection", "Spring", "State", "TaperedSection", "StaticSettings", "blas_threads", "cases", "errors",
+           "fem", "mass_properties", "model", "modes_versus_load", "solve_linear_static", "solve_modes", "solve_static",
            "track_modes"]
 
 

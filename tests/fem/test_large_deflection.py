@@ -57,7 +57,8 @@ def test_end_moment_rolls_cantilever_into_a_full_circle():
     M = 2 * np.pi * EI / L
     cfg = fg.Configuration("end moment", fixed={int(ids[0]): "123456"},
                            forces=[fg.NodalLoad(int(ids[-1]), moment=(M, 0.0, 0.0))])
-    final, (half,) = fg.solve_static(model, cfg, load_factors=[0.5], keep_steps=True)
+    final = fg.solve_static(model, cfg, load_factors=[0.5])
+    (half,) = final.steps
     # Full circle: the tip is back at the root (within 0.5 % of L), turned by 2 pi.
     assert np.linalg.norm(final.positions[-1] - final.positions[0]) < 5e-3 * L
     np.testing.assert_allclose(final.rotations[-1], np.eye(3), atol=5e-3)

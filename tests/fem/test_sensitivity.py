@@ -2,9 +2,9 @@
 
 import numpy as np
 import pytest
+from sensitivity_reference import beam_parameter_derivative, frequency_derivatives
 
 import flexgvt as fg
-from flexgvt.fem.sensitivity import beam_parameter_derivative, frequency_derivatives
 from flexgvt.fem.system import System
 
 

@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 from fem_builders import AL, perturbed_state, tangent_error
 from scipy.integrate import quad
+from sensitivity_reference import beam_parameter_derivative, frequency_derivatives
 
 import flexgvt as fg
 from flexgvt.errors import ModelError
@@ -15,7 +16,6 @@ from flexgvt.fem.beam import (
     element_coefficients,
     local_mass_matrices,
 )
-from flexgvt.fem.sensitivity import beam_parameter_derivative, frequency_derivatives
 from flexgvt.fem.system import System, compile_model
 
 L = 2.0

@@ -176,7 +176,7 @@ def test_partial_derivative_engine_matches_the_beam_parameter_derivative(attribu
     """Two independent routes to dR/dp, dK/dp, dM/dp at a deformed state: the updating layer's
     (the group's values differentiated, the kernel evaluated with them) and fem.sensitivity's
     closed-form section derivatives."""
-    from flexgvt.fem.sensitivity import beam_parameter_derivative
+    from sensitivity_reference import beam_parameter_derivative
     from flexgvt.updating.derivatives import partial_derivatives
     case = fg.cases.cantilever_strip(n_elements=30)
     cfg = case.configurations["flatwise_2g"]

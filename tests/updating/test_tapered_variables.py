@@ -4,12 +4,12 @@ tapered group are refused with a message that says what to do."""
 
 import numpy as np
 import pytest
+from sensitivity_reference import beam_parameter_derivative
 from test_gradients import TIGHT, _check
 
 import flexgvt as fg
 from flexgvt import updating as up
 from flexgvt.errors import ModelError
-from flexgvt.fem.sensitivity import beam_parameter_derivative
 from flexgvt.updating.derivatives import partial_derivatives
 
 AL = fg.Material("Al", E=70e9, nu=0.33, rho=2700.0)

@@ -258,3 +258,50 @@ def _rotate_blocks(Rr, local, out):  # pragma: no cover - compiled
                         for k in range(3):
                             acc += Q[i, k] * tmp[k, j]
                         out[e, r0 + i, c0 + j] = acc
+
+
+@numba.njit(cache=True, inline="always")
+def _bending_energy(kd, ko, dd, L, d1, r1, d2, r2, sign):  # pragma: no cover - compiled
+    """Energy of a bending block 1/2 ((kd + dd) a^2 + 2 ko a b + (kd - dd) b^2), a and b the end
+    rotations relative to the chord; sign=+1 for (v, rz), -1 for (w, ry)."""
+    chord = sign * (d2 - d1) / L
+    a, b = r1 - chord, r2 - chord
+    return 0.5 * ((kd + dd) * a * a + 2 * ko * a * b + (kd - dd) * b * b)
+
+
+@numba.njit(cache=True)
+def _beam_energies(shapes, nodes, Rr, stiffness, L, vertical, out):  # pragma: no cover - compiled
+    """out[m] += (OOP, IP, torsion, extension) strain energies of mode m summed over the beams
+    (stiffness: the kernel coefficients, beam.element_coefficients)."""
+    loc = np.empty((4, 3))  # local u1, t1, u2, t2
+    for m in range(shapes.shape[0]):
+        for e in range(nodes.shape[0]):
+            for blk in range(4):
+                node = nodes[e, blk // 2]
+                off = 3 * (blk % 2)
+                for j in range(3):
+                    loc[blk, j] = (shapes[m, node, off] * Rr[e, 0, j] + shapes[m, node, off + 1] * Rr[e, 1, j]
+                                   + shapes[m, node, off + 2] * Rr[e, 2, j])
+            EA, GJ, kdy, koy, kdz, koz, ddy, ddz = stiffness[e]
+            Le = L[e]
+            ext = 0.5 * EA / Le * (loc[2, 0] - loc[0, 0]) ** 2
+            tor = 0.5 * GJ / Le * (loc[3, 0] - loc[1, 0]) ** 2
+            by = _bending_energy(kdy, koy, ddy, Le, loc[0, 2], loc[1, 1], loc[2, 2], loc[3, 1], -1.0)
+            bz = _bending_energy(kdz, koz, ddz, Le, loc[0, 1], loc[1, 2], loc[2, 1], loc[3, 2], 1.0)
+            out[m, 0] += by if vertical[e] else bz
+            out[m, 1] += bz if vertical[e] else by
+            out[m, 2] += tor
+            out[m, 3] += ext
+
+
+def strain_energies(shapes: np.ndarray, x: np.ndarray, R: np.ndarray, data: BeamData) -> np.ndarray:
+    """(n_modes, 4) strain energies (OOP bending, IP bending, torsion, extension) of mode shapes
+    (n_modes, n_nodes, 6) summed over the beams, each element in its deformed local axes at
+    (x, R): bending about the local axis closer to the global vertical plane is out-of-plane."""
+    out = np.zeros((len(shapes), 5))
+    if len(data.L0):
+        Rr = current_frames(x, R, data)
+        vertical = np.abs(Rr[:, 2, 2]) >= np.abs(Rr[:, 2, 1])  # local z closer to global z: bending about y is OOP
+        _beam_energies(np.ascontiguousarray(shapes, dtype=float), data.nodes, np.ascontiguousarray(Rr),
+                       np.ascontiguousarray(data.stiffness, dtype=float), data.L0, vertical, out)
+    return out[:, :4]

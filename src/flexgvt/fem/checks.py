@@ -50,44 +50,13 @@ def check_coordinates(node_ids: np.ndarray, xyz: np.ndarray, where: str) -> None
 
 
 def check_values(system) -> None:
-    """Refuse node coordinates, element, mass, spring and cord values that would overflow the solvers
-    (NaN, inf, or beyond VALUE_LIMIT / COORDINATE_LIMIT), naming the first offending entity."""
+    """Refuse node coordinates, element values (each family's check_values) and applied loads that
+    would overflow the solvers (NaN, inf, or beyond VALUE_LIMIT / COORDINATE_LIMIT), naming the first
+    offending entity."""
     cm, where = system.cm, f"configuration '{system.config.name}'"
     check_coordinates(cm.node_ids, cm.xyz, where)
-    b = cm.beams
-    if len(b.L0):
-        bad = (_bad(b.stiffness) | _bad(b.mass_per_length) | _bad(b.inertia_per_length)
-               | _bad(cm.beam_local_mass))
-        if np.any(bad):
-            k = int(np.flatnonzero(bad)[0])
-            raise ModelError(f"{where}: beam element(s) {_ids(cm.beam_element_ids[bad])} (group "
-                             f"'{cm.beam_group_names[k]}') have stiffness or mass terms that are not finite or "
-                             f"exceed {VALUE_LIMIT:g} (SI): check the group's material (E, G, rho) and section "
-                             f"(A, I, J) values; {_REMEDY}")
-    m = system.masses
-    if len(m.nodes):
-        with np.errstate(over="ignore", invalid="ignore"):
-            arm = np.linalg.norm(np.nan_to_num(m.offset, nan=np.inf), axis=1)
-            moment = m.mass * arm ** 2
-        bad = _bad(m.mass) | _bad(m.inertia) | _bad(m.offset, COORDINATE_LIMIT) | _bad(moment)
-        if np.any(bad):
-            raise ModelError(f"{where}: concentrated mass(es) at node(s) {_ids(cm.node_ids[m.nodes[bad]])} have a "
-                             f"mass, offset or inertia that is not finite or too large (offset beyond "
-                             f"{COORDINATE_LIMIT:g} m or m |offset|^2 beyond {VALUE_LIMIT:g} kg m^2): {_REMEDY}")
-    s = system.springs
-    if len(s.b):
-        bad = _bad(s.stiffness) | _bad(s.damping)
-        if np.any(bad):
-            raise ModelError(f"{where}: spring(s) at node(s) {_ids(cm.node_ids[s.b[bad]])} have a stiffness or damping "
-                             f"that is not finite or exceeds {VALUE_LIMIT:g} (SI): to clamp a DOF fix it "
-                             f"(fixed={{node: '123456'}}); otherwise {_REMEDY}")
-    if len(system.cord_nodes):
-        bad = (_bad(system.cord_k) | _bad(system.cord_c) | _bad(system.cord_anchor, COORDINATE_LIMIT)
-               | _bad(system.cord_l0, COORDINATE_LIMIT) | _bad(system.cord_offset, COORDINATE_LIMIT))
-        if np.any(bad):
-            raise ModelError(f"{where}: cord(s) {_ids(np.flatnonzero(bad))} (at node(s) "
-                             f"{_ids(cm.node_ids[system.cord_nodes[bad]])}) have a stiffness, damping, anchor, "
-                             f"length or offset that is not finite or too large: {_REMEDY}")
+    for family in system.families:
+        family.check_values(where, cm.node_ids)
     f = system.applied.reshape(-1, 6)
     bad = _bad(f)
     if np.any(bad):
@@ -103,16 +72,8 @@ def reduced_nodes(system, reduced_dofs: np.ndarray) -> tuple[np.ndarray, np.ndar
 
 
 def _at_nodes(system, nodes: np.ndarray) -> str:
-    """What is attached to storage indices ``nodes``: beam elements and groups, masses, springs."""
-    cm, parts = system.cm, []
-    on = np.isin(cm.beams.nodes, nodes).any(axis=1)
-    if np.any(on):
-        groups = sorted(set(cm.beam_group_names[on]))
-        parts.append(f"beam element(s) {_ids(cm.beam_element_ids[on])} (group(s) {', '.join(groups)})")
-    if np.any(np.isin(system.masses.nodes, nodes)):
-        parts.append("concentrated mass(es)")
-    if np.any(np.isin(system.springs.b, nodes) | np.isin(system.springs.a, nodes)):
-        parts.append("spring(s)")
+    """What is attached to storage indices ``nodes`` (each family's describe)."""
+    parts = [text for text in (family.describe(nodes) for family in system.families) if text]
     return "; attached there: " + ", ".join(parts) if parts else ""
 
 
@@ -141,12 +102,8 @@ def check_connected(system) -> None:
     grounded springs, cords to their anchors). Nodes with nothing attached and no mass are inert
     (orientation or output grids) and left out; a single free part is a free-free structure."""
     cm, n = system.cm, system.n_nodes
-    a, b = [cm.beams.nodes[:, 0]], [cm.beams.nodes[:, 1]]
-    s = system.springs
-    stiff = np.any(s.stiffness > 0, axis=1)
-    pair = stiff & (s.a >= 0)
-    a.append(s.a[pair])
-    b.append(s.b[pair])
+    pairs = [family.connections() for family in system.families]
+    a, b = [p[:, 0] for p in pairs], [p[:, 1] for p in pairs]
     dep = np.flatnonzero(cm.links >= 0)
     a.append(dep)
     b.append(cm.links[dep])
@@ -157,8 +114,6 @@ def check_connected(system) -> None:
     for d, (dofs, _) in zip(cm.mpc_dependent, cm.mpc_terms):
         a.append(np.full(len(dofs), d // 6))
         b.append(np.asarray(dofs) // 6)
-    a.append(system.cord_nodes)
-    b.append(system.cord_nodes_b)
     a, b = np.concatenate(a).astype(int), np.concatenate(b).astype(int)
     graph = sp.coo_matrix((np.ones(len(a)), (a, b)), shape=(n, n))
     n_parts, label = connected_components(graph, directed=False)
@@ -166,13 +121,12 @@ def check_connected(system) -> None:
         return
     held = np.zeros(n, bool)
     held[np.flatnonzero(system.fixed.reshape(n, 6).any(axis=1))] = True
-    held[s.b[stiff & (s.a < 0)]] = True
-    held[system.cord_nodes] = True
-    held[system.cord_nodes_b] = True
+    for family in system.families:
+        held[family.held_nodes()] = True
     used = np.zeros(n, bool)
     used[a] = used[b] = True
-    used[system.masses.nodes[system.masses.mass > 0]] = True
-    used[s.b[stiff]] = True
+    for family in system.families:
+        used[family.used_nodes()] = True
     used |= held
     parts = [np.flatnonzero((label == p) & used) for p in range(n_parts)]
     parts = [p for p in parts if len(p)]

@@ -196,7 +196,8 @@ def real_modes(K: sp.spmatrix, M: sp.spmatrix, n_modes: int, shift: float | None
     return lam, phi
 
 
-def complex_modes(K, C, M, n_modes: int, clamped: bool = False, n_rigid: int | None = None):
+def complex_modes(K: sp.spmatrix, C: sp.spmatrix, M: sp.spmatrix, n_modes: int, clamped: bool = False,
+                  n_rigid: int | None = None) -> tuple[np.ndarray, np.ndarray]:
     """Lowest n_modes complex eigenpairs of (s^2 M + s C + K) phi = 0 (state-space, dense or sparse).
 
     One root per mode: one of each conjugate pair, and one of the double zero root of each

@@ -54,7 +54,8 @@ def compile_interpolations(model, xyz: np.ndarray) -> InterpolationData:
                              tuple(arms), np.array(ref_arms, float).reshape(-1, 3))
 
 
-def fit(x_nodes: np.ndarray, w: np.ndarray, arms0: np.ndarray, ref_arm0: np.ndarray):
+def fit(x_nodes: np.ndarray, w: np.ndarray, arms0: np.ndarray,
+        ref_arm0: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Reference position [m] and rotation Q of the best-fit rigid motion, and the current arms y_i."""
     c = w @ x_nodes
     y = x_nodes - c

@@ -1,14 +1,16 @@
-"""Mode labelling from strain-energy fractions, and mode tracking across load steps by MAC."""
+"""Mode labelling from strain-energy fractions, and the MAC matrix.
+
+Labelling sits under the eigen kernel and solve_modes (which label their modes); tracking modes
+across load levels (fem.tracking) solves, so it sits above fem.static and fem.modes: two modules,
+one each side of the solver. mac_matrix stays here until the single MAC kernel replaces it.
+"""
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import replace
 
-import numba
 import numpy as np
-from scipy.optimize import linear_sum_assignment
 
-from .beam import current_frames
 
 CLASSES = ("OOP", "IP", "T", "EXT", "RB")
 CLASS_NAMES = {"OOP": "out-of-plane bending", "IP": "in-plane bending", "T": "torsion", "EXT": "extension",
@@ -16,57 +18,21 @@ CLASS_NAMES = {"OOP": "out-of-plane bending", "IP": "in-plane bending", "T": "to
 _RIGID = ("fore-aft", "lateral", "plunge", "roll", "pitch", "yaw")
 
 
-@numba.njit(cache=True, inline="always")
-def _bending_energy(kd, ko, dd, L, d1, r1, d2, r2, sign):  # pragma: no cover - compiled
-    """Energy of a bending block 1/2 ((kd + dd) a^2 + 2 ko a b + (kd - dd) b^2), a and b the end
-    rotations relative to the chord; sign=+1 for (v, rz), -1 for (w, ry)."""
-    chord = sign * (d2 - d1) / L
-    a, b = r1 - chord, r2 - chord
-    return 0.5 * ((kd + dd) * a * a + 2 * ko * a * b + (kd - dd) * b * b)
-
-
-@numba.njit(cache=True)
-def _beam_energies(shapes, nodes, Rr, stiffness, L, vertical, out):  # pragma: no cover - compiled
-    """out[m] += (OOP, IP, torsion, extension) strain energies of mode m summed over the beams
-    (stiffness: the kernel coefficients, beam.element_coefficients)."""
-    loc = np.empty((4, 3))  # local u1, t1, u2, t2
-    for m in range(shapes.shape[0]):
-        for e in range(nodes.shape[0]):
-            for blk in range(4):
-                node = nodes[e, blk // 2]
-                off = 3 * (blk % 2)
-                for j in range(3):
-                    loc[blk, j] = (shapes[m, node, off] * Rr[e, 0, j] + shapes[m, node, off + 1] * Rr[e, 1, j]
-                                   + shapes[m, node, off + 2] * Rr[e, 2, j])
-            EA, GJ, kdy, koy, kdz, koz, ddy, ddz = stiffness[e]
-            Le = L[e]
-            ext = 0.5 * EA / Le * (loc[2, 0] - loc[0, 0]) ** 2
-            tor = 0.5 * GJ / Le * (loc[3, 0] - loc[1, 0]) ** 2
-            by = _bending_energy(kdy, koy, ddy, Le, loc[0, 2], loc[1, 1], loc[2, 2], loc[3, 1], -1.0)
-            bz = _bending_energy(kdz, koz, ddz, Le, loc[0, 1], loc[1, 2], loc[2, 1], loc[3, 2], 1.0)
-            out[m, 0] += by if vertical[e] else bz
-            out[m, 1] += bz if vertical[e] else by
-            out[m, 2] += tor
-            out[m, 3] += ext
-
-
 def energy_fractions(modes, state) -> np.ndarray:
     """(n_modes, 5) fractions of OOP bending, IP bending, torsion, extension and 'rigid/suspension'.
 
-    Beam strain energy of each mode is split per element in its deformed local axes; bending
-    about the local axis closer to the global vertical plane is out-of-plane. Whatever of the
-    mode's potential energy (omega^2, mass-normalised) is not beam strain energy (springs,
-    cords, gravity) counts as rigid/suspension.
+    The strain energy of each mode comes from the element families that split theirs
+    (Family.strain_energies: the beams, per element in its deformed local axes, bending about the
+    local axis closer to the global vertical plane being out-of-plane). Whatever of the mode's
+    potential energy (omega^2, mass-normalised) is not strain energy (springs, cords, gravity)
+    counts as rigid/suspension.
     """
-    system = state.system
-    b = system.cm.beams
     shapes = modes.shapes
     out = np.zeros((len(shapes), 5))
-    if len(b.L0):
-        Rr = current_frames(state.positions, state.rotations, b)
-        vertical = np.abs(Rr[:, 2, 2]) >= np.abs(Rr[:, 2, 1])  # local z closer to global z: bending about y is OOP
-        _beam_energies(np.ascontiguousarray(shapes, dtype=float), b.nodes, np.ascontiguousarray(Rr),
-                       np.ascontiguousarray(b.stiffness, dtype=float), b.L0, vertical, out)
+    for family in state.system.families:
+        energies = getattr(family, "strain_energies", None)  # an optional hook of the element families
+        if energies is not None:
+            out[:, :4] += energies(shapes, state.positions, state.rotations)
     total_pe = 0.5 * np.abs(modes.eigenvalues.real if modes.eigenvalues is not None else 0.0)
     if modes.complex_shapes is not None:
         total_pe = 0.5 * (2 * np.pi * modes.frequencies_hz) ** 2
@@ -118,51 +84,3 @@ def mac_matrix(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     num = np.abs(a.conj().T @ b) ** 2
     den = np.outer(np.sum(np.abs(a) ** 2, axis=0), np.sum(np.abs(b) ** 2, axis=0))
     return num / np.where(den > 0, den, 1.0)
-
-
-@dataclass(frozen=True)
-class ModeTracking:
-    """Modes followed across load levels.
-
-    load_factors (n_levels,); frequencies_hz (n_levels, n_tracks) where column j follows one
-    physical mode; labels (n_tracks,) at the first level; mac (n_levels - 1, n_tracks): MAC
-    between consecutive levels; order (n_levels, n_tracks): index of the mode in each level's
-    sorted list.
-    """
-
-    load_factors: np.ndarray
-    frequencies_hz: np.ndarray
-    labels: tuple[str, ...]
-    mac: np.ndarray
-    order: np.ndarray
-    modes: tuple = ()
-
-
-def _weighted(modes) -> np.ndarray:
-    """(n_dof, n_modes) shapes scaled by sqrt(diag M): translations and rotations weighted by their inertia."""
-    state = modes.state
-    w = np.sqrt(np.abs(state.system.full_mass_matrix(state.positions, state.rotations).diagonal()))
-    return modes.matrix() * w[:, None]
-
-
-def track_modes(mode_sets, load_factors=None) -> ModeTracking:
-    """Pair the modes of successive levels by a mass-weighted MAC (Hungarian assignment).
-
-    The shapes are weighted by sqrt(diag M) so torsion modes (rotations only on a beam axis)
-    are compared as reliably as bending modes.
-    """
-    mode_sets = list(mode_sets)
-    n = min(m.n_modes for m in mode_sets)
-    order = np.zeros((len(mode_sets), n), dtype=int)
-    order[0] = np.arange(n)
-    macs = np.zeros((max(len(mode_sets) - 1, 0), n))
-    shapes = [_weighted(m) for m in mode_sets]
-    for k in range(1, len(mode_sets)):
-        M = mac_matrix(shapes[k - 1][:, order[k - 1]], shapes[k])
-        rows, cols = linear_sum_assignment(-M)
-        order[k, rows] = cols
-        macs[k - 1, rows] = M[rows, cols]
-    freqs = np.stack([mode_sets[k].frequencies_hz[order[k]] for k in range(len(mode_sets))])
-    lf = np.asarray(load_factors if load_factors is not None else np.arange(len(mode_sets)), float)
-    labels = tuple(mode_sets[0].labels[i] for i in order[0]) if mode_sets[0].labels else ()
-    return ModeTracking(lf, freqs, labels, macs, order, tuple(mode_sets))

@@ -11,7 +11,7 @@ import numpy as np
 from .rotations import cross, jl_inv, jl_inv_derivative_T, logm_so3, skew
 
 
-def mass_gravity(R: np.ndarray, offset0: np.ndarray, weight: np.ndarray):
+def mass_gravity(R: np.ndarray, offset0: np.ndarray, weight: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Potential -W.(x + R o0) of masses with fixed force W = m a [N] at rotating offsets.
 
     Returns g (n, 6) and K (n, 6, 6).
@@ -51,8 +51,9 @@ def _cord_map(ra, rb, w):
                            w[:, None, None] * np.concatenate([eye, -skew(rb)], axis=2)], axis=2)
 
 
-def cord_forces(xa, Ra, xb, Rb, offset0: np.ndarray, anchor: np.ndarray, k: np.ndarray, l0: np.ndarray,
-                w: np.ndarray):
+def cord_forces(xa: np.ndarray, Ra: np.ndarray, xb: np.ndarray, Rb: np.ndarray, offset0: np.ndarray,
+                anchor: np.ndarray, k: np.ndarray, l0: np.ndarray,
+                w: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Cords from fixed anchors to an attachment point between two nodes, P = (1 - w)(x_a + R_a o) +
     w (x_b + R_b o) (w = 0: at node a with the rigid arm o; 0 < w < 1: along the element a-b, the
     translations interpolated linearly). Returns g (n, 12), K (n, 12, 12) over [dx_a, w_a, dx_b,
@@ -86,7 +87,8 @@ def cord_damping(xa, Ra, xb, Rb, offset0, anchor, c, w) -> np.ndarray:
     return np.swapaxes(TP, 1, 2) @ CPP @ TP
 
 
-def spring_forces(xa, Xa, Ra, xb, Xb, Rb, frame, k):
+def spring_forces(xa: np.ndarray, Xa: np.ndarray, Ra: np.ndarray, xb: np.ndarray, Xb: np.ndarray, Rb: np.ndarray,
+                  frame: np.ndarray, k: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """6-component springs on relative translation and rotation vector of b w.r.t. a (fixed frame axes).
 
     Returns g (n, 12) and K (n, 12, 12) over [dx_a, w_a, dx_b, w_b].

@@ -71,7 +71,7 @@ def _step_nodes(x, R, delta, dof_map, x_out, R_out):  # pragma: no cover - compi
         _spin_node(d[3], d[4], d[5], R, R_out, n)
 
 
-def step_nodes(x: np.ndarray, R: np.ndarray, delta: np.ndarray, dof_map: np.ndarray):
+def step_nodes(x: np.ndarray, R: np.ndarray, delta: np.ndarray, dof_map: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """(x + dx, exp(skew(spin)) R) for a reduced increment ``delta`` numbered by ``dof_map``."""
     x_out, R_out = np.empty_like(x, dtype=float), np.empty_like(R, dtype=float)
     _step_nodes(np.ascontiguousarray(x, dtype=float), np.ascontiguousarray(R, dtype=float),
@@ -219,7 +219,8 @@ def jl_inv(theta: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return np.eye(3) - 0.5 * S + c[..., None, None] * (S @ S), c, e
 
 
-def jl_inv_derivative_T(theta, c, e, dtheta, m):
+def jl_inv_derivative_T(theta: np.ndarray, c: np.ndarray, e: np.ndarray, dtheta: np.ndarray,
+                        m: np.ndarray) -> np.ndarray:
     """(d Jinv[dtheta])^T m for directions dtheta (..., k, 3) and vectors m (..., 3) -> (..., k, 3)."""
     th = theta[..., None, :]
     mm = m[..., None, :]

@@ -1,5 +1,6 @@
-"""Derivatives of the residual, tangent and mass matrix with respect to material and section
-parameters of a beam group, and spring rates: the foundation of gradient-based updating.
+"""Derivatives of the residual, tangent and mass matrix with respect to the compiled values of the
+element families (beam coefficients and mass, point masses, spring rates, cords) and to the state:
+the foundation of gradient-based updating (flexgvt.updating.derivatives builds the changes).
 
 The beam kernel is linear in its coefficients s = (EA, GJ, kd_y, ko_y, kd_z, ko_z, dd_y, dd_z),
 and the mass matrix in the end values of (rho A, rho Ip, rho Iy, rho Iz), so d(residual, K)/dp is the same kernel
@@ -9,7 +10,7 @@ element pass per parameter, exact, at any (deformed) state.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 
 import numpy as np
 import scipy.sparse as sp
@@ -17,28 +18,11 @@ import scipy.sparse as sp
 from ..errors import ModelError
 from ..model import RectangularSection, end_properties
 from .beam import (
-    beam_forces,
-    beam_mass_matrices,
     element_coefficients,
-    local_mass_matrices,
-    nodal_weights,
 )
-from .points import cord_forces, mass_gravity, mass_matrix, spring_forces
 from .rotations import skew, spin
-from .static import State
 
 BEAM_PARAMETERS = ("E", "G", "rho", "width", "height")
-
-
-@dataclass(frozen=True)
-class ParameterDerivative:
-    """d(residual)/dp (reduced, (n_free,)), dK/dp and dM/dp (reduced sparse) at a state."""
-
-    parameter: str
-    group: str
-    residual: np.ndarray
-    stiffness: sp.csc_matrix
-    mass: sp.csc_matrix
 
 
 def _section_props_complex(section, parameter: str, h: float) -> dict:
@@ -61,12 +45,6 @@ def _section_props_complex(section, parameter: str, h: float) -> dict:
     shear = 5 / 6 * A if section.shear else 0.0 * A
     return {"A": A, "Iy": bc * tc**3 / 12, "Iz": tc * bc**3 / 12, "J": J, "Ip": A * (bc * bc + tc * tc) / 12,
             "Ay": shear, "Az": shear}
-
-
-def group_derivatives(group, parameter, L):
-    """Exact (complex-step) derivatives with respect to ``parameter`` of a beam group's kernel
-    coefficients (k, 8), mass per length (k, 2) and inertia per length (k, 2, 3) (see group_values)."""
-    return groups_derivatives([(group, parameter, L)])[0]
 
 
 def _stepped(group, parameter: str, h: float, properties: dict):
@@ -129,42 +107,6 @@ def groups_derivatives(items) -> list[tuple]:
     return out
 
 
-def beam_parameter_derivative(state: State, group: str, parameter: str) -> ParameterDerivative:
-    """Exact d(residual), dK, dM with respect to ``parameter`` (E, G, rho, width, height) of the
-    beam groups named ``group`` (the ``name=`` of add_beams; every group of that name moves
-    together, each with its own material and section), at ``state``.
-
-    Applied gravity loads change with rho (beam weight) and are included in d(residual).
-    """
-    system = state.system
-    model = state.model
-    cm = system.cm
-    if not np.any(cm.beam_group_names == group):
-        raise ModelError(f"no beam group named '{group}' in model '{model.name}'; groups: "
-                         f"{sorted(set(cm.beam_group_names.tolist()))}")
-    starts = np.cumsum([0] + [len(g.ids) for g in model.beams])
-    parts = [(np.arange(starts[k], starts[k + 1]), g) for k, g in enumerate(model.beams) if g.name == group]
-    rows = np.concatenate([r for r, _ in parts])
-    values = [group_derivatives(g, parameter, cm.beams.L0[r]) for r, g in parts]
-    dcoeff, dmass, dinertia = (np.concatenate([v[i] for v in values]) for i in range(3))
-    d_res, dK, dM = value_derivative(system, state.positions, state.rotations, state.load_factor,
-                                     ValueChange(beams=(rows, dcoeff, dmass, dinertia)))
-    return ParameterDerivative(parameter, group, d_res, dK, dM)
-
-
-def frequency_derivatives(modes, derivative: ParameterDerivative) -> np.ndarray:
-    """d(frequency_hz)/dp of real modes, d lambda = phi^T (dK - lambda dM) phi (mass-normalised phi),
-    holding the static state fixed (the state's own change with p belongs to the updating layer:
-    du/dp = -K^-1 d(residual)/dp, then dK/du along it)."""
-    system = modes.state.system
-    phi = np.stack([system.reduce_displacement(s.reshape(-1)) for s in modes.shapes], axis=1)
-    lam = modes.eigenvalues
-    dlam = np.einsum("ij,ij->j", phi, (0.5 * (derivative.stiffness + derivative.stiffness.T)) @ phi) \
-        - lam * np.einsum("ij,ij->j", phi, derivative.mass @ phi)
-    f = modes.frequencies_hz
-    return np.where(f > 0, dlam / (8 * np.pi**2 * np.where(f > 0, f, 1.0)), 0.0)
-
-
 @dataclass(frozen=True)
 class ValueChange:
     """d(compiled values)/dp of one parameter, per item (items not listed do not change).
@@ -178,6 +120,8 @@ class ValueChange:
     [(offsets (k, 3), weight)] a finite-difference rule in the attachment offset (the cord's
     line of action is not polynomial in it); cord_along: (indices, samples) the same rule in the
     attachment fraction along the element. Derivatives are per unit of the parameter.
+    Each field belongs to one element family (Family.value_fields); a family without a field here
+    (a new one) takes its items from ``others`` by its field names.
     """
 
     beams: tuple | None = None
@@ -186,20 +130,29 @@ class ValueChange:
     cords: tuple | None = None
     cord_offsets: tuple | None = None  # (indices, [(offsets (k, 3), weight), ...]): a difference rule in the offset
     cord_along: tuple | None = None  # (indices, [(fractions (k,), weight), ...]): the same in the attachment fraction
+    others: dict = field(default_factory=dict)  # {field name: item} of families without a field above
     cache: dict = field(default_factory=dict, compare=False, repr=False)  # state-independent pieces, computed once
 
+    def item(self, name: str) -> tuple | None:
+        """The change's item for a family's value field ``name`` (None: unchanged)."""
+        return getattr(self, name) if name in _OWN_FIELDS else self.others.get(name)
 
-def _add_cords(g_full: np.ndarray, system, rows: np.ndarray, g: np.ndarray) -> None:
-    """Add cord element vectors (k, 12) over [node a, node b] into the (n, 6) nodal array."""
-    np.add.at(g_full, system.cord_nodes[rows], g[:, :6])
-    np.add.at(g_full, system.cord_nodes_b[rows], g[:, 6:])
+    @property
+    def beams_only(self) -> bool:
+        """Only beam values change."""
+        return self.beams is not None and not self.others and all(
+            getattr(self, name) is None for name in _OWN_FIELDS if name != "beams")
+
+
+_OWN_FIELDS = ("beams", "masses", "springs", "cords", "cord_offsets", "cord_along")
 
 
 def value_derivative(system, x: np.ndarray, R: np.ndarray, lam: float, change: ValueChange,
-                     full_mass: bool = False):
+                     full_mass: bool = False) -> tuple[np.ndarray, sp.csc_matrix, sp.csc_matrix]:
     """Exact d(residual) (reduced), dK (reduced, the consistent tangent's derivative) and dM (reduced,
     or over all DOFs with full_mass) at the state (x, R) and load factor lam, for a change of the
-    compiled values. Only the items that change are evaluated."""
+    compiled values. Only the items that change are evaluated, each by its family
+    (Family.derivative; a family's ValueChange fields are its value_fields)."""
     n = system.n_nodes
     p = system.pattern
     K_data = np.zeros(p.nnz)
@@ -208,78 +161,21 @@ def value_derivative(system, x: np.ndarray, R: np.ndarray, lam: float, change: V
     g_full = np.zeros((n, 6))
     f_full = np.zeros((n, 6))
     gvec = system.config.gravity_vector
-    if change.beams is not None:
-        rows, dcoeff, drhoA, drhoI = change.beams
-        rows = np.asarray(rows, int)
-        sub = replace(system.cm.beams.take(rows), stiffness=np.ascontiguousarray(dcoeff, dtype=float))
-        if np.any(sub.stiffness):  # E, G, section: the stiffness changes (not rho)
-            g, K, _ = beam_forces(x, R, sub, True)
-            p.data_subset(0, rows, K, K_data)
-            np.add.at(g_full, sub.nodes[:, 0], g[:, :6])
-            np.add.at(g_full, sub.nodes[:, 1], g[:, 6:])
-        if np.any(drhoA) or np.any(drhoI):  # rho, section: the mass changes (not E, G)
-            dsub = replace(sub, mass_per_length=np.asarray(drhoA, float), inertia_per_length=np.asarray(drhoI, float))
-            dw1, dw2 = nodal_weights(dsub)
-            np.add.at(f_full, (sub.nodes[:, 0], slice(0, 3)), lam * dw1[:, None] * gvec[None, :])
-            np.add.at(f_full, (sub.nodes[:, 1], slice(0, 3)), lam * dw2[:, None] * gvec[None, :])
-            # The element-axes mass matrices do not depend on the state: once per change, for
-            # every configuration's system (they share the model's elements).
-            local = change.cache.get("local_mass")
-            if local is None:
-                local = change.cache["local_mass"] = local_mass_matrices(dsub)
-            mass_pattern.data_subset(0, rows, beam_mass_matrices(x, R, sub, local), M_data)
-    if change.masses is not None:
-        rows, (m_p, off_p), (m_m, off_m), inv2h = change.masses
-        rows = np.asarray(rows, int)
-        nodes = system.masses.nodes[rows]
-        inertia = system.masses.inertia[rows]
-        g = K = M = 0.0
-        for m_, off, w in ((m_p, off_p, inv2h), (m_m, off_m, -inv2h)):
-            gi, Ki = mass_gravity(R[nodes], np.asarray(off, float),
-                                  lam * np.asarray(m_, float)[:, None] * gvec[None, :])
-            g, K = g + w * gi, K + w * Ki
-            M = M + w * mass_matrix(R[nodes], np.asarray(off, float), np.asarray(m_, float), inertia)
-        np.add.at(g_full, nodes, g)
-        p.data_subset(1, rows, K, K_data)
-        mass_pattern.data_subset(1, rows, M, M_data)
-    if change.cords is not None:
-        rows, dk = change.cords
-        rows = np.asarray(rows, int)
-        g, K, _, _ = cord_forces(*system.cord_state(x, R, rows), system.cord_offset[rows], system.cord_anchor[rows],
-                                 np.asarray(dk, float), system.cord_l0_at(lam)[rows], system.cord_w[rows])
-        _add_cords(g_full, system, rows, g)
-        p.data_subset(2, rows, K, K_data)
-    for samples_of in (change.cord_offsets, change.cord_along):
-        if samples_of is None:
-            continue
-        rows, samples = samples_of
-        rows = np.asarray(rows, int)
-        g = K = 0.0
-        for value, w in samples:
-            off = np.asarray(value, float) if samples_of is change.cord_offsets else system.cord_offset[rows]
-            frac = system.cord_w[rows] if samples_of is change.cord_offsets else np.asarray(value, float)
-            gi, Ki, _, _ = cord_forces(*system.cord_state(x, R, rows), off, system.cord_anchor[rows],
-                                       system.cord_k[rows], system.cord_l0_at(lam)[rows], frac)
-            g, K = g + w * gi, K + w * Ki
-        _add_cords(g_full, system, rows, g)
-        p.data_subset(2, rows, K, K_data)
-    if change.springs is not None:
-        rows, dk = change.springs
-        rows = np.asarray(rows, int)
-        s = system.springs
-        a, b = s.a[rows], s.b[rows]
-        ground = a < 0
-        ia = np.where(ground, b, a)
-        xa = np.where(ground[:, None], system.cm.xyz[b], x[ia])
-        Ra = np.where(ground[:, None, None], np.eye(3), R[ia])
-        g, K = spring_forces(xa, system.cm.xyz[ia], Ra, x[b], system.cm.xyz[b], R[b], s.frame[rows],
-                             np.asarray(dk, float))
-        g[ground, :6] = 0.0
-        K[ground, :6, :] = 0.0
-        K[ground, :, :6] = 0.0
-        np.add.at(g_full, ia[~ground], g[~ground, :6])
-        np.add.at(g_full, b, g[:, 6:])
-        p.data_subset(3, rows, K, K_data)
+    for block, family in enumerate(system.families):
+        for name in family.value_fields:
+            item = change.item(name)
+            if item is None:
+                continue
+            d = family.derivative(name, item, x, R, lam, gvec, change.cache)
+            nodes = family.nodes[d.rows]
+            for out, v in ((g_full, d.forces), (f_full, d.applied)):
+                if v is not None:
+                    for a in range(nodes.shape[1]):
+                        np.add.at(out, nodes[:, a], v[:, 6 * a:6 * a + 6])
+            if d.tangent is not None:
+                p.data_subset(block, d.rows, d.tangent, K_data)
+            if d.mass is not None:
+                mass_pattern.data_subset(block, d.rows, d.mass, M_data)
     r_full = (g_full - f_full).reshape(-1)
     dM = mass_pattern.matrix(M_data)
     if not system.has_links:
@@ -362,43 +258,9 @@ def modal_state_terms(system, x: np.ndarray, R: np.ndarray, lam: float, phi: np.
     gK = np.zeros((n, 6, m))
     gM = np.zeros((n, 6, m))
     H_blocks = [[] for _ in range(m)] if vectors else None
-    b = system.cm.beams
-    mp = system.masses
-    s = system.springs
-    cn = system.cord_nodes
-    ground = s.a < 0
-    ia = np.where(ground, s.b, s.a)
-    l0 = system.cord_l0_at(lam)
-
-    exploded = replace(b, nodes=np.arange(2 * len(b.L0), dtype=np.int64).reshape(-1, 2))  # element e: nodes 2e, 2e+1
-
-    def beam_fn(xs, Rs):
-        data = exploded
-        xf, Rf = xs.reshape(-1, 3), Rs.reshape(-1, 3, 3)
-        _, K, _ = beam_forces(xf, Rf, data, True)
-        return K, beam_mass_matrices(xf, Rf, data, system.cm.beam_local_mass)
-
-    def mass_fn(xs, Rs):
-        _, K = mass_gravity(Rs[:, 0], mp.offset, lam * system.mass_weight)
-        return K, mass_matrix(Rs[:, 0], mp.offset, mp.mass, mp.inertia)
-
-    def cord_fn(xs, Rs):
-        _, K, _, _ = cord_forces(xs[:, 0], Rs[:, 0], xs[:, 1], Rs[:, 1], system.cord_offset, system.cord_anchor,
-                                 system.cord_k, l0, system.cord_w)
-        return K, None
-
-    def spring_fn(xs, Rs):
-        xa = np.where(ground[:, None], system.cm.xyz[s.b], xs[:, 0])
-        Ra = np.where(ground[:, None, None], np.eye(3), Rs[:, 0])
-        _, K = spring_forces(xa, system.cm.xyz[ia], Ra, xs[:, 1], system.cm.xyz[s.b], Rs[:, 1], s.frame, s.stiffness)
-        K[ground, :6, :] = 0.0
-        K[ground, :, :6] = 0.0
-        return K, None
-
-    cord_pairs = np.column_stack([cn, system.cord_nodes_b]) if len(cn) else np.zeros((0, 2), int)
-    kinds = [(beam_fn, b.nodes), (mass_fn, mp.nodes[:, None]), (cord_fn, cord_pairs),
-             (spring_fn, np.column_stack([ia, s.b]) if len(s.b) else np.zeros((0, 2), int))]
-    for block, (fn, nodes) in enumerate(kinds):
+    kinds = [(lambda xs, Rs, f=family: f.exploded_terms(xs, Rs, lam), family.nodes, family.translation_invariant)
+             for family in system.families]
+    for fn, nodes, mirror in kinds:
         if len(nodes) == 0:
             if vectors:
                 width = 6 * max(nodes.shape[1], 1)
@@ -408,7 +270,7 @@ def modal_state_terms(system, x: np.ndarray, R: np.ndarray, lam: float, phi: np.
         ne, p = nodes.shape
         ph = full[nodes].reshape(ne, 6 * p, m)
         Hb = np.zeros((m, ne, 6 * p, 6 * p)) if vectors else None
-        for a, c, dK, dM in _element_state_derivatives(fn, x[nodes], R[nodes], h_t, h_r, fn is beam_fn):
+        for a, c, dK, dM in _element_state_derivatives(fn, x[nodes], R[nodes], h_t, h_r, mirror):
             Kphi = dK @ ph  # batched (e, d, d) @ (e, d, m)
             np.add.at(gK[:, c], nodes[:, a], np.sum(ph * Kphi, axis=1))
             if dM is not None:

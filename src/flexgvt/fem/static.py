@@ -60,6 +60,7 @@ class State:
     solve_time_s: float = 0.0
     system: System | None = field(default=None, repr=False, compare=False)
     cautions: tuple[str, ...] = ()  # physically doubtful features of the solution (see check_state)
+    steps: tuple[State, ...] = field(default=(), repr=False, compare=False)  # states at solve_static's load_factors
 
     @property
     def displacements(self) -> np.ndarray:
@@ -239,7 +240,7 @@ _RELEASE = (1.0, 1e-1, 1e-2, 1e-3, 1e-4, 0.0)
 
 
 def _hold_then_release(model: Model, configuration: Configuration, system: System, coeffs: np.ndarray,
-                       settings: StaticSettings, load_factors, progress, keep_steps: bool):
+                       settings: StaticSettings, load_factors, progress) -> State:
     """Equilibrium of a structure that its deformation restrains but its undeformed shape does not:
     the load ramp with a rotational spring at the node nearest the centroid holding its rotations
     (all three: the pushed motion mixes them; stiffness weight x span per radian), then that spring
@@ -258,9 +259,8 @@ def _hold_then_release(model: Model, configuration: Configuration, system: Syste
         return configuration.with_(springs=configuration.springs + (
             Spring.make(node, None, stiffness=np.r_[np.zeros(3), np.full(3, f * k0)]),))
 
-    out = _solve_static(model, held(1.0), settings=settings, load_factors=load_factors, progress=progress,
-                        keep_steps=keep_steps)
-    state, saved = out if keep_steps else (out, None)
+    state = _solve_static(model, held(1.0), settings=settings, load_factors=load_factors, progress=progress)
+    saved = state.steps  # the states at load_factors come from the held ramp
     done, fractions = 1.0, list(_RELEASE[1:])
     while fractions:
         f = fractions[0]
@@ -279,7 +279,7 @@ def _hold_then_release(model: Model, configuration: Configuration, system: Syste
     if not _stable(state):
         raise _unrestrained_error(system, coeffs, " until it deforms, and the equilibrium found once the spring that "
                                   "held it during the load ramp was released is unstable")
-    return (state, saved) if keep_steps else state
+    return dataclasses.replace(state, steps=saved)
 
 
 def _stable(state: State) -> bool:
@@ -329,12 +329,13 @@ def _limit_rotation(delta: np.ndarray, system: System, limit: float = 0.5) -> np
 @serial_blas
 def solve_static(model: Model, configuration: Configuration, *, settings: StaticSettings | None = None,
                  start: State | None = None, load_factors: np.ndarray | None = None,
-                 progress: Callable[[float], None] | None = None, keep_steps: bool = False):
+                 progress: Callable[[float], None] | None = None, keep_steps: bool = False) -> State:
     """Geometrically nonlinear static equilibrium of ``model`` in ``configuration``.
 
     start: a previous State to warm-start from (same model, e.g. another design point); the full
-    load is tried first, then the load ramp. load_factors: extra load levels to return states at
-    (with keep_steps=True the function returns (final_state, [states at those levels])).
+    load is tried first, then the load ramp. load_factors: extra load levels (fractions of the
+    loads, 0 to 1) whose states the result keeps in ``State.steps``. keep_steps=True (deprecated:
+    read ``state.steps``) returns (state, list(state.steps)) as before.
     progress: called with the converged load factor after each increment.
     A structure on cords under gravity that only its deformation restrains (a strip hung on two
     cords along its axis with its centre of mass off that axis) is ramped with its free rotation
@@ -343,17 +344,49 @@ def solve_static(model: Model, configuration: Configuration, *, settings: Static
     be reached, SingularModelError for under-constrained models.
     """
     settings = settings or StaticSettings()
-    out = _solve_static(model, configuration, settings=settings, start=start, load_factors=load_factors,
-                        progress=progress, keep_steps=keep_steps)
-    if keep_steps:
-        return check_state(out[0], settings), out[1]
-    return check_state(out, settings)
+    state = check_state(_solve_static(model, configuration, settings=settings, start=start,
+                                      load_factors=load_factors, progress=progress), settings)
+    if keep_steps:  # shown once per calling line by the warnings filter's registry
+        warnings.warn("solve_static(keep_steps=True) is deprecated: the states at load_factors are in the "
+                      "result's .steps (solve_static(...).steps)", DeprecationWarning, stacklevel=3)
+        return state, list(state.steps)
+    return state
+
+
+@dataclass
+class _Run:
+    """What the steps of one static solve share: the system, its settings, the mass matrix and
+    factorisation cache, the reference load and length of the residual and energy norms, and the
+    convergence record."""
+
+    model: Model
+    configuration: Configuration
+    system: System
+    settings: StaticSettings
+    t0: float
+    mass: sp.csc_matrix
+    cholmod: CholmodCache | None
+    load_ref: float
+    length: float
+    history: list[IterationRecord] = field(default_factory=list)
+
+    def state(self, x, R, lam: float, ev: Evaluation, stabilised: bool) -> State:
+        return State(self.model, self.configuration, self.system.cm.node_ids, x.copy(), R.copy(), lam,
+                     tuple(self.history), ev.axial_forces, ev.cord_tension, ev.cord_length, stabilised,
+                     time.perf_counter() - self.t0, self.system)
+
+    def reference(self, ev: Evaluation, lam: float) -> float:
+        """The force the residual at load factor lam is measured against [N]."""
+        return max(np.linalg.norm(ev.external), self.load_ref * lam, 1e-300)
+
+    def energy(self, delta: np.ndarray, r: np.ndarray, ref: float) -> float:
+        """|du . r| per (reference force x length)."""
+        return abs(delta @ r) / max(ref * self.length, 1e-300)
 
 
 def _solve_static(model: Model, configuration: Configuration, *, settings: StaticSettings | None = None,
                   start: State | None = None, load_factors: np.ndarray | None = None,
-                  progress: Callable[[float], None] | None = None, keep_steps: bool = False,
-                  _warm_only: bool = False):
+                  progress: Callable[[float], None] | None = None, _warm_only: bool = False) -> State:
     """solve_static without the plausibility check of its final state (check_state)."""
     t0 = time.perf_counter()
     settings = settings or StaticSettings()
@@ -365,12 +398,12 @@ def _solve_static(model: Model, configuration: Configuration, *, settings: Stati
     if not _warm_only:
         check_connected(system)
     x, R = system.undeformed
-    history: list[IterationRecord] = []
     mass = system.mass_matrix(x, R)
     cholmod = system.cholmod_cache if settings.cholmod else None
     ev0 = system.evaluate(x, R, 1.0, tangent=False)
     load_ref = max(np.linalg.norm(ev0.external), np.linalg.norm(ev0.internal), 1e-12)
     length = np.abs(system.cm.xyz).max() + 1.0  # correction energies |du . r| are per (load x length) [m]
+    run = _Run(model, configuration, system, settings, t0, mass, cholmod, load_ref, length)
     # The tangent with the full load at the undeformed state: loaded cords already give their
     # pendulum stiffness there (a tilted cord pulls sideways and restrains that motion too).
     pushed = None if _warm_only else _pushed_rigid_motion(system, lambda: system.evaluate(x, R, 1.0).tangent,
@@ -379,174 +412,40 @@ def _solve_static(model: Model, configuration: Configuration, *, settings: Stati
         if not _sag_may_hold(system, pushed):
             raise _unrestrained_error(system, pushed)
         if start is None:
-            return _hold_then_release(model, configuration, system, pushed, settings, load_factors, progress,
-                                      keep_steps)
+            return _hold_then_release(model, configuration, system, pushed, settings, load_factors, progress)
     levels = sorted(set(np.round(np.asarray(load_factors, float), 12))) if load_factors is not None else []
-    saved: list[State] = []
-
-    def make_state(x, R, lam, ev, stabilised):
-        return State(model, configuration, system.cm.node_ids, x.copy(), R.copy(), lam, tuple(history),
-                     ev.axial_forces, ev.cord_tension, ev.cord_length, stabilised,
-                     time.perf_counter() - t0, system)
-
-    def newton(x, R, lam, step, energy_tolerance=settings.relative_energy_tolerance, reference=None,
-               predicted=True):
-        """Iterate to equilibrium at load factor lam.
-
-        reference: the evaluation at the last converged state. The tangent at the first
-        extrapolated state takes its beam forces for the stress-dependent part (see the predictor):
-        at (x, R) when it is a predicted state, else (x, R) is that converged state and the first
-        correction is the tangent predictor, so the tangent after it.
-        Returns (x, R, ev, stabilised) or None. The residual is checked before factorising.
-        """
-        intermediate = energy_tolerance >= settings.intermediate_energy_tolerance
-        stabilised = False
-        previous = np.inf
-        growth = 0
-        fac = None
-        first_energy = None
-        it = 0
-        polish = 0 if intermediate else settings.polish_iterations
-        accepted, accepted_res = None, np.inf  # a state accepted in energy, kept while it is polished
-        ev = system.evaluate(x, R, lam, assemble=False, reference=reference if predicted else None)
-        while it < settings.max_iterations:
-            r = ev.internal - ev.external
-            ref = max(np.linalg.norm(ev.external), load_ref * lam, 1e-300)
-            res = np.linalg.norm(r) / ref
-            if not np.isfinite(res):
-                return accepted
-            if res < settings.tolerance:
-                history.append(IterationRecord(step, lam, it, res, 0.0, 0.0))
-                return x, R, ev, stabilised
-            try:
-                fac = _Factor(system, ev, mass, load_ref, cholmod)
-            except SingularModelError:
-                return accepted
-            delta = -fac.solve(r)
-            energy = abs(delta @ r) / max(ref * length, 1e-300)
-            history.append(IterationRecord(step, lam, it, res, energy, fac.stabilisation))
-            stabilised |= fac.stabilisation > 0
-            # The energy norm is converged and the residual has stagnated at its round-off floor
-            # (very stiff structures on soft supports): the correction would change nothing.
-            stagnant = res > 0.5 * previous or res < 1e3 * settings.tolerance
-            if not np.all(np.isfinite(delta)):
-                return accepted
-            if it > 0 and energy < settings.energy_tolerance and stagnant:
-                # Apply the correction at hand and keep it where the residual does not grow: a thin
-                # member's residual may stall for one iteration (its axial forces second order in the
-                # last bending correction) and then fall to round-off (4.7e-4, 2.6e-4, then 1e-7 on a
-                # warm-started loaded strip). The state thrown away with it carried axial forces off
-                # by ~1e-3 of the load and its first frequency by 1e-5.
-                xc, Rc = system.update(x, R, _limit_rotation(delta, system))
-                evc = system.evaluate(xc, Rc, lam, tangent=False)
-                res_c = np.linalg.norm(evc.internal - evc.external) / ref
-                if np.isfinite(res_c) and res_c <= res:
-                    history.append(IterationRecord(step, lam, it + 1, res_c, 0.0, 0.0))
-                    return xc, Rc, evc, stabilised
-                return accepted if accepted is not None and accepted_res < res else (x, R, ev, stabilised)
-            growth = growth + 1 if res > previous else 0
-            if growth >= 4:
-                return accepted
-            previous = res
-            x, R = system.update(x, R, _limit_rotation(delta, system))
-            it += 1
-            if first_energy is None:
-                first_energy = energy
-            if intermediate and (it == 1 or energy > energy_tolerance * first_energy):
-                # Test the corrected state with the factor at hand before a new tangent.
-                got = chord_finish(x, R, lam, fac, energy_tolerance * first_energy, step, it, stabilised)
-                if got is not None:
-                    return got
-            elif energy <= energy_tolerance * first_energy:
-                # Converged in energy: check the corrected state's residual without a tangent.
-                ev = system.evaluate(x, R, lam, tangent=False)
-                r = ev.internal - ev.external
-                res_new = np.linalg.norm(r) / ref
-                # (a correction below the absolute energy floor may move the residual within round-off)
-                if np.isfinite(res_new) and (res_new <= max(res, settings.tolerance)
-                                             or (energy < settings.energy_tolerance and res_new <= 2 * res)):
-                    history.append(IterationRecord(step, lam, it, res_new, 0.0, 0.0))
-                    if energy < settings.energy_tolerance or polish == 0 or res_new < settings.tolerance:
-                        return x, R, ev, stabilised
-                    # Small in energy is not yet small in the axial forces of stiff members, which
-                    # the pre-stressed modes follow: polish with full Newton corrections until one
-                    # is below the absolute energy floor (a cold-started 3 g strip accepted at a
-                    # relative residual of 6e-6 had its first frequency 5e-7 off the converged one,
-                    # and a warm start from a neighbouring design then gave another answer).
-                    polish -= 1
-                    accepted, accepted_res = (x, R, ev, stabilised), res_new
-            ev = system.evaluate(x, R, lam, assemble=False, reference=reference if it == 1 and not predicted else None)
-        return accepted
-
-    def chord_finish(x, R, lam, fac, energy_limit, step, it, stabilised):
-        """Finish an intermediate increment with the last factor (modified Newton, no new tangent).
-
-        A state is accepted once the energy of its correction with that factor is below the limit
-        (the correction itself is not applied: the test is on the state's remaining error); up to
-        ``settings.chord_steps`` corrections are applied before that while each cuts the energy
-        tenfold. Returns None if that fails (the caller goes on with Newton from its own x, R).
-        """
-        last = np.inf
-        for done in range(settings.chord_steps + 1):
-            ev = system.evaluate(x, R, lam, tangent=False)
-            r = ev.internal - ev.external
-            ref = max(np.linalg.norm(ev.external), load_ref * lam, 1e-300)
-            res = np.linalg.norm(r) / ref
-            delta = -fac.solve(r)
-            energy = abs(delta @ r) / max(ref * length, 1e-300)
-            if not (np.isfinite(res) and np.isfinite(energy)):
-                return None
-            history.append(IterationRecord(step, lam, it + done, res, energy, fac.stabilisation))
-            if energy <= energy_limit:
-                return x, R, ev, stabilised
-            if done == settings.chord_steps or energy > 0.1 * last:
-                return None
-            x, R = system.update(x, R, _limit_rotation(delta, system))
-            last = energy
-        return None
-
-    def predict(x, R, lam, target, previous):
-        """Secant predictor: the last converged increment extrapolated to the target load factor
-        (none for the first increment). Extrapolating along rotating members stretches them by
-        O(rotation increment^2); the stiff axial terms turn that into forces far above the load
-        (~1e4-1e5 times for a thin strip), so Newton's first tangent from the predicted state takes
-        the converged state's beam forces in its stress-dependent part (see ``newton``). With the
-        predicted state's own ones the first correction left 25-7,000 times more error energy
-        (1,000-element strip under self-weight) and 3 of 20 increments needed two more tangents.
-        A quadratic predictor stretches less but amplifies the intermediate states' looser
-        convergence (tried: more iterations, and divergence with looser intermediate tolerances)."""
-        if previous is None or previous[2] >= lam:
-            return x, R
-        xp, Rp, lp = previous
-        delta = scaled_increment(x, R, xp, Rp, system.dof_map, (target - lam) / (lam - lp))
-        if not np.all(np.isfinite(delta)):
-            return x, R
-        return system.update(x, R, _limit_rotation(delta, system))
-
-    lam = 0.0
-    step = 0
-    previous = None
     if start is not None:
         if start.system is not system and (start.positions.shape != x.shape):
             raise ModelError("solve_static(start=...): the start state belongs to a model of another size")
-        got = newton(*system.impose(*_held_at_rest(system, start.positions, start.rotations), 1.0), 1.0, 0)
+        got = _newton(run, *system.impose(*_held_at_rest(system, start.positions, start.rotations), 1.0), 1.0, 0)
         if got is not None:
-            xs, Rs, ev, stab = got
-            state = make_state(xs, Rs, 1.0, ev, stab)
-            return (state, saved) if keep_steps else state
+            return run.state(*got[:2], 1.0, *got[2:])
         if _warm_only:
             raise ConvergenceError(f"configuration '{configuration.name}': Newton-Raphson did not converge from "
-                                   "the start state", state=start, history=tuple(history))
+                                   "the start state", state=start, history=tuple(run.history))
         if pushed is not None:  # the warm start failed: ramp again with the free rotation held
-            return _hold_then_release(model, configuration, system, pushed, settings, load_factors, progress,
-                                      keep_steps)
+            return _hold_then_release(model, configuration, system, pushed, settings, load_factors, progress)
     if not (np.any(system.applied) or np.any(system.mass_weight) or len(system.cord_nodes) or system.has_prescribed):
         # Nothing loads the structure: the undeformed state is the equilibrium.
-        state = make_state(x, R, 1.0, system.evaluate(x, R, 1.0, tangent=False), False)
-        return (state, [state] * len(levels)) if keep_steps else state
+        state = run.state(x, R, 1.0, system.evaluate(x, R, 1.0, tangent=False), False)
+        return dataclasses.replace(state, steps=(state,) * len(levels))
+    return _ramp(run, x, R, levels, progress)
+
+
+def _ramp(run: _Run, x: np.ndarray, R: np.ndarray, levels: list[float],
+          progress: Callable[[float], None] | None) -> State:
+    """The load-stepping driver: increments of the load factor from 0 to 1 (through every requested
+    level), each predicted from the last two converged states and corrected by Newton, cut in half
+    when Newton fails and scaled by Crisfield's rule after each success. Returns the final state
+    with the states at ``levels`` in its steps."""
+    system, settings = run.system, run.settings
+    lam = 0.0
+    step = 0
+    previous = None
+    saved: list[State] = []
     increment = 1.0 / settings.increments
     converged = system.evaluate(x, R, 0.0, tangent=False)
-    last = make_state(x, R, 0.0, converged, False)
+    last = run.state(x, R, 0.0, converged, False)
     if levels and levels[0] <= 0.0:
         saved.append(last)
     while lam < 1.0 - 1e-12:
@@ -555,38 +454,200 @@ def _solve_static(model: Model, configuration: Configuration, *, settings: Stati
         if nxt:
             target = nxt[0]
         step += 1
-        xs, Rs = predict(x, R, lam, target, previous)
+        xs, Rs = _predict(run, x, R, lam, target, previous)
         strict = target >= 1.0 - 1e-12 or any(abs(target - lv) < 1e-12 for lv in levels)
         tol = settings.relative_energy_tolerance if strict else settings.intermediate_energy_tolerance
-        got = newton(*system.impose(xs, Rs, target), target, step, tol, converged, predicted=xs is not x)
+        got = _newton(run, *system.impose(xs, Rs, target), target, step, tol, converged, predicted=xs is not x)
         if got is None and xs is not x:  # from the converged state instead, without the predictor
-            got = newton(*system.impose(x, R, target), target, step, tol, converged, predicted=False)
+            got = _newton(run, *system.impose(x, R, target), target, step, tol, converged, predicted=False)
         if got is None:
             increment *= 0.5
             if increment < settings.min_increment:
-                err = ConvergenceError(
-                    f"configuration '{configuration.name}': Newton-Raphson did not converge beyond load factor "
+                raise ConvergenceError(
+                    f"configuration '{run.configuration.name}': Newton-Raphson did not converge beyond load factor "
                     f"{lam:.4g} (the increment was cut below {settings.min_increment:g}). Likely causes: a limit "
                     "or buckling point (the structure cannot carry the full load), a mechanism or a slack cord "
                     "that leaves part of the model free, or loads far beyond the elastic range. The last "
                     "converged state is in the error's .state and the convergence record in .history.",
-                    state=last, history=tuple(history))
-                raise err
+                    state=last, history=tuple(run.history))
             continue
         previous = (x, R, lam)
         x, R, ev, stab = got
         converged = ev
         lam = target
-        last = make_state(x, R, lam, ev, stab or last.stabilised_mechanism)
+        last = run.state(x, R, lam, ev, stab or last.stabilised_mechanism)
         if any(abs(lam - lv) < 1e-12 for lv in levels):
             saved.append(last)
         if progress is not None:
             progress(lam)
         # Crisfield's rule: aim at the desired number of iterations per increment.
-        iters = sum(1 for h in history if h.step == step)
+        iters = sum(1 for h in run.history if h.step == step)
         scale = np.sqrt(settings.desired_iterations / max(iters, 1))
         increment = min(increment * min(scale, settings.max_increment_growth), 1.0)
-    return (last, saved) if keep_steps else last
+    return dataclasses.replace(last, steps=tuple(saved))
+
+
+def _newton(run: _Run, x: np.ndarray, R: np.ndarray, lam: float, step: int, energy_tolerance: float | None = None,
+            reference: Evaluation | None = None, predicted: bool = True):
+    """Iterate to equilibrium at load factor lam.
+
+    energy_tolerance: the relative energy that converges the increment (the settings' relative one
+    by default); at or above the intermediate tolerance the increment is an intermediate one
+    (finished with the last factor where it can, see _chord_finish), else it is polished (see
+    _accepted_in_energy). reference: the evaluation at the last converged state. The tangent at
+    the first extrapolated state takes its beam forces for the stress-dependent part (see
+    _predict): at (x, R) when it is a predicted state, else (x, R) is that converged state and the
+    first correction is the tangent predictor, so the tangent after it.
+    Returns (x, R, ev, stabilised) or None. The residual is checked before factorising.
+    """
+    system, settings = run.system, run.settings
+    if energy_tolerance is None:
+        energy_tolerance = settings.relative_energy_tolerance
+    intermediate = energy_tolerance >= settings.intermediate_energy_tolerance
+    stabilised = False
+    previous = np.inf
+    growth = 0
+    first_energy = None
+    it = 0
+    polish = 0 if intermediate else settings.polish_iterations
+    accepted, accepted_res = None, np.inf  # a state accepted in energy, kept while it is polished
+    ev = system.evaluate(x, R, lam, assemble=False, reference=reference if predicted else None)
+    while it < settings.max_iterations:
+        r = ev.internal - ev.external
+        ref = run.reference(ev, lam)
+        res = np.linalg.norm(r) / ref
+        if not np.isfinite(res):
+            return accepted
+        if res < settings.tolerance:
+            run.history.append(IterationRecord(step, lam, it, res, 0.0, 0.0))
+            return x, R, ev, stabilised
+        try:
+            fac = _Factor(system, ev, run.mass, run.load_ref, run.cholmod)
+        except SingularModelError:
+            return accepted
+        delta = -fac.solve(r)
+        energy = run.energy(delta, r, ref)
+        run.history.append(IterationRecord(step, lam, it, res, energy, fac.stabilisation))
+        stabilised |= fac.stabilisation > 0
+        # The energy norm is converged and the residual has stagnated at its round-off floor
+        # (very stiff structures on soft supports): the correction would change nothing.
+        stagnant = res > 0.5 * previous or res < 1e3 * settings.tolerance
+        if not np.all(np.isfinite(delta)):
+            return accepted
+        if it > 0 and energy < settings.energy_tolerance and stagnant:
+            return _stagnated(run, x, R, ev, lam, delta, res, ref, step, it, stabilised, accepted, accepted_res)
+        growth = growth + 1 if res > previous else 0
+        if growth >= 4:
+            return accepted
+        previous = res
+        x, R = system.update(x, R, _limit_rotation(delta, system))
+        it += 1
+        if first_energy is None:
+            first_energy = energy
+        if intermediate and (it == 1 or energy > energy_tolerance * first_energy):
+            # Test the corrected state with the factor at hand before a new tangent.
+            got = _chord_finish(run, x, R, lam, fac, energy_tolerance * first_energy, step, it, stabilised)
+            if got is not None:
+                return got
+        elif energy <= energy_tolerance * first_energy:
+            got = _accepted_in_energy(run, x, R, lam, energy, res, ref, step, it)
+            if got is not None:
+                ev_new, res_new = got
+                if energy < settings.energy_tolerance or polish == 0 or res_new < settings.tolerance:
+                    return x, R, ev_new, stabilised
+                # Small in energy is not yet small in the axial forces of stiff members, which
+                # the pre-stressed modes follow: polish with full Newton corrections until one
+                # is below the absolute energy floor (a cold-started 3 g strip accepted at a
+                # relative residual of 6e-6 had its first frequency 5e-7 off the converged one,
+                # and a warm start from a neighbouring design then gave another answer).
+                polish -= 1
+                accepted, accepted_res = (x, R, ev_new, stabilised), res_new
+        ev = system.evaluate(x, R, lam, assemble=False, reference=reference if it == 1 and not predicted else None)
+    return accepted
+
+
+def _accepted_in_energy(run: _Run, x, R, lam: float, energy: float, res: float, ref: float, step: int,
+                        it: int) -> tuple[Evaluation, float] | None:
+    """The state corrected to below the relative energy tolerance, checked without a tangent:
+    (its evaluation, its residual) when the residual did not grow (or, for a correction below the
+    absolute energy floor, stayed within round-off: at most doubled), else None."""
+    settings = run.settings
+    ev = run.system.evaluate(x, R, lam, tangent=False)
+    res_new = np.linalg.norm(ev.internal - ev.external) / ref
+    if np.isfinite(res_new) and (res_new <= max(res, settings.tolerance)
+                                 or (energy < settings.energy_tolerance and res_new <= 2 * res)):
+        run.history.append(IterationRecord(step, lam, it, res_new, 0.0, 0.0))
+        return ev, res_new
+    return None
+
+
+def _stagnated(run: _Run, x, R, ev: Evaluation, lam: float, delta: np.ndarray, res: float, ref: float, step: int,
+               it: int, stabilised: bool, accepted, accepted_res: float):
+    """Newton's end where the correction's energy is below the absolute floor and the residual has
+    stagnated: apply the correction at hand and keep it where the residual does not grow. A thin
+    member's residual may stall for one iteration (its axial forces second order in the last
+    bending correction) and then fall to round-off (4.7e-4, 2.6e-4, then 1e-7 on a warm-started
+    loaded strip). The state thrown away with it carried axial forces off by ~1e-3 of the load and
+    its first frequency by 1e-5. Otherwise the state polished so far, if its residual is lower,
+    else the state as it stands."""
+    system = run.system
+    xc, Rc = system.update(x, R, _limit_rotation(delta, system))
+    evc = system.evaluate(xc, Rc, lam, tangent=False)
+    res_c = np.linalg.norm(evc.internal - evc.external) / ref
+    if np.isfinite(res_c) and res_c <= res:
+        run.history.append(IterationRecord(step, lam, it + 1, res_c, 0.0, 0.0))
+        return xc, Rc, evc, stabilised
+    return accepted if accepted is not None and accepted_res < res else (x, R, ev, stabilised)
+
+
+def _chord_finish(run: _Run, x, R, lam: float, fac: _Factor, energy_limit: float, step: int, it: int,
+                  stabilised: bool):
+    """Finish an intermediate increment with the last factor (modified Newton, no new tangent).
+
+    A state is accepted once the energy of its correction with that factor is below the limit
+    (the correction itself is not applied: the test is on the state's remaining error); up to
+    ``settings.chord_steps`` corrections are applied before that while each cuts the energy
+    tenfold. Returns None if that fails (the caller goes on with Newton from its own x, R).
+    """
+    system, settings = run.system, run.settings
+    last = np.inf
+    for done in range(settings.chord_steps + 1):
+        ev = system.evaluate(x, R, lam, tangent=False)
+        r = ev.internal - ev.external
+        ref = run.reference(ev, lam)
+        res = np.linalg.norm(r) / ref
+        delta = -fac.solve(r)
+        energy = run.energy(delta, r, ref)
+        if not (np.isfinite(res) and np.isfinite(energy)):
+            return None
+        run.history.append(IterationRecord(step, lam, it + done, res, energy, fac.stabilisation))
+        if energy <= energy_limit:
+            return x, R, ev, stabilised
+        if done == settings.chord_steps or energy > 0.1 * last:
+            return None
+        x, R = system.update(x, R, _limit_rotation(delta, system))
+        last = energy
+    return None
+
+
+def _predict(run: _Run, x, R, lam: float, target: float, previous) -> tuple[np.ndarray, np.ndarray]:
+    """Secant predictor: the last converged increment extrapolated to the target load factor
+    (none for the first increment). Extrapolating along rotating members stretches them by
+    O(rotation increment^2); the stiff axial terms turn that into forces far above the load
+    (~1e4-1e5 times for a thin strip), so Newton's first tangent from the predicted state takes
+    the converged state's beam forces in its stress-dependent part (see _newton). With the
+    predicted state's own ones the first correction left 25-7,000 times more error energy
+    (1,000-element strip under self-weight) and 3 of 20 increments needed two more tangents.
+    A quadratic predictor stretches less but amplifies the intermediate states' looser
+    convergence (tried: more iterations, and divergence with looser intermediate tolerances)."""
+    if previous is None or previous[2] >= lam:
+        return x, R
+    system = run.system
+    xp, Rp, lp = previous
+    delta = scaled_increment(x, R, xp, Rp, system.dof_map, (target - lam) / (lam - lp))
+    if not np.all(np.isfinite(delta)):
+        return x, R
+    return system.update(x, R, _limit_rotation(delta, system))
 
 
 def check_state(state: State, settings: StaticSettings) -> State:

@@ -1,6 +1,11 @@
 """A model in one configuration, compiled to arrays: DOF numbering, constraints, and evaluation of
 internal forces, consistent tangent, mass and damping at any state.
 
+System assembles over a tuple of element families (fem.families: beams, point masses, cords,
+springs), each evaluating its own elements; it keeps what is not an element: fixed and
+prescribed DOFs, rigid and interpolation links, linear constraints, nodal loads, the sparsity
+pattern and the factorisation cache.
+
 The model's own arrays are compiled once per model revision and shared by every configuration,
 so one model is solved in many configurations without copying it.
 """
@@ -8,7 +13,8 @@ so one model is solved in many configurations without copying it.
 from __future__ import annotations
 
 import copy
-import warnings
+import threading
+import weakref
 from dataclasses import dataclass
 from functools import cached_property
 
@@ -16,26 +22,19 @@ import numba
 import numpy as np
 import scipy.sparse as sp
 
-from ..errors import FlexGVTWarning, ModelError
+from ..errors import ModelError
 from ..model import Configuration, Model, RodSection, end_properties, parse_dofs
 from .assembly import Pattern
 from .checks import check_coordinates, check_values
-from .beam import (BeamData, beam_forces, beam_mass_matrices, element_coefficients, element_frames,
-                   local_mass_matrices, nodal_weights)
+from .beam import BeamData, element_coefficients, element_frames, local_mass_matrices
+from .families import (SPRING_CLAMP_RATIO, SPRING_WARN_RATIO, BeamFamily, CordFamily, Cords, ElementTerms,
+                       Family, PointMassFamily, PointMasses, SpringFamily, Springs, element_dofs)
 from .interpolation import InterpolationData, compile_interpolations, fit, geometric_block, jacobian
 from .linsolve import CholmodCache
-from .points import cord_damping, cord_forces, mass_gravity, mass_matrix, spring_damping, spring_forces
 from .rotations import expm_so3, skew, spin, step_nodes
 
-
-# A grounded spring component this many times stiffer than the structure's diagonal stiffness at its
-# DOF is a constraint (System.spring_clamps): it changes the modes by ~1/ratio from the clamped ones,
-# below the round-off (~eps * ratio * the shift-invert's amplification) that keeping it would cost.
-SPRING_CLAMP_RATIO = 1e8
-# One that cannot be held is warned beyond this ratio: a 20- and a 40-element strip held by a grounded
-# spring turned 0.3 rad about z (kept as a spring): first frequencies within 2e-9 of the clamped strip
-# at ratios to 2e11, 5e-7 at 2e13, ARPACK without convergence at 2e15.
-SPRING_WARN_RATIO = 1e12
+__all__ = ["SPRING_CLAMP_RATIO", "SPRING_WARN_RATIO", "CompiledModel", "Evaluation", "PointMasses", "Springs",
+           "System", "compile_model", "group_values"]
 
 
 @numba.njit(cache=True)
@@ -46,23 +45,6 @@ def _scatter_reduced(dofs, values, dof_map, out):  # pragma: no cover - compiled
             k = dof_map[dofs[e, a]]
             if k >= 0:
                 out[k] += values[e, a]
-
-
-@dataclass(frozen=True)
-class PointMasses:
-    nodes: np.ndarray  # (m,) storage indices
-    mass: np.ndarray  # (m,) [kg]
-    offset: np.ndarray  # (m, 3) [m]
-    inertia: np.ndarray  # (m, 3, 3) [kg m^2]
-
-
-@dataclass(frozen=True)
-class Springs:
-    a: np.ndarray  # (s,) storage index or -1 for ground
-    b: np.ndarray
-    stiffness: np.ndarray  # (s, 6)
-    damping: np.ndarray  # (s, 6)
-    frame: np.ndarray  # (s, 3, 3)
 
 
 @dataclass(frozen=True)
@@ -84,9 +66,16 @@ class CompiledModel:
     mpc_terms: tuple[tuple[np.ndarray, np.ndarray], ...]  # per constraint: (full DOFs, weights) with u_d = w . u
 
 
+# Compiled arrays per model, weakly keyed (an entry lives as long as its model) and tagged with the
+# model's revision: the model stays plain data, the cache is fem's own.
+_COMPILED: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+_COMPILED_LOCK = threading.Lock()
+
+
 def compile_model(model: Model) -> CompiledModel:
-    """Compile the model's arrays, cached on the model itself against its revision."""
-    cached = model.solver_cache.get("compiled")
+    """Compile the model's arrays, cached in fem (weakly keyed by the model) against its revision."""
+    with _COMPILED_LOCK:
+        cached = _COMPILED.get(model)
     if cached is not None and cached[0] == model.revision:
         return cached[1]
     if model.n_nodes == 0:
@@ -155,9 +144,10 @@ def compile_model(model: Model) -> CompiledModel:
                              "or another constraint; chains are not supported: write the constraint on the "
                              "independent DOFs")
     compiled = CompiledModel(model.node_ids, xyz, beams, local_mass_matrices(beams), cat(eids, (0,)).astype(int),
-                             cat(names, (0,)), _masses(model, model.masses), _springs(model, model.springs), links,
+                             cat(names, (0,)), _masses(model, model.masses), Springs.of(model, model.springs), links,
                              link_dofs, interp, mpc_dep, tuple(mpc_terms))
-    model.solver_cache["compiled"] = (model.revision, compiled)
+    with _COMPILED_LOCK:
+        _COMPILED[model] = (model.revision, compiled)
     return compiled
 
 
@@ -178,37 +168,10 @@ def group_values(material, section, rotary_inertia: bool, length: np.ndarray):
 def _masses(model: Model, items) -> PointMasses:
     items = list(items)
     if not items:
-        return PointMasses(np.zeros(0, int), np.zeros(0), np.zeros((0, 3)), np.zeros((0, 3, 3)))
+        return PointMasses.empty()
     return PointMasses(model.index_of([m.node for m in items], "concentrated mass"),
                        np.array([m.mass for m in items]), np.array([m.offset for m in items]),
                        np.array([m.inertia for m in items]))
-
-
-def _cord_masses(cords, a: np.ndarray, b: np.ndarray, w: np.ndarray) -> PointMasses:
-    """A third of each heavy cord's mass at its attachment (split between its nodes a and b, storage
-    indices, by the attachment fraction w)."""
-    nodes, mass, offset = [], [], []
-    for k, c in enumerate(cords):
-        if c.mass <= 0:
-            continue
-        for node, share in ((a[k], 1 - w[k]), (b[k], w[k])) if w[k] > 0 else ((a[k], 1.0),):
-            nodes.append(node)
-            mass.append(share * c.mass / 3)
-            offset.append(np.asarray(c.offset, float))
-    n = len(nodes)
-    return PointMasses(np.array(nodes, int), np.array(mass, float), np.array(offset, float).reshape(n, 3),
-                       np.zeros((n, 3, 3)))
-
-
-def _springs(model: Model, items) -> Springs:
-    items = list(items)
-    if not items:
-        return Springs(np.zeros(0, int), np.zeros(0, int), np.zeros((0, 6)), np.zeros((0, 6)), np.zeros((0, 3, 3)))
-    a = np.array([-1 if s.node_b is None else model.index_of([s.node_a], "spring")[0] for s in items])
-    # A grounded spring acts on node_a: store it as b with a = -1.
-    b = np.array([model.index_of([s.node_a if s.node_b is None else s.node_b], "spring")[0] for s in items])
-    return Springs(a, b, np.array([s.stiffness for s in items]), np.array([s.damping for s in items]),
-                   np.array([s.frame for s in items]))
 
 
 def _same_configuration(a: Configuration, b: Configuration) -> bool:
@@ -221,16 +184,6 @@ def _same_configuration(a: Configuration, b: Configuration) -> bool:
         return False
 
 
-def _merge_masses(a: PointMasses, b: PointMasses) -> PointMasses:
-    return PointMasses(*(np.concatenate([getattr(a, f), getattr(b, f)])
-                         for f in ("nodes", "mass", "offset", "inertia")))
-
-
-def _merge_springs(a: Springs, b: Springs) -> Springs:
-    return Springs(*(np.concatenate([getattr(a, f), getattr(b, f)])
-                     for f in ("a", "b", "stiffness", "damping", "frame")))
-
-
 @dataclass
 class Evaluation:
     """Residual pieces and tangent at one state (reduced DOFs)."""
@@ -238,11 +191,26 @@ class Evaluation:
     internal: np.ndarray  # reduced internal-force vector (incl. load potentials of offset masses)
     external: np.ndarray  # reduced applied-load vector at this load factor
     tangent: sp.csc_matrix | None
-    axial_forces: np.ndarray
-    cord_tension: np.ndarray
-    cord_length: np.ndarray
+    outputs: dict  # each family's ElementTerms.output by family name
     blocks: list | None = None  # element tangents, when evaluate(assemble=False) left K unassembled
-    beam_forces: np.ndarray | None = None  # (n_beams, 7) local forces [N, M1, M2] (see beam.beam_forces)
+
+    @property
+    def beam_forces(self) -> np.ndarray:
+        """(n_beams, 7) local forces [N, M1, M2] (see beam.beam_forces)."""
+        return self.outputs["beam"]
+
+    @property
+    def axial_forces(self) -> np.ndarray:
+        """(n_beams,) axial forces [N], tension positive."""
+        return self.outputs["beam"][:, 0]
+
+    @property
+    def cord_tension(self) -> np.ndarray:
+        return self.outputs["cord"][0]
+
+    @property
+    def cord_length(self) -> np.ndarray:
+        return self.outputs["cord"][1]
 
 
 class System:
@@ -289,9 +257,7 @@ class System:
             raise ModelError(f"{where}: every DOF is fixed; nothing to solve")
 
         self.has_links = bool(dependent.any()) or len(cm.interp) > 0 or len(cm.mpc_dependent) > 0
-        blocks = [self._beam_dofs(), self._node_dofs(self.masses.nodes),
-                  np.concatenate([self._node_dofs(self.cord_nodes), self._node_dofs(self.cord_nodes_b)], axis=1),
-                  self._spring_dofs()]
+        blocks = [element_dofs(family.nodes) for family in self.families]
         self._blocks = blocks
         if self.has_links:
             self.pattern = Pattern(blocks, np.arange(6 * n), 6 * n)
@@ -307,141 +273,100 @@ class System:
         self._revision = model.revision
         n = len(cm.xyz)
         self.n_nodes = n
-        self.springs = _merge_springs(cm.springs, _springs(model, config.springs))
-        where = f"configuration '{config.name}'"
-        cords = list(config.suspension)
-        self.cord_nodes = model.index_of([c.node for c in cords], f"{where}: cord") if cords else np.zeros(0, int)
-        self.cord_nodes_b = model.index_of([c.node if c.node_b is None else c.node_b for c in cords],
-                                           f"{where}: cord node_b") if cords else np.zeros(0, int)
-        self.cord_offset = np.array([c.offset for c in cords], float).reshape(-1, 3)
-        self.cord_anchor = np.array([c.anchor for c in cords], float).reshape(-1, 3)
-        self.cord_k = np.array([c.stiffness for c in cords], float)
-        self.cord_c = np.array([c.damping for c in cords], float)
-        self.cord_l0 = np.array([c.unstretched_length for c in cords], float)
-        span = np.linalg.norm(cm.xyz[self.cord_nodes_b] - cm.xyz[self.cord_nodes], axis=1)
-        along = np.array([c.along for c in cords], float)
-        off = along > span * (1 + 1e-12)
-        if np.any(off):
-            k = int(np.flatnonzero(off)[0])
-            raise ModelError(f"{where}: cord {k} is attached {along[k]} m along from node {cords[k].node} toward node "
-                             f"{cords[k].node_b}, beyond the {span[k]:.6g} m between them: the attachment point "
-                             "is off the structure; give 0 <= along <= that distance")
-        self.cord_w = np.where(span > 0, along / np.where(span > 0, span, 1.0), 0.0)
-        self.masses = _merge_masses(_merge_masses(cm.masses, _masses(model, config.masses)),
-                                    _cord_masses(cords, self.cord_nodes, self.cord_nodes_b, self.cord_w))
-        attach = (1 - self.cord_w)[:, None] * cm.xyz[self.cord_nodes] + self.cord_w[:, None] * cm.xyz[
-            self.cord_nodes_b] + self.cord_offset
-        self.cord_lgeom = np.linalg.norm(attach - self.cord_anchor, axis=1)
-        if np.any(self.cord_lgeom == 0):
-            raise ModelError(f"{where}: a cord's anchor coincides with its attachment point; move the anchor")
-        slack = np.flatnonzero(self.cord_l0 >= self.cord_lgeom)
-        if len(slack):
-            k = int(slack[0])
-            warnings.warn(f"{where}: cord {k} (node {cords[k].node}) is slack at the start: its unstretched length "
-                          f"{self.cord_l0[k]:.4g} m is not shorter than the {self.cord_lgeom[k]:.4g} m from its anchor "
-                          "to the attachment, so it carries nothing until the structure moves away; shorten it "
-                          "(size it with suspension.Line.cord) if it should hold the structure", stacklevel=3)
-        # Applied loads at load factor 1 (fixed direction): lumped beam weight, nodal and distributed loads.
         gvec = config.gravity_vector
+        cords = CordFamily.build(model, config, cm.xyz)
+        masses = cm.masses.merged(_masses(model, config.masses)).merged(cords.point_masses())
+        # The families in a fixed order: the pattern's blocks and ValueChange's block indices follow it.
+        self.families: tuple[Family, ...] = (
+            BeamFamily(cm.beams, cm.beam_local_mass, cm.beam_element_ids, cm.beam_group_names),
+            PointMassFamily.build(masses, gvec), cords,
+            SpringFamily(cm.springs.merged(Springs.of(model, config.springs)), cm.xyz))
+        self._family_index = {family.name: k for k, family in enumerate(self.families)}
+        # Applied loads at load factor 1 (fixed direction): the families' (lumped weight, distributed
+        # loads, the hanging share of heavy cords), then the nodal loads.
+        where = f"configuration '{config.name}'"
         f = np.zeros((n, 6))
-        b = cm.beams
-        w1, w2 = nodal_weights(b)
-        np.add.at(f, (b.nodes[:, 0], slice(0, 3)), w1[:, None] * gvec[None, :])
-        np.add.at(f, (b.nodes[:, 1], slice(0, 3)), w2[:, None] * gvec[None, :])
+        for family in self.families:
+            family.add_applied(f, config, gvec)
         for load in config.forces:
             i = model.index_of([load.node], f"{where}: load")[0]
             f[i, :3] += load.force
             f[i, 3:] += load.moment
-        if config.distributed:
-            pos = {int(e): k for k, e in enumerate(cm.beam_element_ids)}
-            for load in config.distributed:
-                try:
-                    ks = np.array([pos[int(e)] for e in load.elements], dtype=int)
-                except KeyError as exc:
-                    raise ModelError(f"{where}: distributed load on element {exc.args[0]}, which is not a beam "
-                                     "of the model") from None
-                share = 0.5 * b.L0[ks][:, None] * np.asarray(load.per_length, float)[None, :]
-                np.add.at(f, (b.nodes[ks, 0], slice(0, 3)), share)
-                np.add.at(f, (b.nodes[ks, 1], slice(0, 3)), share)
-        # A heavy cord hangs half its weight on the structure; a third of its mass moves with the
-        # attachment (its point masses above, with their weight): the remaining sixth as a load.
-        for cord, a, b, w in zip(config.suspension, self.cord_nodes, self.cord_nodes_b, self.cord_w):
-            if cord.mass > 0:
-                F = cord.mass * gvec / 6.0
-                M = np.cross(np.asarray(cord.offset, float), F)
-                f[a] += (1 - w) * np.r_[F, M]
-                f[b] += w * np.r_[F, M]
         self.applied = f.reshape(-1)
-        self.mass_weight = self.masses.mass[:, None] * gvec[None, :]
         check_values(self)
 
+    # ------------------------------------------------------------------ families
+    def family(self, name: str) -> Family:
+        """The element family called ``name`` ("beam", "mass", "cord", "spring")."""
+        return self.families[self._family_index[name]]
+
+    @property
+    def masses(self) -> PointMasses:
+        """The point masses (the model's, the configuration's, then the heavy cords' share)."""
+        return self.family("mass").masses
+
+    @property
+    def mass_weight(self) -> np.ndarray:
+        """(m, 3) weight of each point mass at full load [N]."""
+        return self.family("mass").weight
+
+    @property
+    def springs(self) -> Springs:
+        return self.family("spring").springs
+
+    @property
+    def cords(self) -> Cords:
+        return self.family("cord").cords
+
+    # The cords' arrays under their former System names (callers outside fem read them).
+    cord_nodes = property(lambda self: self.cords.nodes_a)
+    cord_nodes_b = property(lambda self: self.cords.nodes_b)
+    cord_offset = property(lambda self: self.cords.offset)
+    cord_anchor = property(lambda self: self.cords.anchor)
+    cord_k = property(lambda self: self.cords.stiffness)
+    cord_c = property(lambda self: self.cords.damping)
+    cord_l0 = property(lambda self: self.cords.l0)
+    cord_w = property(lambda self: self.cords.w)
+    cord_lgeom = property(lambda self: self.cords.lgeom)
+
+    def cord_state(self, x: np.ndarray, R: np.ndarray, rows=slice(None)) -> tuple:
+        """(x_a, R_a, x_b, R_b) of the cords' two nodes (the same node twice for a cord at a node)."""
+        return self.family("cord").state(x, R, rows)
+
+    def cord_l0_at(self, lam: float) -> np.ndarray:
+        """Unstretched cord lengths along the load ramp: unstrained at lam = 0, nominal at lam = 1."""
+        return self.cords.l0_at(lam)
+
     def structure_diagonal(self) -> np.ndarray:
-        """|diagonal| (6n,) of the undeformed, unloaded tangent of the beams and cords (no springs)
-        over all DOFs [N/m, N m/rad]: the structure's own stiffness at each DOF."""
+        """|diagonal| (6n,) of the undeformed, unloaded tangent of the structural families (beams,
+        masses, cords; not springs) over all DOFs [N/m, N m/rad]: the structure's own stiffness at
+        each DOF."""
         x, R = self.undeformed
-        _, (Kb, Km, Kc, _), *_ = self._element_terms(x, R, 0.0, True, None)
-        blocks = [self._beam_dofs(), self._node_dofs(self.masses.nodes),
-                  np.concatenate([self._node_dofs(self.cord_nodes), self._node_dofs(self.cord_nodes_b)], axis=1)]
-        diag = [np.abs(np.diagonal(K, axis1=1, axis2=2)) for K in (Kb, Km, Kc)]
-        dofs = np.concatenate([b.reshape(-1) for b in blocks])
-        vals = np.concatenate([d.reshape(-1) for d in diag])
-        return np.bincount(dofs, weights=vals, minlength=6 * self.n_nodes)
+        dofs, vals = [], []
+        for family, blk in zip(self.families, self._family_dofs()):
+            if family.structural:
+                K = family.terms(x, R, 0.0, True).tangent
+                dofs.append(blk.reshape(-1))
+                vals.append(np.abs(np.diagonal(K, axis1=1, axis2=2)).reshape(-1))
+        return np.bincount(np.concatenate(dofs), weights=np.concatenate(vals), minlength=6 * self.n_nodes)
+
+    def _family_dofs(self) -> list[np.ndarray]:
+        return [element_dofs(family.nodes) for family in self.families]
 
     def spring_clamps(self, fixed: np.ndarray) -> np.ndarray:
-        """Full DOFs (sorted) that grounded springs hold as constraints: a component stiffer than
-        SPRING_CLAMP_RATIO times the structure's own diagonal stiffness there (structure_diagonal),
-        along a global axis (spring axes may be turned; those along a global one act on its DOF
-        alone), on a DOF no link sets; the three rotations of a node only together (a partly held
-        rotation stays a spring). Such a spring changes the modes from the clamped ones by about the
-        inverse ratio, while the round-off it brings into the factorisations grows with the ratio.
-        A component that cannot be held and is more than SPRING_WARN_RATIO times stiffer than the
-        structure gives a FlexGVTWarning."""
+        """Full DOFs (sorted) that grounded springs hold as constraints (SpringFamily.clamps) against
+        the structure's own diagonal stiffness (structure_diagonal)."""
         s = self.springs
         if not np.any(s.stiffness > 0):
             return np.zeros(0, int)
-        diag = self.structure_diagonal()
-        n = self.n_nodes
-        ground = s.a < 0
-        # (spring, node) pairs: a grounded spring's node, both nodes of the others.
-        pair = np.r_[np.arange(len(s.b)), np.flatnonzero(~ground)]
-        nodes = np.r_[s.b, s.a[~ground]]
-        axis = np.argmax(np.abs(s.frame), axis=1)  # (m, 3): the global axis nearest each spring axis
-        aligned = np.isclose(np.abs(np.take_along_axis(s.frame, axis[:, None, :], axis=1)[:, 0]), 1.0, rtol=0,
-                             atol=1e-12)  # such an axis acts on its global DOF alone (the others are normal to it)
-        full = 6 * nodes[:, None] + np.c_[axis[pair], 3 + axis[pair]]
-        k, d = s.stiffness[pair], diag[full]
-        known = d > 0  # a DOF only springs hold: no conditioning loss
-        stiff = known & (k > SPRING_CLAMP_RATIO * d)
-        extreme = known & (k > SPRING_WARN_RATIO * d)
-        ok = stiff & np.tile(aligned[pair], 2) & ~self.cm.link_dofs.reshape(-1)[full] & ground[pair][:, None]
-        held = np.zeros(6 * n, bool)
-        held[full[:, :3][ok[:, :3]]] = True
-        rot_held = np.zeros((n, 3), bool)
-        r, c = np.nonzero(ok[:, 3:])
-        rot_held[nodes[r], axis[pair][r, c]] = True
-        rot_extreme = np.zeros(n, bool)
-        np.logical_or.at(rot_extreme, nodes, np.any(extreme[:, 3:] & ok[:, 3:], axis=1))
-        warn = list(nodes[np.any(extreme & ~ok, axis=1)])
-        whole = np.all(rot_held | fixed.reshape(n, 6)[:, 3:], axis=1)
-        held.reshape(n, 6)[:, 3:] |= rot_held & whole[:, None]
-        warn += list(np.flatnonzero(rot_extreme & ~whole))
-        if warn:
-            node = warn[0]
-            warnings.warn(
-                f"configuration '{self.config.name}': {len(warn)} spring(s) (the first at node "
-                f"{self.cm.node_ids[node]}) are more than {SPRING_WARN_RATIO:g} times stiffer than the structure at "
-                "their DOFs, and the solver cannot hold those DOFs as constraints instead (a spring between two "
-                "nodes, axes not along the global ones, a DOF set by a link, or only part of a node's rotations): "
-                "round-off may spoil the modes and the static solution. Fix the DOFs (fixed={node: '123456'}) "
-                "or use a rigid link or linear constraint instead", FlexGVTWarning, stacklevel=3)
-        return np.flatnonzero(held & ~fixed)
+        return self.family("spring").clamps(self.structure_diagonal(), fixed, self.cm.link_dofs, self.cm.node_ids,
+                                            f"configuration '{self.config.name}'")
 
     def _topology(self) -> tuple:
         """What the DOF numbering and the sparsity pattern depend on."""
-        s = self.springs
-        return (self.cm.beams.nodes, self.masses.nodes, s.a, s.b, self.cord_nodes, self.cord_nodes_b, self.cm.links,
-                self.cm.link_dofs,
-                self.cm.interp.reference if len(self.cm.interp) else np.zeros(0, int), self.cm.mpc_dependent)
+        return tuple(a for family in self.families for a in family.topology()) + (
+            self.cm.links, self.cm.link_dofs, self.cm.interp.reference if len(self.cm.interp) else np.zeros(0, int),
+            self.cm.mpc_dependent)
 
     def for_values(self, model: Model, config: Configuration) -> "System":
         """This system for the same model object (possibly changed since: new material, section,
@@ -470,19 +395,6 @@ class System:
         return sibling
 
     # ------------------------------------------------------------------ DOF helpers
-    def _beam_dofs(self) -> np.ndarray:
-        nodes = self.cm.beams.nodes
-        return np.concatenate([6 * nodes[:, :1] + np.arange(6), 6 * nodes[:, 1:] + np.arange(6)], axis=1)
-
-    @staticmethod
-    def _node_dofs(nodes: np.ndarray) -> np.ndarray:
-        return 6 * nodes[:, None] + np.arange(6)
-
-    def _spring_dofs(self) -> np.ndarray:
-        s = self.springs
-        a = np.where(s.a >= 0, s.a, s.b)  # grounded springs: node a block is zeroed below
-        return np.concatenate([6 * a[:, None] + np.arange(6), 6 * s.b[:, None] + np.arange(6)], axis=1)
-
     @staticmethod
     def _rigid_motions(x: np.ndarray, centre: np.ndarray) -> np.ndarray:
         """(n, 6, 6): DOF values of the six unit rigid motions about ``centre`` at nodes x."""
@@ -614,15 +526,6 @@ class System:
         return T @ v_red
 
     # ------------------------------------------------------------------ evaluation
-    def cord_state(self, x: np.ndarray, R: np.ndarray, rows=slice(None)) -> tuple:
-        """(x_a, R_a, x_b, R_b) of the cords' two nodes (the same node twice for a cord at a node)."""
-        a, b = self.cord_nodes[rows], self.cord_nodes_b[rows]
-        return x[a], R[a], x[b], R[b]
-
-    def cord_l0_at(self, lam: float) -> np.ndarray:
-        """Unstretched cord lengths along the load ramp: unstrained at lam = 0, nominal at lam = 1."""
-        return self.cord_lgeom + lam * (self.cord_l0 - self.cord_lgeom)
-
     @cached_property
     def _scatter_dofs(self) -> np.ndarray:
         return np.concatenate([blk.reshape(-1) for blk in self._blocks])
@@ -641,55 +544,37 @@ class System:
         reference: an evaluation at another state whose beam forces replace the beams' own in the
         stress-dependent part of the tangent (see solve_static's predictor); forces stay exact.
         """
-        ref = reference.beam_forces if reference is not None else None
-        (gb, gm, gc, gs), (Kb, Km, Kc, Ks), local, tension, length = self._element_terms(x, R, lam, tangent, ref)
-        N = local[:, 0]
+        terms = self._element_terms(x, R, lam, tangent, reference)
+        outputs = {family.name: t.output for family, t in zip(self.families, terms)}
+        gs = [t.forces for t in terms]
+        Ks = [t.tangent for t in terms]
         if not self.has_links:  # straight into the reduced vectors
             internal = np.zeros(self.n_free)
-            for dofs, g in zip(self._blocks, (gb, gm, gc, gs)):
+            for dofs, g in zip(self._blocks, gs):
                 if len(g):
                     _scatter_reduced(dofs, np.ascontiguousarray(g, dtype=float), self.dof_map, internal)
-            blocks = [Kb, Km, Kc, Ks] if tangent and not assemble else None
-            K = self.pattern.assemble([Kb, Km, Kc, Ks]) if tangent and assemble else None
-            return Evaluation(internal, lam * self._applied_reduced, K, N, tension, length, blocks, local)
-        g_full = self._scatter([gb, gm, gc, gs])
+            blocks = Ks if tangent and not assemble else None
+            K = self.pattern.assemble(Ks) if tangent and assemble else None
+            return Evaluation(internal, lam * self._applied_reduced, K, outputs, blocks)
+        g_full = self._scatter(gs)
         f_full = lam * self.applied
         T = self.transformation(x, R)
         K = None
         if tangent:
-            K = self._reduce_with_links(self.pattern.assemble([Kb, Km, Kc, Ks]), T, x, R, g_full - f_full)
-        return Evaluation(self.reduce_vector(g_full, T), self.reduce_vector(f_full, T), K, N, tension, length,
-                          None, local)
+            K = self._reduce_with_links(self.pattern.assemble(Ks), T, x, R, g_full - f_full)
+        return Evaluation(self.reduce_vector(g_full, T), self.reduce_vector(f_full, T), K, outputs)
 
     def full_state(self, x: np.ndarray, R: np.ndarray, lam: float) -> tuple:
         """Residual (6n,), consistent tangent and mass matrix over all DOFs, no constraint applied."""
-        g, K, _, _, _ = self._element_terms(x, R, lam, True, None)
-        return self._scatter(g) - lam * self.applied, self.full_pattern.assemble(K), self.full_mass_matrix(x, R)
+        terms = self._element_terms(x, R, lam, True, None)
+        return (self._scatter([t.forces for t in terms]) - lam * self.applied,
+                self.full_pattern.assemble([t.tangent for t in terms]), self.full_mass_matrix(x, R))
 
-    def _element_terms(self, x, R, lam, tangent, reference_forces):
-        """Element forces and tangents of the beams, point masses, cords and springs."""
-        gb, Kb, local = beam_forces(x, R, self.cm.beams, tangent, reference_forces=reference_forces)
-        m = self.masses
-        gm, Km = mass_gravity(R[m.nodes], m.offset, lam * self.mass_weight) if len(m.nodes) else \
-            (np.zeros((0, 6)), np.zeros((0, 6, 6)))
-        tension = length = np.zeros(0)
-        gc, Kc = np.zeros((0, 12)), np.zeros((0, 12, 12))
-        if len(self.cord_nodes):
-            gc, Kc, tension, length = cord_forces(*self.cord_state(x, R), self.cord_offset, self.cord_anchor,
-                                                  self.cord_k, self.cord_l0_at(lam), self.cord_w)
-        s = self.springs
-        gs, Ks = np.zeros((0, 12)), np.zeros((0, 12, 12))
-        if len(s.b):
-            ground = s.a < 0
-            ia = np.where(ground, s.b, s.a)
-            xa = np.where(ground[:, None], self.cm.xyz[s.b], x[ia])
-            Ra = np.where(ground[:, None, None], np.eye(3), R[ia])
-            gs, Ks = spring_forces(xa, self.cm.xyz[ia], Ra, x[s.b], self.cm.xyz[s.b], R[s.b], s.frame, s.stiffness)
-            # A grounded spring's first node is a placeholder (its own node): zero that half.
-            gs[ground, :6] = 0.0
-            Ks[ground, :6, :] = 0.0
-            Ks[ground, :, :6] = 0.0
-        return (gb, gm, gc, gs), (Kb, Km, Kc, Ks), local, tension, length
+    def _element_terms(self, x, R, lam, tangent, reference: Evaluation | None) -> list[ElementTerms]:
+        """Each family's element terms; reference: an evaluation whose outputs the families use in
+        their stress-dependent tangent."""
+        return [family.terms(x, R, lam, tangent, None if reference is None else reference.outputs.get(family.name))
+                for family in self.families]
 
     @cached_property
     def _applied_reduced(self) -> np.ndarray:
@@ -813,26 +698,11 @@ class System:
         return self.full_pattern.assemble(self._mass_values(x, R))
 
     def _mass_values(self, x, R) -> list[np.ndarray]:
-        m = self.masses
-        return [beam_mass_matrices(x, R, self.cm.beams, self.cm.beam_local_mass),
-                mass_matrix(R[m.nodes], m.offset, m.mass, m.inertia),
-                np.zeros((len(self.cord_nodes), 12, 12)), np.zeros((len(self.springs.b), 12, 12))]
+        return [family.mass_values(x, R) for family in self.families]
 
     def damping_matrix(self, x: np.ndarray, R: np.ndarray) -> sp.csc_matrix:
         """Reduced viscous damping matrix (springs/dampers and cords) about the state."""
-        s = self.springs
-        values = [np.zeros((len(self.cm.beams.L0), 12, 12)), np.zeros((len(self.masses.nodes), 6, 6))]
-        values.append(cord_damping(*self.cord_state(x, R), self.cord_offset, self.cord_anchor, self.cord_c,
-                                   self.cord_w) if len(self.cord_nodes) else np.zeros((0, 12, 12)))
-        if len(s.b):
-            ground = s.a < 0
-            Ra = np.where(ground[:, None, None], np.eye(3), R[np.where(ground, s.b, s.a)])
-            Cs = spring_damping(Ra, R[s.b], s.frame, s.damping)
-            Cs[ground, :6, :] = 0.0
-            Cs[ground, :, :6] = 0.0
-            values.append(Cs)
-        else:
-            values.append(np.zeros((0, 12, 12)))
+        values = [family.damping_values(x, R) for family in self.families]
         return self._reduce_plain(self.pattern.assemble(values), x, R)
 
     def _reduce_plain(self, A, x, R) -> sp.csc_matrix:
@@ -849,4 +719,4 @@ class System:
 
     @cached_property
     def has_damping(self) -> bool:
-        return bool(np.any(self.cord_c > 0) or np.any(self.springs.damping > 0))
+        return any(family.has_damping for family in self.families)

@@ -59,7 +59,6 @@ class Model:
         self._next_node = 1
         self._next_element = 1
         self.revision = 0  # bumped by every change; solvers cache compiled arrays against it
-        self.solver_cache: dict = {}  # owned by the solvers, keyed entries tagged with the revision
 
     # ------------------------------------------------------------------ nodes
     def add_nodes(self, xyz: Sequence[Sequence[float]] | np.ndarray, ids: Iterable[int] | None = None) -> np.ndarray:
@@ -341,14 +340,14 @@ class Model:
         self.revision += 1
 
     def copy(self, name: str | None = None) -> "Model":
-        """An independent copy (components are immutable and shared; no solver cache)."""
+        """An independent copy (components are immutable and shared)."""
         new = Model(self.name if name is None else name)
         for attr, value in vars(self).items():
             if isinstance(value, list):
                 setattr(new, attr, list(value))
-            elif isinstance(value, dict) and attr != "solver_cache":
+            elif isinstance(value, dict):
                 setattr(new, attr, dict(value))
-            elif attr not in ("name", "solver_cache"):
+            elif attr != "name":
                 setattr(new, attr, value)
         return new
 

@@ -84,9 +84,7 @@ class DesignChanges:
     @classmethod
     def of(cls, changes: list) -> "DesignChanges":
         n = len(changes)
-        batched = np.array([c is not None and c.beams is not None and c.masses is None and c.springs is None
-                            and c.cords is None and c.cord_offsets is None and c.cord_along is None
-                            for c in changes], bool)
+        batched = np.array([c is not None and c.beams_only for c in changes], bool)
         rows = np.unique(np.concatenate([np.asarray(changes[k].beams[0], int) for k in np.flatnonzero(batched)]
                                         + [np.zeros(0, int)]))
         entries = {"K": ([], [], []), "M": ([], [], [])}

@@ -16,20 +16,23 @@ import numba
 import numpy as np
 
 from ..errors import ModelError
-from .._threads import serial_blas
+from .._threads import blas_threads
 
 
 def single_threaded(function):
     """Run ``function`` with one numba thread and one BLAS thread: the worker processes share the
-    machine's cores, and a kernel's threads spin-waiting beside another worker's starve both."""
-    function = serial_blas(function)
+    machine's cores, and a kernel's threads spin-waiting beside another worker's starve both.
 
+    numba's thread count is thread-local (numba.set_num_threads masks the calling thread's
+    parallel regions only), so setting and restoring it here touches no other thread; the BLAS
+    limit is the process-wide reference-counted hold of flexgvt.blas_threads."""
     @functools.wraps(function)
     def wrapper(*args, **kwargs):
         before = numba.get_num_threads()
         numba.set_num_threads(1)
         try:
-            return function(*args, **kwargs)
+            with blas_threads(1):
+                return function(*args, **kwargs)
         finally:
             numba.set_num_threads(before)
     return wrapper
