@@ -1,8 +1,9 @@
-"""Mode labelling from strain-energy fractions, and the MAC matrix.
+"""Mode labelling from strain-energy fractions.
 
 Labelling sits under the eigen kernel and solve_modes (which label their modes); tracking modes
 across load levels (fem.tracking) solves, so it sits above fem.static and fem.modes: two modules,
-one each side of the solver. mac_matrix stays here until the single MAC kernel replaces it.
+one each side of the solver. ``mac_matrix`` is fem's name for the one MAC kernel
+(flexgvt.modal.mac_columns).
 """
 
 from __future__ import annotations
@@ -10,6 +11,8 @@ from __future__ import annotations
 from dataclasses import replace
 
 import numpy as np
+
+from ..modal.mac import mac_columns
 
 
 CLASSES = ("OOP", "IP", "T", "EXT", "RB")
@@ -79,8 +82,4 @@ def label_modes(modes):
     return replace(modes, labels=tuple(labels), energy_fractions=fr)
 
 
-def mac_matrix(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """MAC between columns of a (n_dof, na) and b (n_dof, nb), complex allowed."""
-    num = np.abs(a.conj().T @ b) ** 2
-    den = np.outer(np.sum(np.abs(a) ** 2, axis=0), np.sum(np.abs(b) ** 2, axis=0))
-    return num / np.where(den > 0, den, 1.0)
+mac_matrix = mac_columns  # fem's name for the one MAC kernel (flexgvt.modal.mac_columns)
