@@ -1,0 +1,80 @@
+"""Linear flat shell elements (quad MITC4 + Allman/Hughes-Brezzi membrane, triangle DKT + Allman
+membrane): per-element global stiffness and mass from the compiled kernels, and a plain sparse
+assembly used by the element tests and benchmarks (the solver's own assembly lives elsewhere)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numba
+import numpy as np
+import scipy.sparse as sp
+
+from ..errors import ModelError
+from ._shell_kernel import _CHUNK, OK, _quad_chunk, _tri_chunk, quad_kernel, tri_kernel
+
+DRILL_FACTOR = 1.0  # Hughes-Brezzi penalty gamma = DRILL_FACTOR * A33 (Ibrahimbegovic et al. 1990: gamma = G)
+
+
+@dataclass(frozen=True)
+class ShellMatrices:
+    """Element matrices in global axes: K, M (n, 6 nn, 6 nn) on [u, v, w, rx, ry, rz] per node,
+    frames (n, 3, 3) the element frames (columns x, y, z)."""
+
+    K: np.ndarray
+    M: np.ndarray | None
+    frames: np.ndarray
+
+
+def shell_matrices(X: np.ndarray, C: np.ndarray, mass: np.ndarray | None = None, lumped=False,
+                   drill_factor: float = DRILL_FACTOR, ids: np.ndarray | None = None) -> ShellMatrices:
+    """Stiffness (and mass if ``mass`` is given) of n quads (X (n, 4, 3) corners [m]) or triangles
+    (X (n, 3, 3)). C (n, 8, 8) section matrices in element axes, mass (n, 3) [m0, m1, m2] per
+    area (_shell_section.section_arrays), lumped: bool or (n,) bools. ids: element ids for the
+    error messages (default: the row numbers)."""
+    X = np.ascontiguousarray(X, dtype=float)
+    n, nn = X.shape[0], X.shape[1]
+    if X.ndim != 3 or nn not in (3, 4) or X.shape[2] != 3:
+        raise ModelError(f"shell elements: corner array of shape {X.shape}; expected (n, 4, 3) or (n, 3, 3)")
+    C = np.ascontiguousarray(C, dtype=float)
+    want_mass = mass is not None
+    mass = np.ascontiguousarray(mass if want_mass else np.zeros((n, 3)), dtype=float)
+    lumped = np.ascontiguousarray(np.broadcast_to(np.asarray(lumped, dtype=bool), (n,)))
+    drill = np.ascontiguousarray(drill_factor * C[:, 2, 2])
+    if np.any(drill <= 0):  # no membrane: tie the drilling rotation with the bending stiffness instead
+        drill = np.where(drill > 0, drill, drill_factor * 12.0 * C[:, 5, 5] / np.maximum(_size2(X), 1e-300))
+    nd = 6 * nn
+    K = np.empty((n, nd, nd))
+    M = np.empty((n, nd, nd)) if want_mass else np.empty((0, nd, nd))
+    frames = np.empty((n, 3, 3))
+    status = np.empty(n, dtype=np.int64)
+    chunk, kernel = (_quad_chunk, quad_kernel) if nn == 4 else (_tri_chunk, tri_kernel)
+    args = (X, C, mass, drill, lumped, want_mass, K, M, frames, status)
+    if n < 2 * _CHUNK:
+        chunk(*args, 0, n)
+    else:
+        kernel(*args, numba.get_num_threads())
+    bad = np.flatnonzero(status != OK)
+    if bad.size:
+        names = (np.arange(n) if ids is None else np.asarray(ids))[bad[:10]]
+        kind = "quad" if nn == 4 else "triangle"
+        raise ModelError(f"{bad.size} {kind} element(s) are inverted, degenerate or too distorted "
+                         f"(det J <= 0 at an integration point), e.g. {', '.join(str(i) for i in names)}: "
+                         "check the corner order (counter-clockwise about the normal, no crossing sides)")
+    return ShellMatrices(K, M if want_mass else None, frames)
+
+
+def _size2(X):
+    """Squared mean side length of each element (scale of the fallback drilling stiffness)."""
+    d = X - np.roll(X, 1, axis=1)
+    return np.mean(np.sum(d * d, axis=2), axis=1)
+
+
+def assemble(conn: np.ndarray, Ke: np.ndarray, n_nodes: int) -> sp.csr_matrix:
+    """Global sparse matrix (6 n_nodes square) from element matrices Ke (n, 6 nn, 6 nn) on nodes conn (n, nn)."""
+    conn = np.asarray(conn)
+    n, nn = conn.shape
+    dofs = (6 * conn[:, :, None] + np.arange(6)[None, None, :]).reshape(n, 6 * nn)
+    rows = np.broadcast_to(dofs[:, :, None], Ke.shape).ravel()
+    cols = np.broadcast_to(dofs[:, None, :], Ke.shape).ravel()
+    return sp.csr_matrix((Ke.ravel(), (rows, cols)), shape=(6 * n_nodes, 6 * n_nodes))

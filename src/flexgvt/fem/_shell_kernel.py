@@ -1,0 +1,551 @@
+"""Compiled kernels of the linear flat shell elements, 6 DOF per node, all elements at once.
+
+Local DOFs per node [u, v, w, theta_x, theta_y, theta_z] in the element frame (x, y in the plane,
+z the normal); theta_z is the drilling rotation. Rotations are right-handed about the axes, so the
+rotations of the normal are beta_x = theta_y, beta_y = -theta_x (u = u0 + z beta_x).
+
+Quadrilateral (4 nodes):
+  - membrane: Allman-type interpolation of the in-plane displacements (Ibrahimbegovic, Taylor &
+    Wilson 1990: the serendipity field with the midside displacements made from the corner drilling
+    rotations, u_mid = (u_i + u_j)/2 + l_ij/8 (w_j - w_i) n_ij) plus the Hughes-Brezzi penalty
+    gamma int (skew(grad u) - theta_z)^2 dA that ties the drilling rotation to the in-plane rotation
+    (gamma = the in-plane shear stiffness A33, as Ibrahimbegovic et al.); 2 x 2 Gauss;
+  - bending: bilinear rotations (Mindlin), 2 x 2 Gauss; transverse shear: MITC4 (Bathe & Dvorkin
+    1985), covariant shear strains tied at the edge midpoints;
+  - a warped quad is projected on its mean plane (normal along the cross product of the diagonals)
+    and the nodes joined to their projections by rigid links (Taylor's warping correction).
+Triangle (3 nodes):
+  - membrane: Allman (1984) quadratic field from the corner drilling rotations plus the same
+    Hughes-Brezzi penalty (the constant-strain triangle locks in bending-dominated webs);
+  - bending: DKT (Batoz, Bathe & Ho 1980), Kirchhoff (no transverse shear flexibility).
+Sections enter as C (8, 8) = [[A, B, 0], [B^T, D, 0], [0, 0, S]] in element axes and mass (3,) =
+[m0, m1, m2] per unit area (see _shell_section.py). Masses: consistent (the bilinear/linear shape
+functions on u, v, w, beta; no drilling inertia) or lumped (int N_i dA per node).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit, prange
+
+_FAST = dict(cache=True, fastmath={"contract", "reassoc", "arcp", "nsz"}, nogil=True, error_model="numpy")
+_G = 0.5773502691896257  # 1/sqrt(3): the 2 x 2 Gauss points
+_CHUNK = 128  # elements per thread below which a parallel region costs more than it saves
+
+# status codes per element
+OK = 0
+BAD_JACOBIAN = 1  # a Gauss point with det J <= 0: inverted, degenerate or badly distorted element
+
+
+@njit(**_FAST)
+def quad_frame(X, E, xl, h):
+    """Frame E (3, 3) (columns x, y, z) of a quad with corners X (4, 3): z along the cross product of
+    the diagonals, x along the side 1-2 projected on the mean plane. xl (4, 2) the corners' projected
+    local coordinates about the centroid, h (4,) their distances from the mean plane [m]."""
+    d1 = X[2] - X[0]
+    d2 = X[3] - X[1]
+    z0 = d1[1] * d2[2] - d1[2] * d2[1]
+    z1 = d1[2] * d2[0] - d1[0] * d2[2]
+    z2 = d1[0] * d2[1] - d1[1] * d2[0]
+    nz = np.sqrt(z0 * z0 + z1 * z1 + z2 * z2)
+    z0, z1, z2 = z0 / nz, z1 / nz, z2 / nz
+    a0, a1, a2 = X[1, 0] - X[0, 0], X[1, 1] - X[0, 1], X[1, 2] - X[0, 2]
+    p = a0 * z0 + a1 * z1 + a2 * z2
+    a0, a1, a2 = a0 - p * z0, a1 - p * z1, a2 - p * z2
+    na = np.sqrt(a0 * a0 + a1 * a1 + a2 * a2)
+    a0, a1, a2 = a0 / na, a1 / na, a2 / na
+    E[0, 0], E[1, 0], E[2, 0] = a0, a1, a2
+    E[0, 1], E[1, 1], E[2, 1] = z1 * a2 - z2 * a1, z2 * a0 - z0 * a2, z0 * a1 - z1 * a0
+    E[0, 2], E[1, 2], E[2, 2] = z0, z1, z2
+    c0 = 0.25 * (X[0, 0] + X[1, 0] + X[2, 0] + X[3, 0])
+    c1 = 0.25 * (X[0, 1] + X[1, 1] + X[2, 1] + X[3, 1])
+    c2 = 0.25 * (X[0, 2] + X[1, 2] + X[2, 2] + X[3, 2])
+    for i in range(4):
+        r0, r1, r2 = X[i, 0] - c0, X[i, 1] - c1, X[i, 2] - c2
+        xl[i, 0] = r0 * E[0, 0] + r1 * E[1, 0] + r2 * E[2, 0]
+        xl[i, 1] = r0 * E[0, 1] + r1 * E[1, 1] + r2 * E[2, 1]
+        h[i] = r0 * z0 + r1 * z1 + r2 * z2
+
+
+@njit(**_FAST)
+def tri_frame(X, E, xl):
+    """Frame E (3, 3) of a triangle X (3, 3): x along side 1-2, z the normal; xl (3, 2) local
+    coordinates about the centroid."""
+    a0, a1, a2 = X[1, 0] - X[0, 0], X[1, 1] - X[0, 1], X[1, 2] - X[0, 2]
+    b0, b1, b2 = X[2, 0] - X[0, 0], X[2, 1] - X[0, 1], X[2, 2] - X[0, 2]
+    z0, z1, z2 = a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0
+    nz = np.sqrt(z0 * z0 + z1 * z1 + z2 * z2)
+    z0, z1, z2 = z0 / nz, z1 / nz, z2 / nz
+    na = np.sqrt(a0 * a0 + a1 * a1 + a2 * a2)
+    a0, a1, a2 = a0 / na, a1 / na, a2 / na
+    E[0, 0], E[1, 0], E[2, 0] = a0, a1, a2
+    E[0, 1], E[1, 1], E[2, 1] = z1 * a2 - z2 * a1, z2 * a0 - z0 * a2, z0 * a1 - z1 * a0
+    E[0, 2], E[1, 2], E[2, 2] = z0, z1, z2
+    c0 = (X[0, 0] + X[1, 0] + X[2, 0]) / 3
+    c1 = (X[0, 1] + X[1, 1] + X[2, 1]) / 3
+    c2 = (X[0, 2] + X[1, 2] + X[2, 2]) / 3
+    for i in range(3):
+        r0, r1, r2 = X[i, 0] - c0, X[i, 1] - c1, X[i, 2] - c2
+        xl[i, 0] = r0 * E[0, 0] + r1 * E[1, 0] + r2 * E[2, 0]
+        xl[i, 1] = r0 * E[0, 1] + r1 * E[1, 1] + r2 * E[2, 1]
+
+
+@njit(**_FAST)
+def _add_btcb(K, Bm, C, w, CB, nd):
+    """K[:nd, :nd] += w B^T C B for B (8, nd) (rows: membrane 3, bending 3, shear 2)."""
+    for a in range(8):
+        for j in range(nd):
+            acc = 0.0
+            for b in range(8):
+                acc += C[a, b] * Bm[b, j]
+            CB[a, j] = acc * w
+    for i in range(nd):
+        for j in range(i, nd):
+            acc = 0.0
+            for a in range(8):
+                acc += Bm[a, i] * CB[a, j]
+            K[i, j] += acc
+            if j != i:
+                K[j, i] += acc
+
+
+@njit(**_FAST)
+def quad_local_stiffness(xl, C, drill, K, Bm, CB, bp, tie):
+    """Local stiffness K (24, 24) (overwritten) of a flat quad at local corners xl (4, 2).
+    Work arrays: Bm (8, 24), CB (8, 24), bp (24,), tie (4, 24). Returns the smallest det J."""
+    for i in range(24):
+        for j in range(24):
+            K[i, j] = 0.0
+    # MITC4 tying strains: covariant transverse shear at the edge midpoints as rows over the 24 DOFs.
+    # Edge a -> b along increasing natural coordinate: g = (w_b - w_a)/2 + dx/4 (bx_a + bx_b) + dy/4
+    # (by_a + by_b), beta_x = theta_y, beta_y = -theta_x.
+    for t in range(4):
+        if t == 0:
+            a, b = 0, 1  # g_xi at eta = -1
+        elif t == 1:
+            a, b = 3, 2  # g_xi at eta = +1
+        elif t == 2:
+            a, b = 1, 2  # g_eta at xi = +1
+        else:
+            a, b = 0, 3  # g_eta at xi = -1
+        for j in range(24):
+            tie[t, j] = 0.0
+        dx = xl[b, 0] - xl[a, 0]
+        dy = xl[b, 1] - xl[a, 1]
+        tie[t, 6 * b + 2] = 0.5
+        tie[t, 6 * a + 2] = -0.5
+        tie[t, 6 * a + 4] = 0.25 * dx
+        tie[t, 6 * b + 4] = 0.25 * dx
+        tie[t, 6 * a + 3] = -0.25 * dy
+        tie[t, 6 * b + 3] = -0.25 * dy
+    ex = np.empty(4)
+    ey = np.empty(4)
+    for k in range(4):
+        k1 = (k + 1) % 4
+        ex[k] = xl[k1, 0] - xl[k, 0]
+        ey[k] = xl[k1, 1] - xl[k, 1]
+    dNx = np.empty(4)
+    dNy = np.empty(4)
+    N = np.empty(4)
+    Px = np.empty(4)
+    Py = np.empty(4)
+    gam = drill
+    detmin = 1e300
+    for gp in range(4):
+        xi = -_G if gp == 0 or gp == 3 else _G
+        eta = -_G if gp < 2 else _G
+        dxi0, dxi1, dxi2, dxi3 = -0.25 * (1 - eta), 0.25 * (1 - eta), 0.25 * (1 + eta), -0.25 * (1 + eta)
+        det0, det1, det2, det3 = -0.25 * (1 - xi), -0.25 * (1 + xi), 0.25 * (1 + xi), 0.25 * (1 - xi)
+        N[0] = 0.25 * (1 - xi) * (1 - eta)
+        N[1] = 0.25 * (1 + xi) * (1 - eta)
+        N[2] = 0.25 * (1 + xi) * (1 + eta)
+        N[3] = 0.25 * (1 - xi) * (1 + eta)
+        J00 = dxi0 * xl[0, 0] + dxi1 * xl[1, 0] + dxi2 * xl[2, 0] + dxi3 * xl[3, 0]
+        J01 = dxi0 * xl[0, 1] + dxi1 * xl[1, 1] + dxi2 * xl[2, 1] + dxi3 * xl[3, 1]
+        J10 = det0 * xl[0, 0] + det1 * xl[1, 0] + det2 * xl[2, 0] + det3 * xl[3, 0]
+        J11 = det0 * xl[0, 1] + det1 * xl[1, 1] + det2 * xl[2, 1] + det3 * xl[3, 1]
+        dj = J00 * J11 - J01 * J10
+        detmin = min(detmin, dj)
+        i00, i01, i10, i11 = J11 / dj, -J01 / dj, -J10 / dj, J00 / dj
+        for i in range(4):
+            dn_xi = dxi0 if i == 0 else (dxi1 if i == 1 else (dxi2 if i == 2 else dxi3))
+            dn_eta = det0 if i == 0 else (det1 if i == 1 else (det2 if i == 2 else det3))
+            dNx[i] = i00 * dn_xi + i01 * dn_eta
+            dNy[i] = i10 * dn_xi + i11 * dn_eta
+        # serendipity midside functions of edges 1-2, 2-3, 3-4, 4-1 and their x, y derivatives
+        for k in range(4):
+            if k == 0:
+                pxi, peta = -xi * (1 - eta), -0.5 * (1 - xi * xi)
+            elif k == 1:
+                pxi, peta = 0.5 * (1 - eta * eta), -(1 + xi) * eta
+            elif k == 2:
+                pxi, peta = -xi * (1 + eta), 0.5 * (1 - xi * xi)
+            else:
+                pxi, peta = -0.5 * (1 - eta * eta), -(1 - xi) * eta
+            Px[k] = i00 * pxi + i01 * peta
+            Py[k] = i10 * pxi + i11 * peta
+        for a in range(8):
+            for j in range(24):
+                Bm[a, j] = 0.0
+        for i in range(24):
+            bp[i] = 0.0
+        for i in range(4):
+            km = (i + 3) % 4
+            # Allman field of the drilling rotation of node i: u = (-ey_i P_i + ey_km P_km)/8,
+            # v = (ex_i P_i - ex_km P_km)/8
+            uwx = (-ey[i] * Px[i] + ey[km] * Px[km]) * 0.125
+            uwy = (-ey[i] * Py[i] + ey[km] * Py[km]) * 0.125
+            vwx = (ex[i] * Px[i] - ex[km] * Px[km]) * 0.125
+            vwy = (ex[i] * Py[i] - ex[km] * Py[km]) * 0.125
+            cu, cv, cx, cy, cz = 6 * i, 6 * i + 1, 6 * i + 3, 6 * i + 4, 6 * i + 5
+            Bm[0, cu] = dNx[i]
+            Bm[0, cz] = uwx
+            Bm[1, cv] = dNy[i]
+            Bm[1, cz] = vwy
+            Bm[2, cu] = dNy[i]
+            Bm[2, cv] = dNx[i]
+            Bm[2, cz] = uwy + vwx
+            Bm[3, cy] = dNx[i]
+            Bm[4, cx] = -dNy[i]
+            Bm[5, cy] = dNy[i]
+            Bm[5, cx] = -dNx[i]
+            bp[cu] = -0.5 * dNy[i]
+            bp[cv] = 0.5 * dNx[i]
+            bp[cz] = 0.5 * (vwx - uwy) - N[i]
+        # MITC4 shear: covariant strains interpolated from the tying points, then Cartesian
+        for j in range(24):
+            gx = 0.5 * (1 - eta) * tie[0, j] + 0.5 * (1 + eta) * tie[1, j]
+            ge = 0.5 * (1 + xi) * tie[2, j] + 0.5 * (1 - xi) * tie[3, j]
+            Bm[6, j] = i00 * gx + i01 * ge
+            Bm[7, j] = i10 * gx + i11 * ge
+        _add_btcb(K, Bm, C, dj, CB, 24)
+        gw = gam * dj
+        for i in range(24):
+            if bp[i] != 0.0:
+                for j in range(24):
+                    K[i, j] += gw * bp[i] * bp[j]
+    return detmin
+
+
+@njit(**_FAST)
+def quad_local_mass(xl, mass, lumped, M):
+    """Local mass M (24, 24) (overwritten): consistent (bilinear shape functions) or lumped."""
+    for i in range(24):
+        for j in range(24):
+            M[i, j] = 0.0
+    m0, m1, m2 = mass[0], mass[1], mass[2]
+    N = np.empty(4)
+    for gp in range(4):
+        xi = -_G if gp == 0 or gp == 3 else _G
+        eta = -_G if gp < 2 else _G
+        N[0] = 0.25 * (1 - xi) * (1 - eta)
+        N[1] = 0.25 * (1 + xi) * (1 - eta)
+        N[2] = 0.25 * (1 + xi) * (1 + eta)
+        N[3] = 0.25 * (1 - xi) * (1 + eta)
+        J00 = 0.25 * ((1 - eta) * (xl[1, 0] - xl[0, 0]) + (1 + eta) * (xl[2, 0] - xl[3, 0]))
+        J01 = 0.25 * ((1 - eta) * (xl[1, 1] - xl[0, 1]) + (1 + eta) * (xl[2, 1] - xl[3, 1]))
+        J10 = 0.25 * ((1 - xi) * (xl[3, 0] - xl[0, 0]) + (1 + xi) * (xl[2, 0] - xl[1, 0]))
+        J11 = 0.25 * ((1 - xi) * (xl[3, 1] - xl[0, 1]) + (1 + xi) * (xl[2, 1] - xl[1, 1]))
+        dA = J00 * J11 - J01 * J10
+        _add_mass(M, N, 4, dA, m0, m1, m2, lumped)
+
+
+@njit(**_FAST)
+def _add_mass(M, N, nn, dA, m0, m1, m2, lumped):
+    """Adds int N_i N_j (consistent) or int N_i on the diagonal (lumped) times the section's mass
+    terms: m0 on u, v, w; m2 on beta_x = theta_y, beta_y = -theta_x; m1 coupling u-beta_x, v-beta_y."""
+    for i in range(nn):
+        for j in range(nn):
+            if lumped:
+                if i != j:
+                    continue
+                s = N[i] * dA
+            else:
+                s = N[i] * N[j] * dA
+            a, b = 6 * i, 6 * j
+            M[a, b] += m0 * s
+            M[a + 1, b + 1] += m0 * s
+            M[a + 2, b + 2] += m0 * s
+            M[a + 3, b + 3] += m2 * s
+            M[a + 4, b + 4] += m2 * s
+            M[a, b + 4] += m1 * s
+            M[b + 4, a] += m1 * s
+            M[a + 1, b + 3] -= m1 * s
+            M[b + 3, a + 1] -= m1 * s
+
+
+@njit(**_FAST)
+def warp_links(K, h, nn):
+    """K <- W^T K W for the rigid links from the nodes to their projections on the mean plane:
+    u_flat = u - h theta_y, v_flat = v + h theta_x (h the node's height above the plane)."""
+    n = 6 * nn
+    for i in range(nn):
+        if h[i] == 0.0:
+            continue
+        for r in range(n):  # columns: K W
+            K[r, 6 * i + 4] -= h[i] * K[r, 6 * i]
+            K[r, 6 * i + 3] += h[i] * K[r, 6 * i + 1]
+    for i in range(nn):
+        if h[i] == 0.0:
+            continue
+        for c in range(n):  # rows: W^T (K W)
+            K[6 * i + 4, c] -= h[i] * K[6 * i, c]
+            K[6 * i + 3, c] += h[i] * K[6 * i + 1, c]
+
+
+@njit(**_FAST)
+def to_global(E, Kl, Kg, nn, tmp):
+    """Kg = T^T Kl T with T = diag(E^T, ...) over the 2 nn three-component blocks."""
+    nb = 2 * nn
+    for bi in range(nb):
+        for bj in range(nb):
+            r0, c0 = 3 * bi, 3 * bj
+            for i in range(3):
+                for j in range(3):
+                    tmp[i, j] = Kl[r0 + i, c0] * E[j, 0] + Kl[r0 + i, c0 + 1] * E[j, 1] + Kl[r0 + i, c0 + 2] * E[j, 2]
+            for i in range(3):
+                for j in range(3):
+                    Kg[r0 + i, c0 + j] = E[i, 0] * tmp[0, j] + E[i, 1] * tmp[1, j] + E[i, 2] * tmp[2, j]
+
+
+@njit(**_FAST)
+def _quad_chunk(X, C, mass, drill, lumped, want_mass, K_out, M_out, frames, status, start, stop):
+    Xe = np.empty((4, 3))
+    E = np.empty((3, 3))
+    xl = np.empty((4, 2))
+    h = np.empty(4)
+    Kl = np.empty((24, 24))
+    Bm = np.empty((8, 24))
+    CB = np.empty((8, 24))
+    bp = np.empty(24)
+    tie = np.empty((4, 24))
+    tmp = np.empty((3, 3))
+    for el in range(start, stop):
+        for i in range(4):
+            for j in range(3):
+                Xe[i, j] = X[el, i, j]
+        quad_frame(Xe, E, xl, h)
+        for i in range(3):
+            for j in range(3):
+                frames[el, i, j] = E[i, j]
+        dmin = quad_local_stiffness(xl, C[el], drill[el], Kl, Bm, CB, bp, tie)
+        status[el] = OK if dmin > 0.0 else BAD_JACOBIAN
+        warp_links(Kl, h, 4)
+        to_global(E, Kl, K_out[el], 4, tmp)
+        if want_mass:
+            quad_local_mass(xl, mass[el], lumped[el], Kl)
+            warp_links(Kl, h, 4)
+            to_global(E, Kl, M_out[el], 4, tmp)
+
+
+@njit(cache=True, nogil=True, parallel=True)
+def quad_kernel(X, C, mass, drill, lumped, want_mass, K_out, M_out, frames, status, threads):
+    """Global stiffness K_out (n, 24, 24) and mass M_out of n quads with corners X (n, 4, 3)."""
+    n = X.shape[0]
+    chunks = min(max(n // _CHUNK, 1), threads)
+    for c in prange(chunks):
+        _quad_chunk(X, C, mass, drill, lumped, want_mass, K_out, M_out, frames, status,
+                    c * n // chunks, (c + 1) * n // chunks)
+
+
+# ------------------------------------------------------------------------------------------ triangle
+# 3-point rule (interior points) on the triangle, exact for quadratics: area coordinates, weight 1/3
+_TRI_L = np.array([[2.0 / 3, 1.0 / 6, 1.0 / 6], [1.0 / 6, 2.0 / 3, 1.0 / 6], [1.0 / 6, 1.0 / 6, 2.0 / 3]])
+
+
+@njit(**_FAST)
+def _dkt_coefficients(xl, Cx, Cy):
+    """Hx = Cx N, Hy = Cy N (9 x 6): the DKT rotations beta_x, beta_y as combinations of the six
+    quadratic functions N (corners 1-3, midsides 4 = 2-3, 5 = 3-1, 6 = 1-2) over the DOFs
+    [w, theta_x, theta_y] x 3 (Batoz, Bathe & Ho 1980)."""
+    a = np.empty(3)
+    b = np.empty(3)
+    c = np.empty(3)
+    d = np.empty(3)
+    e = np.empty(3)
+    for m in range(3):  # midside 4 + m: edge (i, j) = (2, 3), (3, 1), (1, 2)
+        i, j = (1, 2) if m == 0 else ((2, 0) if m == 1 else (0, 1))
+        x = xl[i, 0] - xl[j, 0]
+        y = xl[i, 1] - xl[j, 1]
+        l2 = x * x + y * y
+        a[m] = -x / l2
+        b[m] = 0.75 * x * y / l2
+        c[m] = (0.25 * x * x - 0.5 * y * y) / l2
+        d[m] = -y / l2
+        e[m] = (0.25 * y * y - 0.5 * x * x) / l2
+    for r in range(9):
+        for s in range(6):
+            Cx[r, s] = 0.0
+            Cy[r, s] = 0.0
+    # node k (0, 1, 2) with its corner function k, and the midsides (p, q) that touch it:
+    # node 1: midsides 6 (index 5) and 5 (index 4); node 2: 4 and 6; node 3: 5 and 4.
+    for k in range(3):
+        if k == 0:
+            p, q = 5, 4  # Hx1 = 1.5 (a6 N6 - a5 N5)
+        elif k == 1:
+            p, q = 3, 5  # Hx4 = 1.5 (a4 N4 - a6 N6)
+        else:
+            p, q = 4, 3  # Hx7 = 1.5 (a5 N5 - a4 N4)
+        mp, mq = p - 3, q - 3
+        r = 3 * k
+        Cx[r, p] = 1.5 * a[mp]
+        Cx[r, q] = -1.5 * a[mq]
+        Cx[r + 1, p] = b[mp]
+        Cx[r + 1, q] = b[mq]
+        Cx[r + 2, k] = 1.0
+        Cx[r + 2, p] = -c[mp]
+        Cx[r + 2, q] = -c[mq]
+        Cy[r, p] = 1.5 * d[mp]
+        Cy[r, q] = -1.5 * d[mq]
+        Cy[r + 1, k] = -1.0
+        Cy[r + 1, p] = e[mp]
+        Cy[r + 1, q] = e[mq]
+        Cy[r + 2, p] = -b[mp]
+        Cy[r + 2, q] = -b[mq]
+
+
+@njit(**_FAST)
+def tri_local_stiffness(xl, C, drill, K, Bm, CB, bp, Cx, Cy):
+    """Local stiffness K (18, 18) (overwritten) of a flat triangle at local corners xl (3, 2); Bm,
+    CB (8, 18), bp (18,), Cx, Cy (9, 6) work arrays. Returns twice the signed area."""
+    for i in range(18):
+        for j in range(18):
+            K[i, j] = 0.0
+    x0, y0 = xl[0, 0], xl[0, 1]
+    x1, y1 = xl[1, 0], xl[1, 1]
+    x2, y2 = xl[2, 0], xl[2, 1]
+    A2 = (x1 - x0) * (y2 - y0) - (x2 - x0) * (y1 - y0)
+    if A2 <= 0.0:
+        return A2
+    # gradients of the area coordinates
+    bx = np.empty(3)
+    by = np.empty(3)
+    bx[0], by[0] = (y1 - y2) / A2, (x2 - x1) / A2
+    bx[1], by[1] = (y2 - y0) / A2, (x0 - x2) / A2
+    bx[2], by[2] = (y0 - y1) / A2, (x1 - x0) / A2
+    ex = np.empty(3)
+    ey = np.empty(3)
+    for k in range(3):
+        k1 = (k + 1) % 3
+        ex[k] = xl[k1, 0] - xl[k, 0]
+        ey[k] = xl[k1, 1] - xl[k, 1]
+    _dkt_coefficients(xl, Cx, Cy)
+    x31, y31 = x2 - x0, y2 - y0
+    x12, y12 = x0 - x1, y0 - y1
+    L = np.empty(3)
+    Px = np.empty(3)
+    Py = np.empty(3)
+    Nxi = np.empty(6)
+    Neta = np.empty(6)
+    w = A2 / 6.0  # area / 3
+    for gp in range(3):
+        for i in range(3):
+            L[i] = _TRI_L[gp, i]
+        for k in range(3):  # Allman bubbles 4 L_k L_k+1 of edge k -> k+1
+            k1 = (k + 1) % 3
+            Px[k] = 4 * (bx[k] * L[k1] + L[k] * bx[k1])
+            Py[k] = 4 * (by[k] * L[k1] + L[k] * by[k1])
+        for a in range(8):
+            for j in range(18):
+                Bm[a, j] = 0.0
+        for i in range(18):
+            bp[i] = 0.0
+        for i in range(3):
+            km = (i + 2) % 3
+            uwx = (-ey[i] * Px[i] + ey[km] * Px[km]) * 0.125
+            uwy = (-ey[i] * Py[i] + ey[km] * Py[km]) * 0.125
+            vwx = (ex[i] * Px[i] - ex[km] * Px[km]) * 0.125
+            vwy = (ex[i] * Py[i] - ex[km] * Py[km]) * 0.125
+            cu, cv, cz = 6 * i, 6 * i + 1, 6 * i + 5
+            Bm[0, cu] = bx[i]
+            Bm[0, cz] = uwx
+            Bm[1, cv] = by[i]
+            Bm[1, cz] = vwy
+            Bm[2, cu] = by[i]
+            Bm[2, cv] = bx[i]
+            Bm[2, cz] = uwy + vwx
+            bp[cu] = -0.5 * by[i]
+            bp[cv] = 0.5 * bx[i]
+            bp[cz] = 0.5 * (vwx - uwy) - L[i]
+        # DKT curvatures: xi = L1, eta = L2 (node 2 at xi = 1, node 3 at eta = 1)
+        xi, eta = L[1], L[2]
+        l0 = 1.0 - xi - eta
+        Nxi[0], Neta[0] = 1 - 4 * l0, 1 - 4 * l0
+        Nxi[1], Neta[1] = 4 * xi - 1, 0.0
+        Nxi[2], Neta[2] = 0.0, 4 * eta - 1
+        Nxi[3], Neta[3] = 4 * eta, 4 * xi
+        Nxi[4], Neta[4] = -4 * eta, 4 * (l0 - eta)
+        Nxi[5], Neta[5] = 4 * (l0 - xi), -4 * xi
+        for r in range(9):
+            hxx = 0.0
+            hxe = 0.0
+            hyx = 0.0
+            hye = 0.0
+            for s in range(6):
+                hxx += Cx[r, s] * Nxi[s]
+                hxe += Cx[r, s] * Neta[s]
+                hyx += Cy[r, s] * Nxi[s]
+                hye += Cy[r, s] * Neta[s]
+            col = 6 * (r // 3) + 2 + r % 3
+            Bm[3, col] = (y31 * hxx + y12 * hxe) / A2
+            Bm[4, col] = (-x31 * hyx - x12 * hye) / A2
+            Bm[5, col] = (-x31 * hxx - x12 * hxe + y31 * hyx + y12 * hye) / A2
+        _add_btcb(K, Bm, C, w, CB, 18)
+        gw = drill * w
+        for i in range(18):
+            if bp[i] != 0.0:
+                for j in range(18):
+                    K[i, j] += gw * bp[i] * bp[j]
+    return A2
+
+
+@njit(**_FAST)
+def tri_local_mass(xl, mass, lumped, M):
+    """Local mass M (18, 18) (overwritten): consistent (linear shape functions) or lumped (A/3)."""
+    for i in range(18):
+        for j in range(18):
+            M[i, j] = 0.0
+    A2 = (xl[1, 0] - xl[0, 0]) * (xl[2, 1] - xl[0, 1]) - (xl[2, 0] - xl[0, 0]) * (xl[1, 1] - xl[0, 1])
+    N = np.empty(3)
+    for gp in range(3):
+        for i in range(3):
+            N[i] = _TRI_L[gp, i]
+        _add_mass(M, N, 3, A2 / 6.0, mass[0], mass[1], mass[2], lumped)
+
+
+@njit(**_FAST)
+def _tri_chunk(X, C, mass, drill, lumped, want_mass, K_out, M_out, frames, status, start, stop):
+    Xe = np.empty((3, 3))
+    E = np.empty((3, 3))
+    xl = np.empty((3, 2))
+    Kl = np.empty((18, 18))
+    Bm = np.empty((8, 18))
+    CB = np.empty((8, 18))
+    bp = np.empty(18)
+    Cx = np.empty((9, 6))
+    Cy = np.empty((9, 6))
+    tmp = np.empty((3, 3))
+    for el in range(start, stop):
+        for i in range(3):
+            for j in range(3):
+                Xe[i, j] = X[el, i, j]
+        tri_frame(Xe, E, xl)
+        for i in range(3):
+            for j in range(3):
+                frames[el, i, j] = E[i, j]
+        a2 = tri_local_stiffness(xl, C[el], drill[el], Kl, Bm, CB, bp, Cx, Cy)
+        status[el] = OK if a2 > 0.0 else BAD_JACOBIAN
+        to_global(E, Kl, K_out[el], 3, tmp)
+        if want_mass:
+            tri_local_mass(xl, mass[el], lumped[el], Kl)
+            to_global(E, Kl, M_out[el], 3, tmp)
+
+
+@njit(cache=True, nogil=True, parallel=True)
+def tri_kernel(X, C, mass, drill, lumped, want_mass, K_out, M_out, frames, status, threads):
+    """Global stiffness K_out (n, 18, 18) and mass M_out of n triangles with corners X (n, 3, 3)."""
+    n = X.shape[0]
+    chunks = min(max(n // _CHUNK, 1), threads)
+    for c in prange(chunks):
+        _tri_chunk(X, C, mass, drill, lumped, want_mass, K_out, M_out, frames, status,
+                   c * n // chunks, (c + 1) * n // chunks)
