@@ -15,9 +15,14 @@ Quadrilateral (4 nodes):
   - a warped quad is projected on its mean plane (normal along the cross product of the diagonals)
     and the nodes joined to their projections by rigid links (Taylor's warping correction).
 Triangle (3 nodes):
-  - membrane: Allman (1984) quadratic field from the corner drilling rotations plus the same
-    Hughes-Brezzi penalty (the constant-strain triangle locks in bending-dominated webs);
-  - bending: DKT (Batoz, Bathe & Ho 1980), Kirchhoff (no transverse shear flexibility).
+  - membrane: ANDES-OPT (Felippa 2003; Felippa & Militello 1992), basic stiffness with
+    alpha_b = 3/2 plus the higher-order stiffness of natural strains on the hierarchical drilling
+    rotations (signature beta1..9 = 1, 2, 1, 0, 1, -1, -1, -1, -2; beta0 = (1 - 4 nu^2)/2 on the
+    scale that makes pure in-plane bending of a rectangular unit exact, tested): an Allman field
+    with a Hughes-Brezzi penalty was tried first and gave 0.14 of the MacNeal-Harder in-plane
+    shear (a spar web locks), ANDES-OPT 1.05;
+  - bending: DKT (Batoz, Bathe & Ho 1980), Kirchhoff (no transverse shear flexibility); the
+    membrane-bending coupling B acts on the basic (constant) membrane strain.
 Sections enter as C (8, 8) = [[A, B, 0], [B^T, D, 0], [0, 0, S]] in element axes and mass (3,) =
 [m0, m1, m2] per unit area (see _shell_section.py). Masses: consistent (the bilinear/linear shape
 functions on u, v, w, beta; no drilling inertia) or lumped (int N_i dA per node).
@@ -404,71 +409,142 @@ def _dkt_coefficients(xl, Cx, Cy):
         Cy[r + 2, q] = -b[mq]
 
 
+
+# ANDES optimal membrane (Felippa 2003): alpha_b of the basic stiffness and the signature beta1..beta9
+_ALPHA_B = 1.5
+_BETA = np.array([1.0, 2.0, 1.0, 0.0, 1.0, -1.0, -1.0, -1.0, -2.0])
+
+
 @njit(**_FAST)
-def tri_local_stiffness(xl, C, drill, K, Bm, CB, bp, Cx, Cy):
-    """Local stiffness K (18, 18) (overwritten) of a flat triangle at local corners xl (3, 2); Bm,
-    CB (8, 18), bp (18,), Cx, Cy (9, 6) work arrays. Returns twice the signed area."""
+def andes_membrane(xl, Am, Bc, Kh):
+    """ANDES-OPT membrane triangle with drilling rotations (Felippa, CMAME 192, 2003), over the nine
+    DOFs [u, v, theta_z] x 3: Bc (3, 9) the basic constant strain (the basic stiffness is
+    A Bc^T Am Bc, alpha_b = 3/2), Kh (9, 9) (overwritten) the higher-order stiffness from the
+    natural strains at the midpoints with beta0 = (1 - 4 nu^2)/2 (nu = Am12 / sqrt(Am11 Am22),
+    at least 0.01). Am (3, 3) membrane stiffness per length [N/m]. Returns the area."""
+    x1, y1 = xl[0, 0], xl[0, 1]
+    x2, y2 = xl[1, 0], xl[1, 1]
+    x3, y3 = xl[2, 0], xl[2, 1]
+    x12, x21, x13, x31, x23, x32 = x1 - x2, x2 - x1, x1 - x3, x3 - x1, x2 - x3, x3 - x2
+    y12, y21, y13, y31, y23, y32 = y1 - y2, y2 - y1, y1 - y3, y3 - y1, y2 - y3, y3 - y2
+    A = 0.5 * (x21 * y31 - x31 * y21)
+    if A <= 0.0:
+        return A
+    a = _ALPHA_B
+    # L^T / A (L: Felippa's lumping matrix per unit thickness, rows the nine DOFs)
+    f = 0.5 / A
+    Bc[0, 0], Bc[1, 0], Bc[2, 0] = f * y23, 0.0, f * x32
+    Bc[0, 1], Bc[1, 1], Bc[2, 1] = 0.0, f * x32, f * y23
+    Bc[0, 2] = f * a / 6 * y23 * (y13 - y21)
+    Bc[1, 2] = f * a / 6 * x32 * (x31 - x12)
+    Bc[2, 2] = f * a / 3 * (x31 * y13 - x12 * y21)
+    Bc[0, 3], Bc[1, 3], Bc[2, 3] = f * y31, 0.0, f * x13
+    Bc[0, 4], Bc[1, 4], Bc[2, 4] = 0.0, f * x13, f * y31
+    Bc[0, 5] = f * a / 6 * y31 * (y21 - y32)
+    Bc[1, 5] = f * a / 6 * x13 * (x12 - x23)
+    Bc[2, 5] = f * a / 3 * (x12 * y21 - x23 * y32)
+    Bc[0, 6], Bc[1, 6], Bc[2, 6] = f * y12, 0.0, f * x21
+    Bc[0, 7], Bc[1, 7], Bc[2, 7] = 0.0, f * x21, f * y12
+    Bc[0, 8] = f * a / 6 * y12 * (y32 - y13)
+    Bc[1, 8] = f * a / 6 * x21 * (x23 - x31)
+    Bc[2, 8] = f * a / 3 * (x23 * y32 - x31 * y13)
+    l21 = x21 * x21 + y21 * y21
+    l32 = x32 * x32 + y32 * y32
+    l13 = x13 * x13 + y13 * y13
+    # Cartesian strains from the natural (side) strains: eps = Te eps_nat
+    Te = np.empty((3, 3))
+    g = 1.0 / (4 * A * A)
+    Te[0, 0], Te[0, 1], Te[0, 2] = g * y23 * y13 * l21, g * y31 * y21 * l32, g * y12 * y32 * l13
+    Te[1, 0], Te[1, 1], Te[1, 2] = g * x23 * x13 * l21, g * x31 * x21 * l32, g * x12 * x32 * l13
+    Te[2, 0] = g * (y23 * x31 + x32 * y13) * l21
+    Te[2, 1] = g * (y31 * x12 + x13 * y21) * l32
+    Te[2, 2] = g * (y12 * x23 + x21 * y32) * l13
+    En = np.zeros((3, 3))  # Te^T Am Te
+    for i in range(3):
+        for j in range(3):
+            acc = 0.0
+            for k in range(3):
+                for m in range(3):
+                    acc += Te[k, i] * Am[k, m] * Te[m, j]
+            En[i, j] = acc
+    b = _BETA
+    c = 2 * A / 3
+    Q = np.empty((3, 3, 3))  # natural strains at the corners from the hierarchical rotations
+    idx = ((0, 1, 2, 3, 4, 5, 6, 7, 8), (8, 6, 7, 2, 0, 1, 5, 3, 4), (4, 5, 3, 7, 8, 6, 1, 2, 0))
+    for n in range(3):
+        for r in range(3):
+            lr = l21 if r == 0 else (l32 if r == 1 else l13)
+            for col in range(3):
+                Q[n, r, col] = c * b[idx[n][3 * r + col]] / lr
+    Kt = np.zeros((3, 3))
+    Qm = np.empty((3, 3))
+    for m in range(3):  # midpoints 4, 5, 6 = (1, 2), (2, 3), (3, 1)
+        n1, n2 = m, (m + 1) % 3
+        for r in range(3):
+            for col in range(3):
+                Qm[r, col] = 0.5 * (Q[n1, r, col] + Q[n2, r, col])
+        for i in range(3):
+            for j in range(3):
+                acc = 0.0
+                for k in range(3):
+                    for l_ in range(3):
+                        acc += Qm[k, i] * En[k, l_] * Qm[l_, j]
+                Kt[i, j] += acc * A / 3
+    nu = Am[0, 1] / np.sqrt(Am[0, 0] * Am[1, 1]) if Am[0, 0] > 0 and Am[1, 1] > 0 else 0.0
+    beta0 = max(0.5 * (1 - 4 * nu * nu), 0.01)
+    # hierarchical rotations theta_i - theta_0 (theta_0 the rotation of the linear field)
+    T = np.zeros((3, 9))
+    h = 0.25 / A
+    for i in range(3):
+        T[i, 0], T[i, 1] = h * x32, h * y32
+        T[i, 3], T[i, 4] = h * x13, h * y13
+        T[i, 6], T[i, 7] = h * x21, h * y21
+        T[i, 3 * i + 2] = 1.0
+    for i in range(9):
+        for j in range(9):
+            acc = 0.0
+            for k in range(3):
+                for m in range(3):
+                    acc += T[k, i] * Kt[k, m] * T[m, j]
+            # 9/4: with Q normalised as here, the scale at which beta0 = (1 - 4 nu^2)/2 makes
+            # pure bending of a rectangular unit exact (test_andes_membrane_is_optimal_in_pure_bending)
+            Kh[i, j] = 2.25 * beta0 * acc
+    return A
+
+
+@njit(**_FAST)
+def tri_local_stiffness(xl, C, K, Bm, CB, Cx, Cy, Bc, Kh):
+    """Local stiffness K (18, 18) (overwritten) of a flat triangle at local corners xl (3, 2): ANDES-OPT
+    membrane, DKT bending, the membrane-bending coupling on the basic (constant) membrane strain.
+    Work arrays Bm, CB (8, 18), Cx, Cy (9, 6), Bc (3, 9), Kh (9, 9). Returns the signed area."""
     for i in range(18):
         for j in range(18):
             K[i, j] = 0.0
+    Am = C[:3, :3]
+    area = andes_membrane(xl, Am, Bc, Kh)
+    if area <= 0.0:
+        return area
+    A2 = 2 * area
     x0, y0 = xl[0, 0], xl[0, 1]
     x1, y1 = xl[1, 0], xl[1, 1]
     x2, y2 = xl[2, 0], xl[2, 1]
-    A2 = (x1 - x0) * (y2 - y0) - (x2 - x0) * (y1 - y0)
-    if A2 <= 0.0:
-        return A2
-    # gradients of the area coordinates
-    bx = np.empty(3)
-    by = np.empty(3)
-    bx[0], by[0] = (y1 - y2) / A2, (x2 - x1) / A2
-    bx[1], by[1] = (y2 - y0) / A2, (x0 - x2) / A2
-    bx[2], by[2] = (y0 - y1) / A2, (x1 - x0) / A2
-    ex = np.empty(3)
-    ey = np.empty(3)
-    for k in range(3):
-        k1 = (k + 1) % 3
-        ex[k] = xl[k1, 0] - xl[k, 0]
-        ey[k] = xl[k1, 1] - xl[k, 1]
     _dkt_coefficients(xl, Cx, Cy)
     x31, y31 = x2 - x0, y2 - y0
     x12, y12 = x0 - x1, y0 - y1
-    L = np.empty(3)
-    Px = np.empty(3)
-    Py = np.empty(3)
     Nxi = np.empty(6)
     Neta = np.empty(6)
-    w = A2 / 6.0  # area / 3
+    w = area / 3.0
+    for a in range(8):
+        for j in range(18):
+            Bm[a, j] = 0.0
+    for i in range(3):  # the basic membrane strain, constant over the element
+        for r in range(3):
+            Bm[r, 6 * i] = Bc[r, 3 * i]
+            Bm[r, 6 * i + 1] = Bc[r, 3 * i + 1]
+            Bm[r, 6 * i + 5] = Bc[r, 3 * i + 2]
     for gp in range(3):
-        for i in range(3):
-            L[i] = _TRI_L[gp, i]
-        for k in range(3):  # Allman bubbles 4 L_k L_k+1 of edge k -> k+1
-            k1 = (k + 1) % 3
-            Px[k] = 4 * (bx[k] * L[k1] + L[k] * bx[k1])
-            Py[k] = 4 * (by[k] * L[k1] + L[k] * by[k1])
-        for a in range(8):
-            for j in range(18):
-                Bm[a, j] = 0.0
-        for i in range(18):
-            bp[i] = 0.0
-        for i in range(3):
-            km = (i + 2) % 3
-            uwx = (-ey[i] * Px[i] + ey[km] * Px[km]) * 0.125
-            uwy = (-ey[i] * Py[i] + ey[km] * Py[km]) * 0.125
-            vwx = (ex[i] * Px[i] - ex[km] * Px[km]) * 0.125
-            vwy = (ex[i] * Py[i] - ex[km] * Py[km]) * 0.125
-            cu, cv, cz = 6 * i, 6 * i + 1, 6 * i + 5
-            Bm[0, cu] = bx[i]
-            Bm[0, cz] = uwx
-            Bm[1, cv] = by[i]
-            Bm[1, cz] = vwy
-            Bm[2, cu] = by[i]
-            Bm[2, cv] = bx[i]
-            Bm[2, cz] = uwy + vwx
-            bp[cu] = -0.5 * by[i]
-            bp[cv] = 0.5 * bx[i]
-            bp[cz] = 0.5 * (vwx - uwy) - L[i]
         # DKT curvatures: xi = L1, eta = L2 (node 2 at xi = 1, node 3 at eta = 1)
-        xi, eta = L[1], L[2]
+        xi, eta = _TRI_L[gp, 1], _TRI_L[gp, 2]
         l0 = 1.0 - xi - eta
         Nxi[0], Neta[0] = 1 - 4 * l0, 1 - 4 * l0
         Nxi[1], Neta[1] = 4 * xi - 1, 0.0
@@ -491,12 +567,12 @@ def tri_local_stiffness(xl, C, drill, K, Bm, CB, bp, Cx, Cy):
             Bm[4, col] = (-x31 * hyx - x12 * hye) / A2
             Bm[5, col] = (-x31 * hxx - x12 * hxe + y31 * hyx + y12 * hye) / A2
         _add_btcb(K, Bm, C, w, CB, 18)
-        gw = drill * w
-        for i in range(18):
-            if bp[i] != 0.0:
-                for j in range(18):
-                    K[i, j] += gw * bp[i] * bp[j]
-    return A2
+    for i in range(9):
+        gi = 6 * (i // 3) + (i % 3 if i % 3 < 2 else 5)
+        for j in range(9):
+            gj = 6 * (j // 3) + (j % 3 if j % 3 < 2 else 5)
+            K[gi, gj] += Kh[i, j]
+    return area
 
 
 @njit(**_FAST)
@@ -521,9 +597,10 @@ def _tri_chunk(X, C, mass, drill, lumped, want_mass, K_out, M_out, frames, statu
     Kl = np.empty((18, 18))
     Bm = np.empty((8, 18))
     CB = np.empty((8, 18))
-    bp = np.empty(18)
     Cx = np.empty((9, 6))
     Cy = np.empty((9, 6))
+    Bc = np.empty((3, 9))
+    Kh = np.empty((9, 9))
     tmp = np.empty((3, 3))
     for el in range(start, stop):
         for i in range(3):
@@ -533,7 +610,7 @@ def _tri_chunk(X, C, mass, drill, lumped, want_mass, K_out, M_out, frames, statu
         for i in range(3):
             for j in range(3):
                 frames[el, i, j] = E[i, j]
-        a2 = tri_local_stiffness(xl, C[el], drill[el], Kl, Bm, CB, bp, Cx, Cy)
+        a2 = tri_local_stiffness(xl, C[el], Kl, Bm, CB, Cx, Cy, Bc, Kh)
         status[el] = OK if a2 > 0.0 else BAD_JACOBIAN
         to_global(E, Kl, K_out[el], 3, tmp)
         if want_mass:
