@@ -343,3 +343,52 @@ def test_macneal_harder_twisted_beam(tri):
         f = np.zeros(K.shape[0])
         f[6 * tip + comp] = 1 / len(tip)
         assert abs(np.mean(solve(K, f, fix)[6 * tip + comp]) / ref - 1) < 0.01
+
+
+@pytest.mark.parametrize("tri", [False, True], ids=["quads", "triangles"])
+def test_pinched_hemisphere_with_hole(tri):
+    """MacNeal & Harder: R 10, t 0.04, 18 deg hole, E 6.825e7, nu 0.3, opposite unit loads (+-2 on the
+    whole) on the equator: displacement 0.094 under the load (quarter model)."""
+    R = 10.0
+    sec = pshell(0.04, mat1(6.825e7, nu=0.3), mat1(6.825e7, nu=0.3))
+    res = []
+    for n in (16, 32):
+        xyz, conn = grid(lambda s, t: np.c_[R * np.cos(np.radians(72 * t)) * np.cos(np.pi / 2 * s),
+                                            R * np.cos(np.radians(72 * t)) * np.sin(np.pi / 2 * s),
+                                            R * np.sin(np.radians(72 * t))], n, n, tri)
+        x, y, z = xyz.T
+        on_eq = np.flatnonzero(np.isclose(z, 0))
+        a = on_eq[np.isclose(y[on_eq], 0)][0]
+        b = on_eq[np.isclose(x[on_eq], 0, atol=1e-9)][0]
+        mid = on_eq[np.argmin(np.abs(np.arctan2(y[on_eq], x[on_eq]) - np.pi / 4))]  # holds the z translation
+        fix = np.unique(np.concatenate([6 * np.flatnonzero(np.isclose(y, 0)) + k for k in (1, 3, 5)]
+                                       + [6 * np.flatnonzero(np.isclose(x, 0, atol=1e-9)) + k for k in (0, 4, 5)]
+                                       + [[6 * mid + 2]]))
+        f = np.zeros(6 * len(x))
+        f[6 * a], f[6 * b + 1] = 1.0, -1.0
+        u = solve(matrices(xyz, conn, sec)[0], f, fix)
+        if not tri:  # the quad mesh is symmetric about the 45 deg plane (the triangles' diagonals are not)
+            assert np.isclose(u[6 * a], -u[6 * b + 1], rtol=1e-9)
+        res.append((u[6 * a] - u[6 * b + 1]) / 2 / 0.094)
+    # measured: quads 0.990, 0.994; triangles 0.929, 0.990
+    assert abs(res[1] - 1) < 0.012 and abs(res[1] - 1) < abs(res[0] - 1), res
+
+
+@pytest.mark.parametrize("tri", [False, True], ids=["quads", "triangles"])
+def test_pinched_cylinder_with_diaphragms(tri):
+    """R 300, L 600, t 3, E 3e6, nu 0.3, two opposite unit loads at mid-length, ends on diaphragms:
+    1.8248e-5 under the load (octant model, 48 x 48)."""
+    R, L = 300.0, 600.0
+    sec = pshell(3.0, mat1(3e6, nu=0.3), mat1(3e6, nu=0.3))
+    xyz, conn = grid(lambda s, t: np.c_[L / 2 * s, R * np.cos(np.pi / 2 * t), R * np.sin(np.pi / 2 * t)], 48, 48, tri)
+    x, y, z = xyz.T
+    fix = np.unique(np.concatenate(
+        [6 * np.flatnonzero(np.isclose(x, 0)) + k for k in (0, 4, 5)]
+        + [6 * np.flatnonzero(np.isclose(x, L / 2)) + k for k in (1, 2, 3)]
+        + [6 * np.flatnonzero(np.isclose(y, 0, atol=1e-9)) + k for k in (1, 3, 5)]
+        + [6 * np.flatnonzero(np.isclose(z, 0, atol=1e-9)) + k for k in (2, 3, 4)]))
+    p = np.argmin(x**2 + y**2 + (z - R) ** 2)
+    f = np.zeros(6 * len(x))
+    f[6 * p + 2] = -0.25
+    w = -solve(matrices(xyz, conn, sec)[0], f, fix)[6 * p + 2]
+    assert abs(w / 1.8248e-5 - 1) < 0.01, w / 1.8248e-5  # measured: quads 1.0015, triangles 1.0078
