@@ -115,15 +115,60 @@ def _add_btcb(K, Bm, C, w, CB, nd):
 
 
 @njit(**_FAST)
-def quad_local_stiffness(xl, C, drill, K, Bm, CB, bp, tie):
+def _add_quad_point(K, Mr, Br, Sr, bp, C, w, gam, coupled, nA, nB, mD, qS):
+    """K += w [B^T C B + gam bp bp^T] at one Gauss point, block by block on the non-zero columns:
+    Mr (3, 12) membrane strains over [u, v, theta_z] x 4, Br (3, 8) curvatures over
+    [theta_x, theta_y] x 4, Sr (2, 12) shear strains over [w, theta_x, theta_y] x 4, bp (12,) the
+    drilling penalty row over the membrane columns."""
+    for i in range(12):
+        for r in range(3):
+            nA[r, i] = w * (C[r, 0] * Mr[0, i] + C[r, 1] * Mr[1, i] + C[r, 2] * Mr[2, i])
+            if coupled:
+                nB[r, i] = w * (C[0, 3 + r] * Mr[0, i] + C[1, 3 + r] * Mr[1, i] + C[2, 3 + r] * Mr[2, i])
+        for r in range(2):
+            qS[r, i] = w * (C[6 + r, 6] * Sr[0, i] + C[6 + r, 7] * Sr[1, i])
+    for j in range(8):
+        for r in range(3):
+            mD[r, j] = w * (C[3 + r, 3] * Br[0, j] + C[3 + r, 4] * Br[1, j] + C[3 + r, 5] * Br[2, j])
+    gw = gam * w
+    for i in range(12):
+        gi = 6 * (i // 3) + (i % 3 if i % 3 < 2 else 5)
+        for k in range(12):
+            gk = 6 * (k // 3) + (k % 3 if k % 3 < 2 else 5)
+            K[gi, gk] += Mr[0, i] * nA[0, k] + Mr[1, i] * nA[1, k] + Mr[2, i] * nA[2, k] + gw * bp[i] * bp[k]
+        if coupled:
+            for j in range(8):
+                gj = 6 * (j // 2) + 3 + j % 2
+                acc = nB[0, i] * Br[0, j] + nB[1, i] * Br[1, j] + nB[2, i] * Br[2, j]
+                K[gi, gj] += acc
+                K[gj, gi] += acc
+    for j in range(8):
+        gj = 6 * (j // 2) + 3 + j % 2
+        for k in range(8):
+            gk = 6 * (k // 2) + 3 + k % 2
+            K[gj, gk] += Br[0, j] * mD[0, k] + Br[1, j] * mD[1, k] + Br[2, j] * mD[2, k]
+    for i in range(12):
+        gi = 6 * (i // 3) + 2 + i % 3
+        for k in range(12):
+            gk = 6 * (k // 3) + 2 + k % 3
+            K[gi, gk] += Sr[0, i] * qS[0, k] + Sr[1, i] * qS[1, k]
+
+
+@njit(**_FAST)
+def quad_local_stiffness(xl, C, drill, K, work, tie):
     """Local stiffness K (24, 24) (overwritten) of a flat quad at local corners xl (4, 2).
-    Work arrays: Bm (8, 24), CB (8, 24), bp (24,), tie (4, 24). Returns the smallest det J."""
+    Work arrays: work (12, 12), tie (4, 12). Returns the smallest det J."""
     for i in range(24):
         for j in range(24):
             K[i, j] = 0.0
-    # MITC4 tying strains: covariant transverse shear at the edge midpoints as rows over the 24 DOFs.
-    # Edge a -> b along increasing natural coordinate: g = (w_b - w_a)/2 + dx/4 (bx_a + bx_b) + dy/4
-    # (by_a + by_b), beta_x = theta_y, beta_y = -theta_x.
+    coupled = False
+    for r in range(3):
+        for c in range(3):
+            if C[r, 3 + c] != 0.0:
+                coupled = True
+    # MITC4 tying strains: covariant transverse shear at the edge midpoints as rows over
+    # [w, theta_x, theta_y] x 4. Edge a -> b along increasing natural coordinate: g = (w_b - w_a)/2
+    # + dx/4 (bx_a + bx_b) + dy/4 (by_a + by_b), beta_x = theta_y, beta_y = -theta_x.
     for t in range(4):
         if t == 0:
             a, b = 0, 1  # g_xi at eta = -1
@@ -133,16 +178,16 @@ def quad_local_stiffness(xl, C, drill, K, Bm, CB, bp, tie):
             a, b = 1, 2  # g_eta at xi = +1
         else:
             a, b = 0, 3  # g_eta at xi = -1
-        for j in range(24):
+        for j in range(12):
             tie[t, j] = 0.0
         dx = xl[b, 0] - xl[a, 0]
         dy = xl[b, 1] - xl[a, 1]
-        tie[t, 6 * b + 2] = 0.5
-        tie[t, 6 * a + 2] = -0.5
-        tie[t, 6 * a + 4] = 0.25 * dx
-        tie[t, 6 * b + 4] = 0.25 * dx
-        tie[t, 6 * a + 3] = -0.25 * dy
-        tie[t, 6 * b + 3] = -0.25 * dy
+        tie[t, 3 * b] = 0.5
+        tie[t, 3 * a] = -0.5
+        tie[t, 3 * a + 2] = 0.25 * dx
+        tie[t, 3 * b + 2] = 0.25 * dx
+        tie[t, 3 * a + 1] = -0.25 * dy
+        tie[t, 3 * b + 1] = -0.25 * dy
     ex = np.empty(4)
     ey = np.empty(4)
     for k in range(4):
@@ -154,7 +199,14 @@ def quad_local_stiffness(xl, C, drill, K, Bm, CB, bp, tie):
     N = np.empty(4)
     Px = np.empty(4)
     Py = np.empty(4)
-    gam = drill
+    Mr = np.zeros((3, 12))
+    Br = np.zeros((3, 8))
+    Sr = np.empty((2, 12))
+    bp = np.empty(12)
+    nA = work[0:3]
+    nB = work[3:6]
+    qS = work[6:8]
+    mD = work[8:11, :8]
     detmin = 1e300
     for gp in range(4):
         xi = -_G if gp == 0 or gp == 3 else _G
@@ -189,11 +241,6 @@ def quad_local_stiffness(xl, C, drill, K, Bm, CB, bp, tie):
                 pxi, peta = -0.5 * (1 - eta * eta), -(1 - xi) * eta
             Px[k] = i00 * pxi + i01 * peta
             Py[k] = i10 * pxi + i11 * peta
-        for a in range(8):
-            for j in range(24):
-                Bm[a, j] = 0.0
-        for i in range(24):
-            bp[i] = 0.0
         for i in range(4):
             km = (i + 3) % 4
             # Allman field of the drilling rotation of node i: u = (-ey_i P_i + ey_km P_km)/8,
@@ -202,33 +249,22 @@ def quad_local_stiffness(xl, C, drill, K, Bm, CB, bp, tie):
             uwy = (-ey[i] * Py[i] + ey[km] * Py[km]) * 0.125
             vwx = (ex[i] * Px[i] - ex[km] * Px[km]) * 0.125
             vwy = (ex[i] * Py[i] - ex[km] * Py[km]) * 0.125
-            cu, cv, cx, cy, cz = 6 * i, 6 * i + 1, 6 * i + 3, 6 * i + 4, 6 * i + 5
-            Bm[0, cu] = dNx[i]
-            Bm[0, cz] = uwx
-            Bm[1, cv] = dNy[i]
-            Bm[1, cz] = vwy
-            Bm[2, cu] = dNy[i]
-            Bm[2, cv] = dNx[i]
-            Bm[2, cz] = uwy + vwx
-            Bm[3, cy] = dNx[i]
-            Bm[4, cx] = -dNy[i]
-            Bm[5, cy] = dNy[i]
-            Bm[5, cx] = -dNx[i]
-            bp[cu] = -0.5 * dNy[i]
-            bp[cv] = 0.5 * dNx[i]
-            bp[cz] = 0.5 * (vwx - uwy) - N[i]
+            m = 3 * i
+            Mr[0, m], Mr[0, m + 2] = dNx[i], uwx
+            Mr[1, m + 1], Mr[1, m + 2] = dNy[i], vwy
+            Mr[2, m], Mr[2, m + 1], Mr[2, m + 2] = dNy[i], dNx[i], uwy + vwx
+            bp[m], bp[m + 1], bp[m + 2] = -0.5 * dNy[i], 0.5 * dNx[i], 0.5 * (vwx - uwy) - N[i]
+            b = 2 * i  # [theta_x, theta_y]: kx = dty/dx, ky = -dtx/dy, kxy = dty/dy - dtx/dx
+            Br[0, b + 1] = dNx[i]
+            Br[1, b] = -dNy[i]
+            Br[2, b], Br[2, b + 1] = -dNx[i], dNy[i]
         # MITC4 shear: covariant strains interpolated from the tying points, then Cartesian
-        for j in range(24):
+        for j in range(12):
             gx = 0.5 * (1 - eta) * tie[0, j] + 0.5 * (1 + eta) * tie[1, j]
             ge = 0.5 * (1 + xi) * tie[2, j] + 0.5 * (1 - xi) * tie[3, j]
-            Bm[6, j] = i00 * gx + i01 * ge
-            Bm[7, j] = i10 * gx + i11 * ge
-        _add_btcb(K, Bm, C, dj, CB, 24)
-        gw = gam * dj
-        for i in range(24):
-            if bp[i] != 0.0:
-                for j in range(24):
-                    K[i, j] += gw * bp[i] * bp[j]
+            Sr[0, j] = i00 * gx + i01 * ge
+            Sr[1, j] = i10 * gx + i11 * ge
+        _add_quad_point(K, Mr, Br, Sr, bp, C, dj, drill, coupled, nA, nB, mD, qS)
     return detmin
 
 
@@ -320,10 +356,8 @@ def _quad_chunk(X, C, mass, drill, lumped, want_mass, K_out, M_out, frames, stat
     xl = np.empty((4, 2))
     h = np.empty(4)
     Kl = np.empty((24, 24))
-    Bm = np.empty((8, 24))
-    CB = np.empty((8, 24))
-    bp = np.empty(24)
-    tie = np.empty((4, 24))
+    work = np.empty((12, 12))
+    tie = np.empty((4, 12))
     tmp = np.empty((3, 3))
     for el in range(start, stop):
         for i in range(4):
@@ -333,7 +367,7 @@ def _quad_chunk(X, C, mass, drill, lumped, want_mass, K_out, M_out, frames, stat
         for i in range(3):
             for j in range(3):
                 frames[el, i, j] = E[i, j]
-        dmin = quad_local_stiffness(xl, C[el], drill[el], Kl, Bm, CB, bp, tie)
+        dmin = quad_local_stiffness(xl, C[el], drill[el], Kl, work, tie)
         status[el] = OK if dmin > 0.0 else BAD_JACOBIAN
         warp_links(Kl, h, 4)
         to_global(E, Kl, K_out[el], 4, tmp)
