@@ -414,3 +414,17 @@ def test_offset_shell_bends_under_an_axial_load(tri):
     # (the tip rotations then differ by 6e-4 between the two tip nodes).
     assert np.allclose(np.abs(u[6 * tip + 2]), P * z * L**2 / (2 * EI), rtol=1e-4 if tri else 1e-9)
     assert np.allclose(np.abs(u[6 * tip + 4]), P * z * L / EI, rtol=1e-3 if tri else 1e-9)
+
+
+def test_local_matrices_rotate_to_the_global_ones():
+    X = np.array([WARPED_QUAD, WARPED_QUAD[[1, 2, 3, 0]] + 1.0])
+    C, m = section_arrays([AL], np.zeros(2, int))
+    g = shell_matrices(X, C, m)
+    loc = shell_matrices(X, C, m, local=True)
+    for e in range(2):
+        T = np.kron(np.eye(8), loc.frames[e].T)  # local = T global
+        assert np.allclose(T.T @ loc.K[e] @ T, g.K[e], rtol=0, atol=1e-12 * np.abs(g.K[e]).max())
+        assert np.allclose(T.T @ loc.M[e] @ T, g.M[e], rtol=0, atol=1e-12 * np.abs(g.M[e]).max())
+        # corners = centroid + E [x, y, h]
+        back = X[e].mean(0) + loc.coords[e] @ loc.frames[e].T
+        assert np.allclose(back, X[e], atol=1e-13)

@@ -18,20 +18,25 @@ DRILL_FACTOR = 1.0  # Hughes-Brezzi penalty gamma = DRILL_FACTOR * A33 (Ibrahimb
 
 @dataclass(frozen=True)
 class ShellMatrices:
-    """Element matrices in global axes: K, M (n, 6 nn, 6 nn) on [u, v, w, rx, ry, rz] per node,
-    frames (n, 3, 3) the element frames (columns x, y, z)."""
+    """Element matrices K, M (n, 6 nn, 6 nn) on [u, v, w, rx, ry, rz] per node, in global axes (or in
+    the element frames when asked for local ones); frames (n, 3, 3) the element frames (columns x, y,
+    z); coords (n, nn, 3) each corner's local x, y on the element's (mean) plane and its height h
+    above it [m] (the rigid link of a warped quad)."""
 
     K: np.ndarray
     M: np.ndarray | None
     frames: np.ndarray
+    coords: np.ndarray
 
 
 def shell_matrices(X: np.ndarray, C: np.ndarray, mass: np.ndarray | None = None, lumped=False,
-                   drill_factor: float = DRILL_FACTOR, ids: np.ndarray | None = None) -> ShellMatrices:
+                   drill_factor: float = DRILL_FACTOR, ids: np.ndarray | None = None,
+                   local: bool = False) -> ShellMatrices:
     """Stiffness (and mass if ``mass`` is given) of n quads (X (n, 4, 3) corners [m]) or triangles
     (X (n, 3, 3)). C (n, 8, 8) section matrices in element axes, mass (n, 3) [m0, m1, m2] per
     area (_shell_section.section_arrays), lumped: bool or (n,) bools. ids: element ids for the
-    error messages (default: the row numbers)."""
+    error messages (default: the row numbers). local: the matrices in the element frames (what a
+    corotational wrapper rotates), else in global axes."""
     X = np.ascontiguousarray(X, dtype=float)
     n, nn = X.shape[0], X.shape[1]
     if X.ndim != 3 or nn not in (3, 4) or X.shape[2] != 3:
@@ -47,9 +52,10 @@ def shell_matrices(X: np.ndarray, C: np.ndarray, mass: np.ndarray | None = None,
     K = np.empty((n, nd, nd))
     M = np.empty((n, nd, nd)) if want_mass else np.empty((0, nd, nd))
     frames = np.empty((n, 3, 3))
+    coords = np.empty((n, nn, 3))
     status = np.empty(n, dtype=np.int64)
     chunk, kernel = (_quad_chunk, quad_kernel) if nn == 4 else (_tri_chunk, tri_kernel)
-    args = (X, C, mass, drill, lumped, want_mass, K, M, frames, status)
+    args = (X, C, mass, drill, lumped, want_mass, bool(local), K, M, frames, coords, status)
     if n < 2 * _CHUNK:
         chunk(*args, 0, n)
     else:
@@ -61,7 +67,7 @@ def shell_matrices(X: np.ndarray, C: np.ndarray, mass: np.ndarray | None = None,
         raise ModelError(f"{bad.size} {kind} element(s) are inverted, degenerate or too distorted "
                          f"(det J <= 0 at an integration point), e.g. {', '.join(str(i) for i in names)}: "
                          "check the corner order (counter-clockwise about the normal, no crossing sides)")
-    return ShellMatrices(K, M if want_mass else None, frames)
+    return ShellMatrices(K, M if want_mass else None, frames, coords)
 
 
 def _size2(X):

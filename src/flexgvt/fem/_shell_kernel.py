@@ -350,7 +350,19 @@ def to_global(E, Kl, Kg, nn, tmp):
 
 
 @njit(**_FAST)
-def _quad_chunk(X, C, mass, drill, lumped, want_mass, K_out, M_out, frames, status, start, stop):
+def _store(E, Kl, out, nn, tmp, local):
+    """out = Kl (local axes) or its rotation to global axes."""
+    if local:
+        for i in range(6 * nn):
+            for j in range(6 * nn):
+                out[i, j] = Kl[i, j]
+    else:
+        to_global(E, Kl, out, nn, tmp)
+
+
+@njit(**_FAST)
+def _quad_chunk(X, C, mass, drill, lumped, want_mass, local, K_out, M_out, frames, coords, status, start,
+                stop):
     Xe = np.empty((4, 3))
     E = np.empty((3, 3))
     xl = np.empty((4, 2))
@@ -367,23 +379,27 @@ def _quad_chunk(X, C, mass, drill, lumped, want_mass, K_out, M_out, frames, stat
         for i in range(3):
             for j in range(3):
                 frames[el, i, j] = E[i, j]
+        for i in range(4):
+            coords[el, i, 0], coords[el, i, 1], coords[el, i, 2] = xl[i, 0], xl[i, 1], h[i]
         dmin = quad_local_stiffness(xl, C[el], drill[el], Kl, work, tie)
         status[el] = OK if dmin > 0.0 else BAD_JACOBIAN
         warp_links(Kl, h, 4)
-        to_global(E, Kl, K_out[el], 4, tmp)
+        _store(E, Kl, K_out[el], 4, tmp, local)
         if want_mass:
             quad_local_mass(xl, mass[el], lumped[el], Kl)
             warp_links(Kl, h, 4)
-            to_global(E, Kl, M_out[el], 4, tmp)
+            _store(E, Kl, M_out[el], 4, tmp, local)
 
 
 @njit(cache=True, nogil=True, parallel=True)
-def quad_kernel(X, C, mass, drill, lumped, want_mass, K_out, M_out, frames, status, threads):
-    """Global stiffness K_out (n, 24, 24) and mass M_out of n quads with corners X (n, 4, 3)."""
+def quad_kernel(X, C, mass, drill, lumped, want_mass, local, K_out, M_out, frames, coords, status, threads):
+    """Stiffness K_out (n, 24, 24) and mass M_out of n quads with corners X (n, 4, 3), in global axes or
+    (local) in the element frames; frames (n, 3, 3) and coords (n, 4, 3) = projected local x, y and
+    the warp height of each corner."""
     n = X.shape[0]
     chunks = min(max(n // _CHUNK, 1), threads)
     for c in prange(chunks):
-        _quad_chunk(X, C, mass, drill, lumped, want_mass, K_out, M_out, frames, status,
+        _quad_chunk(X, C, mass, drill, lumped, want_mass, local, K_out, M_out, frames, coords, status,
                     c * n // chunks, (c + 1) * n // chunks)
 
 
@@ -624,7 +640,8 @@ def tri_local_mass(xl, mass, lumped, M):
 
 
 @njit(**_FAST)
-def _tri_chunk(X, C, mass, drill, lumped, want_mass, K_out, M_out, frames, status, start, stop):
+def _tri_chunk(X, C, mass, drill, lumped, want_mass, local, K_out, M_out, frames, coords, status, start,
+               stop):
     Xe = np.empty((3, 3))
     E = np.empty((3, 3))
     xl = np.empty((3, 2))
@@ -644,19 +661,21 @@ def _tri_chunk(X, C, mass, drill, lumped, want_mass, K_out, M_out, frames, statu
         for i in range(3):
             for j in range(3):
                 frames[el, i, j] = E[i, j]
+        for i in range(3):
+            coords[el, i, 0], coords[el, i, 1], coords[el, i, 2] = xl[i, 0], xl[i, 1], 0.0
         a2 = tri_local_stiffness(xl, C[el], Kl, Bm, CB, Cx, Cy, Bc, Kh)
         status[el] = OK if a2 > 0.0 else BAD_JACOBIAN
-        to_global(E, Kl, K_out[el], 3, tmp)
+        _store(E, Kl, K_out[el], 3, tmp, local)
         if want_mass:
             tri_local_mass(xl, mass[el], lumped[el], Kl)
-            to_global(E, Kl, M_out[el], 3, tmp)
+            _store(E, Kl, M_out[el], 3, tmp, local)
 
 
 @njit(cache=True, nogil=True, parallel=True)
-def tri_kernel(X, C, mass, drill, lumped, want_mass, K_out, M_out, frames, status, threads):
+def tri_kernel(X, C, mass, drill, lumped, want_mass, local, K_out, M_out, frames, coords, status, threads):
     """Global stiffness K_out (n, 18, 18) and mass M_out of n triangles with corners X (n, 3, 3)."""
     n = X.shape[0]
     chunks = min(max(n // _CHUNK, 1), threads)
     for c in prange(chunks):
-        _tri_chunk(X, C, mass, drill, lumped, want_mass, K_out, M_out, frames, status,
+        _tri_chunk(X, C, mass, drill, lumped, want_mass, local, K_out, M_out, frames, coords, status,
                    c * n // chunks, (c + 1) * n // chunks)
