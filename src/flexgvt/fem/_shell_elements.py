@@ -11,7 +11,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..errors import ModelError
-from ._shell_kernel import _CHUNK, OK, _quad_chunk, _tri_chunk, quad_kernel, tri_kernel
+from ._shell_kernel import _CHUNK, OK, _geometric_chunk, _quad_chunk, _tri_chunk, quad_kernel, tri_kernel
 
 DRILL_FACTOR = 1.0  # Hughes-Brezzi penalty gamma = DRILL_FACTOR * A33 (Ibrahimbegovic et al. 1990: gamma = G)
 
@@ -68,6 +68,21 @@ def shell_matrices(X: np.ndarray, C: np.ndarray, mass: np.ndarray | None = None,
                          f"(det J <= 0 at an integration point), e.g. {', '.join(str(i) for i in names)}: "
                          "check the corner order (counter-clockwise about the normal, no crossing sides)")
     return ShellMatrices(K, M if want_mass else None, frames, coords)
+
+
+def shell_geometric(X: np.ndarray, N: np.ndarray) -> np.ndarray:
+    """Initial-stress (geometric) stiffness (n, 6 nn, 6 nn), global axes, of quads X (n, 4, 3) or
+    triangles X (n, 3, 3) under membrane resultants N (n, 3) = [Nx, Ny, Nxy] [N/m] in element axes
+    (tension positive): int grad(c)^T N grad(c) dA for each translation c, with the corners'
+    bilinear (quad) or linear (triangle) fields. Linear buckling: (K + lambda K_sigma) phi = 0."""
+    X = np.ascontiguousarray(X, dtype=float)
+    N = np.ascontiguousarray(N, dtype=float)
+    if X.ndim != 3 or X.shape[1] not in (3, 4) or N.shape != (X.shape[0], 3):
+        raise ModelError(f"shell_geometric: corners of shape {X.shape} and resultants of shape {N.shape}; "
+                         "expected (n, 4 or 3, 3) and (n, 3)")
+    out = np.empty((X.shape[0], 6 * X.shape[1], 6 * X.shape[1]))
+    _geometric_chunk(X, N, out, 0, X.shape[0])
+    return out
 
 
 def _size2(X):

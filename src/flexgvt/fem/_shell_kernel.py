@@ -679,3 +679,102 @@ def tri_kernel(X, C, mass, drill, lumped, want_mass, local, K_out, M_out, frames
     for c in prange(chunks):
         _tri_chunk(X, C, mass, drill, lumped, want_mass, local, K_out, M_out, frames, coords, status,
                    c * n // chunks, (c + 1) * n // chunks)
+
+
+# ------------------------------------------------------------------------------- initial stress
+# 6-point rule on the triangle, exact for quartics (Dunavant 1985): xi, eta, weight (sum 1)
+_TRI6 = np.array([[0.445948490915965, 0.445948490915965, 0.223381589678011],
+                  [0.445948490915965, 0.108103018168070, 0.223381589678011],
+                  [0.108103018168070, 0.445948490915965, 0.223381589678011],
+                  [0.091576213509771, 0.091576213509771, 0.109951743655322],
+                  [0.091576213509771, 0.816847572980459, 0.109951743655322],
+                  [0.816847572980459, 0.091576213509771, 0.109951743655322]])
+
+@njit(**_FAST)
+def _add_geometric(Kg, gx, gy, nn, Nx, Ny, Nxy, w):
+    """Kg += w sum over u, v, w of (grad c)^T N (grad c) with grad c from the corner functions'
+    gradients gx, gy (nn,); N = [[Nx, Nxy], [Nxy, Ny]] the membrane resultants [N/m]."""
+    for i in range(nn):
+        for j in range(nn):
+            s = w * (gx[i] * (Nx * gx[j] + Nxy * gy[j]) + gy[i] * (Nxy * gx[j] + Ny * gy[j]))
+            for c in range(3):
+                Kg[6 * i + c, 6 * j + c] += s
+
+
+@njit(**_FAST)
+def _geometric_chunk(X, N, K_out, start, stop):
+    """Initial-stress stiffness (global axes) of quads (X (n, 4, 3)) or triangles (X (n, 3, 3)) under
+    constant membrane resultants N (n, 3) = [Nx, Ny, Nxy] in element axes: the Green strain's
+    quadratic terms of the corner (bilinear or linear) translation fields, 2 x 2 Gauss on quads."""
+    nn = X.shape[1]
+    Xe = np.empty((nn, 3))
+    E = np.empty((3, 3))
+    xl = np.empty((nn, 2))
+    h = np.empty(nn)
+    Kl = np.empty((6 * nn, 6 * nn))
+    gx = np.empty(nn)
+    gy = np.empty(nn)
+    tmp = np.empty((3, 3))
+    Cx = np.empty((9, 6))
+    Cy = np.empty((9, 6))
+    q = np.empty(6)
+    hx = np.empty(9)
+    hy = np.empty(9)
+    for el in range(start, stop):
+        for i in range(nn):
+            for j in range(3):
+                Xe[i, j] = X[el, i, j]
+        for i in range(6 * nn):
+            for j in range(6 * nn):
+                Kl[i, j] = 0.0
+        Nx, Ny, Nxy = N[el, 0], N[el, 1], N[el, 2]
+        if nn == 4:
+            quad_frame(Xe, E, xl, h)
+            for gp in range(4):
+                xi = -_G if gp == 0 or gp == 3 else _G
+                eta = -_G if gp < 2 else _G
+                dxi = (-0.25 * (1 - eta), 0.25 * (1 - eta), 0.25 * (1 + eta), -0.25 * (1 + eta))
+                deta = (-0.25 * (1 - xi), -0.25 * (1 + xi), 0.25 * (1 + xi), 0.25 * (1 - xi))
+                J00 = J01 = J10 = J11 = 0.0
+                for i in range(4):
+                    J00 += dxi[i] * xl[i, 0]
+                    J01 += dxi[i] * xl[i, 1]
+                    J10 += deta[i] * xl[i, 0]
+                    J11 += deta[i] * xl[i, 1]
+                dj = J00 * J11 - J01 * J10
+                for i in range(4):
+                    gx[i] = (J11 * dxi[i] - J01 * deta[i]) / dj
+                    gy[i] = (-J10 * dxi[i] + J00 * deta[i]) / dj
+                _add_geometric(Kl, gx, gy, 4, Nx, Ny, Nxy, dj)
+            warp_links(Kl, h, 4)
+        else:
+            tri_frame(Xe, E, xl)
+            A2 = (xl[1, 0] - xl[0, 0]) * (xl[2, 1] - xl[0, 1]) - (xl[2, 0] - xl[0, 0]) * (xl[1, 1] - xl[0, 1])
+            for i in range(3):
+                j, k = (i + 1) % 3, (i + 2) % 3
+                gx[i] = (xl[j, 1] - xl[k, 1]) / A2
+                gy[i] = (xl[k, 0] - xl[j, 0]) / A2
+            _add_geometric(Kl, gx, gy, 3, Nx, Ny, Nxy, 0.5 * A2)
+            # w: the slopes are DKT's rotations, grad w = -(beta_x, beta_y) (a linear w would let
+            # the discrete Kirchhoff field buckle about 1 % below the plate's load)
+            for r in range(9):
+                for c in range(9):
+                    Kl[6 * (r // 3) + 2 + r % 3, 6 * (c // 3) + 2 + c % 3] = 0.0
+            _dkt_coefficients(xl, Cx, Cy)
+            for gp in range(6):
+                xi, eta, wgt = _TRI6[gp, 0], _TRI6[gp, 1], _TRI6[gp, 2] * 0.5 * A2
+                l0 = 1.0 - xi - eta
+                q[0], q[1], q[2] = l0 * (2 * l0 - 1), xi * (2 * xi - 1), eta * (2 * eta - 1)
+                q[3], q[4], q[5] = 4 * xi * eta, 4 * eta * l0, 4 * xi * l0
+                for r in range(9):
+                    hx[r] = 0.0
+                    hy[r] = 0.0
+                    for s_ in range(6):
+                        hx[r] += Cx[r, s_] * q[s_]
+                        hy[r] += Cy[r, s_] * q[s_]
+                for r in range(9):
+                    gr = 6 * (r // 3) + 2 + r % 3
+                    for c in range(9):
+                        Kl[gr, 6 * (c // 3) + 2 + c % 3] += wgt * (hx[r] * (Nx * hx[c] + Nxy * hy[c])
+                                                                  + hy[r] * (Nxy * hx[c] + Ny * hy[c]))
+        to_global(E, Kl, K_out[el], nn, tmp)
