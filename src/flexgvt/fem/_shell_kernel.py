@@ -157,7 +157,7 @@ def _add_quad_point(K, Mr, Br, Sr, bp, C, w, gam, coupled, nA, nB, mD, qS):
 @njit(**_FAST)
 def quad_local_stiffness(xl, C, drill, K, work, tie):
     """Local stiffness K (24, 24) (overwritten) of a flat quad at local corners xl (4, 2).
-    Work arrays: work (12, 12), tie (4, 12). Returns the smallest det J."""
+    Work arrays: work (23, 12), tie (4, 12). Returns the smallest det J."""
     for i in range(24):
         for j in range(24):
             K[i, j] = 0.0
@@ -188,25 +188,24 @@ def quad_local_stiffness(xl, C, drill, K, work, tie):
         tie[t, 3 * b + 2] = 0.25 * dx
         tie[t, 3 * a + 1] = -0.25 * dy
         tie[t, 3 * b + 1] = -0.25 * dy
-    ex = np.empty(4)
-    ey = np.empty(4)
-    for k in range(4):
-        k1 = (k + 1) % 4
-        ex[k] = xl[k1, 0] - xl[k, 0]
-        ey[k] = xl[k1, 1] - xl[k, 1]
-    dNx = np.empty(4)
-    dNy = np.empty(4)
-    N = np.empty(4)
-    Px = np.empty(4)
-    Py = np.empty(4)
-    Mr = np.zeros((3, 12))
-    Br = np.zeros((3, 8))
-    Sr = np.empty((2, 12))
-    bp = np.empty(12)
     nA = work[0:3]
     nB = work[3:6]
     qS = work[6:8]
     mD = work[8:11, :8]
+    Mr = work[11:14]
+    Br = work[14:17, :8]
+    Sr = work[17:19]
+    bp = work[19]
+    ex, ey = work[20, 0:4], work[20, 4:8]
+    dNx, dNy, N = work[21, 0:4], work[21, 4:8], work[21, 8:12]
+    Px, Py = work[22, 0:4], work[22, 4:8]
+    for r in range(11, 17):
+        for j in range(12):
+            work[r, j] = 0.0
+    for k in range(4):
+        k1 = (k + 1) % 4
+        ex[k] = xl[k1, 0] - xl[k, 0]
+        ey[k] = xl[k1, 1] - xl[k, 1]
     detmin = 1e300
     for gp in range(4):
         xi = -_G if gp == 0 or gp == 3 else _G
@@ -368,7 +367,7 @@ def _quad_chunk(X, C, mass, drill, lumped, want_mass, local, K_out, M_out, frame
     xl = np.empty((4, 2))
     h = np.empty(4)
     Kl = np.empty((24, 24))
-    work = np.empty((12, 12))
+    work = np.empty((23, 12))
     tie = np.empty((4, 12))
     tmp = np.empty((3, 3))
     for el in range(start, stop):
@@ -409,15 +408,11 @@ _TRI_L = np.array([[2.0 / 3, 1.0 / 6, 1.0 / 6], [1.0 / 6, 2.0 / 3, 1.0 / 6], [1.
 
 
 @njit(**_FAST)
-def _dkt_coefficients(xl, Cx, Cy):
+def _dkt_coefficients(xl, Cx, Cy, abcde):
     """Hx = Cx N, Hy = Cy N (9 x 6): the DKT rotations beta_x, beta_y as combinations of the six
     quadratic functions N (corners 1-3, midsides 4 = 2-3, 5 = 3-1, 6 = 1-2) over the DOFs
-    [w, theta_x, theta_y] x 3 (Batoz, Bathe & Ho 1980)."""
-    a = np.empty(3)
-    b = np.empty(3)
-    c = np.empty(3)
-    d = np.empty(3)
-    e = np.empty(3)
+    [w, theta_x, theta_y] x 3 (Batoz, Bathe & Ho 1980); abcde (5, 3) work."""
+    a, b, c, d, e = abcde[0], abcde[1], abcde[2], abcde[3], abcde[4]
     for m in range(3):  # midside 4 + m: edge (i, j) = (2, 3), (3, 1), (1, 2)
         i, j = (1, 2) if m == 0 else ((2, 0) if m == 1 else (0, 1))
         x = xl[i, 0] - xl[j, 0]
@@ -466,12 +461,12 @@ _BETA = np.array([1.0, 2.0, 1.0, 0.0, 1.0, -1.0, -1.0, -1.0, -2.0])
 
 
 @njit(**_FAST)
-def andes_membrane(xl, Am, Bc, Kh):
+def andes_membrane(xl, Am, Bc, Kh, work):
     """ANDES-OPT membrane triangle with drilling rotations (Felippa, CMAME 192, 2003), over the nine
     DOFs [u, v, theta_z] x 3: Bc (3, 9) the basic constant strain (the basic stiffness is
     A Bc^T Am Bc, alpha_b = 3/2), Kh (9, 9) (overwritten) the higher-order stiffness from the
     natural strains at the midpoints with beta0 = (1 - 4 nu^2)/2 (nu = Am12 / sqrt(Am11 Am22),
-    at least 0.01). Am (3, 3) membrane stiffness per length [N/m]. Returns the area."""
+    at least 0.01). Am (3, 3) membrane stiffness per length [N/m]; work (9, 9). Returns the area."""
     x1, y1 = xl[0, 0], xl[0, 1]
     x2, y2 = xl[1, 0], xl[1, 1]
     x3, y3 = xl[2, 0], xl[2, 1]
@@ -502,15 +497,18 @@ def andes_membrane(xl, Am, Bc, Kh):
     l32 = x32 * x32 + y32 * y32
     l13 = x13 * x13 + y13 * y13
     # Cartesian strains from the natural (side) strains: eps = Te eps_nat
-    Te = np.empty((3, 3))
+    Te = work[0:3, 0:3]
+    En = work[0:3, 3:6]
+    Kt = work[0:3, 6:9]
+    Qm = work[3:6, 0:3]
+    T = work[6:9, :]
     g = 1.0 / (4 * A * A)
     Te[0, 0], Te[0, 1], Te[0, 2] = g * y23 * y13 * l21, g * y31 * y21 * l32, g * y12 * y32 * l13
     Te[1, 0], Te[1, 1], Te[1, 2] = g * x23 * x13 * l21, g * x31 * x21 * l32, g * x12 * x32 * l13
     Te[2, 0] = g * (y23 * x31 + x32 * y13) * l21
     Te[2, 1] = g * (y31 * x12 + x13 * y21) * l32
     Te[2, 2] = g * (y12 * x23 + x21 * y32) * l13
-    En = np.zeros((3, 3))  # Te^T Am Te
-    for i in range(3):
+    for i in range(3):  # En = Te^T Am Te
         for j in range(3):
             acc = 0.0
             for k in range(3):
@@ -519,20 +517,17 @@ def andes_membrane(xl, Am, Bc, Kh):
             En[i, j] = acc
     b = _BETA
     c = 2 * A / 3
-    Q = np.empty((3, 3, 3))  # natural strains at the corners from the hierarchical rotations
+    # natural strains at the corners from the hierarchical rotations: Q_n[r, col] = c beta[idx] / l_r^2
     idx = ((0, 1, 2, 3, 4, 5, 6, 7, 8), (8, 6, 7, 2, 0, 1, 5, 3, 4), (4, 5, 3, 7, 8, 6, 1, 2, 0))
-    for n in range(3):
+    for i in range(3):
+        for j in range(3):
+            Kt[i, j] = 0.0
+    for m in range(3):  # midpoints 4, 5, 6 = (1, 2), (2, 3), (3, 1): Q_m = (Q_n1 + Q_n2) / 2
+        n1, n2 = m, (m + 1) % 3
         for r in range(3):
             lr = l21 if r == 0 else (l32 if r == 1 else l13)
             for col in range(3):
-                Q[n, r, col] = c * b[idx[n][3 * r + col]] / lr
-    Kt = np.zeros((3, 3))
-    Qm = np.empty((3, 3))
-    for m in range(3):  # midpoints 4, 5, 6 = (1, 2), (2, 3), (3, 1)
-        n1, n2 = m, (m + 1) % 3
-        for r in range(3):
-            for col in range(3):
-                Qm[r, col] = 0.5 * (Q[n1, r, col] + Q[n2, r, col])
+                Qm[r, col] = 0.5 * c * (b[idx[n1][3 * r + col]] + b[idx[n2][3 * r + col]]) / lr
         for i in range(3):
             for j in range(3):
                 acc = 0.0
@@ -543,9 +538,10 @@ def andes_membrane(xl, Am, Bc, Kh):
     nu = Am[0, 1] / np.sqrt(Am[0, 0] * Am[1, 1]) if Am[0, 0] > 0 and Am[1, 1] > 0 else 0.0
     beta0 = max(0.5 * (1 - 4 * nu * nu), 0.01)
     # hierarchical rotations theta_i - theta_0 (theta_0 the rotation of the linear field)
-    T = np.zeros((3, 9))
     h = 0.25 / A
     for i in range(3):
+        for j in range(9):
+            T[i, j] = 0.0
         T[i, 0], T[i, 1] = h * x32, h * y32
         T[i, 3], T[i, 4] = h * x13, h * y13
         T[i, 6], T[i, 7] = h * x21, h * y21
@@ -563,26 +559,26 @@ def andes_membrane(xl, Am, Bc, Kh):
 
 
 @njit(**_FAST)
-def tri_local_stiffness(xl, C, K, Bm, CB, Cx, Cy, Bc, Kh):
+def tri_local_stiffness(xl, C, K, Bm, CB, Cx, Cy, Bc, Kh, work):
     """Local stiffness K (18, 18) (overwritten) of a flat triangle at local corners xl (3, 2): ANDES-OPT
     membrane, DKT bending, the membrane-bending coupling on the basic (constant) membrane strain.
-    Work arrays Bm, CB (8, 18), Cx, Cy (9, 6), Bc (3, 9), Kh (9, 9). Returns the signed area."""
+    Work arrays Bm, CB (8, 18), Cx, Cy (9, 6), Bc (3, 9), Kh (9, 9), work (14, 9). Returns the signed area."""
     for i in range(18):
         for j in range(18):
             K[i, j] = 0.0
     Am = C[:3, :3]
-    area = andes_membrane(xl, Am, Bc, Kh)
+    area = andes_membrane(xl, Am, Bc, Kh, work)
     if area <= 0.0:
         return area
     A2 = 2 * area
     x0, y0 = xl[0, 0], xl[0, 1]
     x1, y1 = xl[1, 0], xl[1, 1]
     x2, y2 = xl[2, 0], xl[2, 1]
-    _dkt_coefficients(xl, Cx, Cy)
+    _dkt_coefficients(xl, Cx, Cy, work[9:14, 0:3])
     x31, y31 = x2 - x0, y2 - y0
     x12, y12 = x0 - x1, y0 - y1
-    Nxi = np.empty(6)
-    Neta = np.empty(6)
+    Nxi = work[11, 3:9]
+    Neta = work[10, 3:9]
     w = area / 3.0
     for a in range(8):
         for j in range(18):
@@ -652,6 +648,7 @@ def _tri_chunk(X, C, mass, drill, lumped, want_mass, local, K_out, M_out, frames
     Cy = np.empty((9, 6))
     Bc = np.empty((3, 9))
     Kh = np.empty((9, 9))
+    work = np.empty((14, 9))
     tmp = np.empty((3, 3))
     for el in range(start, stop):
         for i in range(3):
@@ -663,7 +660,7 @@ def _tri_chunk(X, C, mass, drill, lumped, want_mass, local, K_out, M_out, frames
                 frames[el, i, j] = E[i, j]
         for i in range(3):
             coords[el, i, 0], coords[el, i, 1], coords[el, i, 2] = xl[i, 0], xl[i, 1], 0.0
-        a2 = tri_local_stiffness(xl, C[el], Kl, Bm, CB, Cx, Cy, Bc, Kh)
+        a2 = tri_local_stiffness(xl, C[el], Kl, Bm, CB, Cx, Cy, Bc, Kh, work)
         status[el] = OK if a2 > 0.0 else BAD_JACOBIAN
         _store(E, Kl, K_out[el], 3, tmp, local)
         if want_mass:
@@ -718,6 +715,7 @@ def _geometric_chunk(X, N, K_out, start, stop):
     Cx = np.empty((9, 6))
     Cy = np.empty((9, 6))
     q = np.empty(6)
+    abcde = np.empty((5, 3))
     hx = np.empty(9)
     hy = np.empty(9)
     for el in range(start, stop):
@@ -760,7 +758,7 @@ def _geometric_chunk(X, N, K_out, start, stop):
             for r in range(9):
                 for c in range(9):
                     Kl[6 * (r // 3) + 2 + r % 3, 6 * (c // 3) + 2 + c % 3] = 0.0
-            _dkt_coefficients(xl, Cx, Cy)
+            _dkt_coefficients(xl, Cx, Cy, abcde)
             for gp in range(6):
                 xi, eta, wgt = _TRI6[gp, 0], _TRI6[gp, 1], _TRI6[gp, 2] * 0.5 * A2
                 l0 = 1.0 - xi - eta
