@@ -192,8 +192,9 @@ def main() -> None:
             p = peer_plate(a.peer_python, n, kind, a.peer_system)
             if p is not None:
                 lines.append(f"| {n} x {n} | OpenSeesPy {kind} ({a.peer_system}) | {p['w'] / ref:.5f} | "
-                             f"{p['total']:.3f} | build {p['build']:.3f}, analyze {p['analyze']:.3f} "
-                             f"(x{p['total'] / r['total']:.1f} flexgvt) |")
+                             f"{p['total']:.3f} | build {p['build']:.3f}, analyze {p['analyze']:.3f}; "
+                             f"total x{p['total'] / r['total']:.1f} flexgvt's, analyze "
+                             f"x{p['analyze'] / r['total']:.2f} flexgvt's total |")
     text = "\n".join(lines)
     print(text)
     if not a.no_write:

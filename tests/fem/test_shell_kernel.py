@@ -254,6 +254,22 @@ def test_inverted_element_is_named():
         shell_matrices(np.array([X]), C, ids=np.array([42]))
 
 
+def test_inverted_triangle_and_bad_arrays_are_named():
+    C, m = section_arrays([AL], np.zeros(2, int))
+    tris = np.array([TRIANGLE, TRIANGLE[[0, 2, 1]]])
+    tris[1, :, 2] = tris[0, :, 2]  # same plane, clockwise about the first one's normal: fine alone
+    shell_matrices(tris, C)
+    flat = TRIANGLE.copy()
+    flat[2] = 0.5 * (flat[0] + flat[1])  # collinear corners: no area
+    with pytest.raises(ModelError, match="triangle element.*e.g. 7"):
+        shell_matrices(np.array([flat]), C[:1], ids=np.array([7]))
+    with pytest.raises(ModelError, match="expected"):
+        shell_matrices(np.zeros((2, 5, 3)), C)
+    from flexgvt.fem._shell_elements import shell_geometric
+    with pytest.raises(ModelError, match="expected"):
+        shell_geometric(np.array([TRIANGLE]), np.zeros((2, 3)))
+
+
 def test_kernel_matches_serial_and_parallel_paths():
     xyz, conn = grid(lambda s, t: np.c_[s, t, 0.1 * np.sin(3 * s + 2 * t)], 20, 20)
     C, m = section_arrays([AL], np.zeros(len(conn), int))

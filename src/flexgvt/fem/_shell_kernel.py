@@ -39,7 +39,7 @@ _CHUNK = 128  # elements per thread below which a parallel region costs more tha
 
 # status codes per element
 OK = 0
-BAD_JACOBIAN = 1  # a Gauss point with det J <= 0: inverted, degenerate or badly distorted element
+BAD_JACOBIAN = 1  # det J <= 0 at a Gauss point (or a vanishing area): inverted, degenerate or too distorted
 
 
 @njit(**_FAST)
@@ -348,6 +348,19 @@ def to_global(E, Kl, Kg, nn, tmp):
                     Kg[r0 + i, c0 + j] = E[i, 0] * tmp[0, j] + E[i, 1] * tmp[1, j] + E[i, 2] * tmp[2, j]
 
 
+_DEGENERATE = 1e-10  # det J (quad) or area (triangle) below this times the squared side: degenerate
+
+
+@njit(**_FAST)
+def _size2(xl, nn):
+    """Sum of the squared side lengths of the element with local corners xl (nn, 2)."""
+    acc = 0.0
+    for i in range(nn):
+        j = (i + 1) % nn
+        acc += (xl[j, 0] - xl[i, 0]) ** 2 + (xl[j, 1] - xl[i, 1]) ** 2
+    return acc
+
+
 @njit(**_FAST)
 def _store(E, Kl, out, nn, tmp, local):
     """out = Kl (local axes) or its rotation to global axes."""
@@ -381,7 +394,7 @@ def _quad_chunk(X, C, mass, drill, lumped, want_mass, local, K_out, M_out, frame
         for i in range(4):
             coords[el, i, 0], coords[el, i, 1], coords[el, i, 2] = xl[i, 0], xl[i, 1], h[i]
         dmin = quad_local_stiffness(xl, C[el], drill[el], Kl, work, tie)
-        status[el] = OK if dmin > 0.0 else BAD_JACOBIAN
+        status[el] = OK if dmin > _DEGENERATE * _size2(xl, 4) else BAD_JACOBIAN
         warp_links(Kl, h, 4)
         _store(E, Kl, K_out[el], 4, tmp, local)
         if want_mass:
@@ -661,7 +674,7 @@ def _tri_chunk(X, C, mass, drill, lumped, want_mass, local, K_out, M_out, frames
         for i in range(3):
             coords[el, i, 0], coords[el, i, 1], coords[el, i, 2] = xl[i, 0], xl[i, 1], 0.0
         a2 = tri_local_stiffness(xl, C[el], Kl, Bm, CB, Cx, Cy, Bc, Kh, work)
-        status[el] = OK if a2 > 0.0 else BAD_JACOBIAN
+        status[el] = OK if a2 > _DEGENERATE * _size2(xl, 3) else BAD_JACOBIAN
         _store(E, Kl, K_out[el], 3, tmp, local)
         if want_mass:
             tri_local_mass(xl, mass[el], lumped[el], Kl)
