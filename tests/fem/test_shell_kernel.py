@@ -494,3 +494,22 @@ def test_free_square_plate_frequencies_against_leissa(tri):
     assert np.all(lam[:3] < 1e-3 * lam[3])  # w, and the two rotations of the plane
     leissa = np.array([13.489, 19.789, 24.432, 35.024, 35.024, 61.526])
     assert np.all(lam[3:] < leissa) and np.all(lam[3:] / leissa > 0.99), lam[3:]
+
+
+@pytest.mark.parametrize("X", [WARPED_QUAD, TRIANGLE], ids=["warped quad", "triangle"])
+def test_unsymmetric_laminate_element_keeps_rigid_modes_and_symmetry(X):
+    """A [0/90] laminate (B != 0) and a 30 deg ply angle: still exactly six rigid modes, a symmetric
+    positive semi-definite stiffness; an isotropic section turned by any angle gives the same K."""
+    from flexgvt.fem._shell_section import Ply, mat8, pcomp
+    ply = mat8(181e9, 10.3e9, 0.28, 7.17e9, 5e9, 4e9, rho=1590.0)
+    lam = pcomp([Ply(ply, 0.5e-3, 0.0), Ply(ply, 0.5e-3, 90.0), Ply(ply, 0.5e-3, 30.0)])
+    assert np.abs(lam.B).max() > 0
+    conn = np.arange(len(X))[None]
+    K = matrices(X, conn, lam)[0].toarray()
+    assert np.allclose(K, K.T, rtol=0, atol=1e-12 * np.abs(K).max())
+    ev = np.linalg.eigvalsh(K)
+    assert np.all(np.abs(ev[:6]) < 1e-12 * ev[-1]) and ev[6] > 1e5 * np.abs(ev[:6]).max()
+    assert np.abs(K @ rigid_modes(X)).max() < 1e-9 * np.abs(K).max()
+    K0 = matrices(X, conn, AL)[0].toarray()
+    K1 = matrices(X, conn, AL.rotated(np.radians(37.0)))[0].toarray()
+    assert np.allclose(K0, K1, rtol=0, atol=1e-10 * np.abs(K0).max())
