@@ -226,7 +226,7 @@ def _run_locked(project: Project, out: Path, store: Path, log, report, t_all: fl
         def progress(row):
             log(f"  iteration {row.get('iteration', '?')}: objective {row['objective']:.6g}")
         try:
-            result = update_model(project, identified, store=db, callback=progress)
+            result = update_model(project, identified, store=db, progress=progress)
         finally:
             db.close()
         if any(s.get("resumed") for s in result.starts):
