@@ -10,7 +10,8 @@ import numpy as np
 
 from ..errors import ModelError
 from .configuration import parse_dofs
-from .components import ConcentratedMass, InterpolationLink, LinearConstraint, RigidLink, Spring, as_vector
+from .components import (ConcentratedMass, InterpolationLink, LinearConstraint, RigidLink, Spring, as_vector,
+                         find_items)
 from .material import Material
 from .section import RodSection, Section
 
@@ -187,9 +188,12 @@ class Model:
         return self.add_beams(pairs, material, RodSection(area, torsion_constant), orientation=orientation,
                               rotary_inertia=False, mass=mass, name=name)
 
-    def add_mass(self, node: int, mass: float, offset=(0.0, 0.0, 0.0), inertia=None) -> ConcentratedMass:
-        """Concentrated mass [kg] at ``offset`` [m] from ``node``; inertia: scalar, (3,) or (3, 3) [kg m^2]."""
+    def add_mass(self, node: int, mass: float, offset=(0.0, 0.0, 0.0), inertia=None, name: str = "",
+                 id: int | None = None) -> ConcentratedMass:
+        """Concentrated mass [kg] at ``offset`` [m] from ``node``; inertia: scalar, (3,) or (3, 3) [kg m^2];
+        name, id: optional, unique among the model's masses (design variables address masses by them)."""
         self.index_of([node], "add_mass")
+        self._check_key(self._masses, name, id, f"add_mass at node {node}")
         if not np.isfinite(mass) or mass < 0:
             raise ModelError(f"add_mass at node {node}: mass={mass!r} must be finite and >= 0")
         J = np.zeros((3, 3)) if inertia is None else np.asarray(inertia, dtype=float)
@@ -199,15 +203,19 @@ class Model:
             J = np.diag(J)
         if J.shape != (3, 3) or not np.all(np.isfinite(J)) or not np.allclose(J, J.T):
             raise ModelError(f"add_mass at node {node}: inertia must be a finite symmetric 3x3 tensor")
-        item = ConcentratedMass(int(node), float(mass), as_vector(offset, 3, f"add_mass at node {node}: offset"), J)
+        item = ConcentratedMass(int(node), float(mass), as_vector(offset, 3, f"add_mass at node {node}: offset"), J,
+                                str(name), None if id is None else int(id))
         self._masses.append(item)
         self.revision += 1
         return item
 
-    def add_spring(self, node_a: int, node_b: int | None = None, stiffness=0.0, damping=0.0, frame=None) -> Spring:
-        """6-component spring/damper between two nodes, or to ground when node_b is None (see Spring)."""
+    def add_spring(self, node_a: int, node_b: int | None = None, stiffness=0.0, damping=0.0, frame=None,
+                   name: str = "", id: int | None = None) -> Spring:
+        """6-component spring/damper between two nodes, or to ground when node_b is None (see Spring);
+        name, id: optional, unique among the model's springs (design variables address springs by them)."""
         self.index_of([node_a] + ([] if node_b is None else [node_b]), "add_spring")
-        item = Spring.make(node_a, node_b, stiffness, damping, frame)
+        self._check_key(self._springs, name, id, f"add_spring at node {node_a}")
+        item = Spring.make(node_a, node_b, stiffness, damping, frame, name, id)
         self._springs.append(item)
         self.revision += 1
         return item
@@ -337,8 +345,21 @@ class Model:
         item = self._springs[index]
         self._springs[index] = Spring.make(item.node_a, item.node_b,
                                            item.stiffness if stiffness is None else stiffness,
-                                           item.damping if damping is None else damping, item.frame)
+                                           item.damping if damping is None else damping, item.frame, item.name,
+                                           item.id)
         self.revision += 1
+
+    @staticmethod
+    def _check_key(items: list, name: str, id: int | None, where: str) -> None:
+        if name and any(m.name == name for m in items):
+            raise ModelError(f"{where}: the name '{name}' is taken; give each mass or spring its own name")
+        if id is not None and any(m.id == int(id) for m in items):
+            raise ModelError(f"{where}: the id {id} is taken; give each mass or spring its own id")
+
+    def find(self, kind: str, key: str | int) -> list[int]:
+        """Positions in ``masses`` or ``springs`` (kind 'mass' or 'spring') of the items named ``key``
+        (a name or an fnmatch pattern, 'S*LE') or with id ``key`` (an integer); ModelError when none."""
+        return find_items(self.masses if kind == "mass" else self.springs, key, f"model '{self.name}'", kind)
 
     def copy(self, name: str | None = None) -> "Model":
         """An independent copy (components are immutable and shared; no solver cache)."""

@@ -277,12 +277,17 @@ def case_points(case) -> tuple[dict, dict]:
 
 def _variables(spec: ProjectFile, model: Model, configurations: dict, where: str) -> list:
     from ..updating import Parametrisation, Variable
+    from ..updating.settings import renamed
     out = []
     for k, v in enumerate(spec.variables):
+        if v.kind in ("mass", "spring") and any(isinstance(t, int) for t in v.targets):
+            renamed(f"{where}: variables[{k}] ('{v.name}'): {v.kind} targets by position",
+                    "their names (targets = [\"name\"]) or ids (ids = [...])", 4)
         try:
             var = Variable(v.name, v.kind, v.attribute if v.attribute != "thickness" else "height",
                            tuple(v.targets), tuple(v.bounds),
-                           configurations=None if v.configurations is None else tuple(v.configurations))
+                           configurations=None if v.configurations is None else tuple(v.configurations),
+                           ids=tuple(v.ids))
             Parametrisation(model, list(configurations.values()), [var])
         except ModelError as exc:
             raise ProjectError(f"{where}: variables[{k}] ('{v.name}'): {exc}") from None

@@ -163,12 +163,14 @@ class ConfigurationSpec(Strict):
 
 
 class VariableSpec(Strict):
-    """A design variable (flexgvt.updating.Variable): targets are beam group names or patterns,
-    or indices of masses, springs or cords."""
+    """A design variable (flexgvt.updating.Variable): targets are beam group, mass or spring names
+    or patterns (positions of masses and springs still work, deprecated), or indices of cords; ids:
+    mass or spring ids (a deck's CONM2, CELAS or CBUSH EIDs)."""
 
     name: str
     kind: Literal["beam", "mass", "spring", "cord"]
     targets: list[str | int] = Field(default_factory=list)
+    ids: list[int] = Field(default_factory=list)
     attribute: str
     bounds: Annotated[list[float], Field(min_length=2, max_length=2)] = Field(default_factory=lambda: [0.9, 1.1])
     configurations: list[str] | None = None

@@ -53,7 +53,7 @@ class MassesMixin:
                 J = T @ J @ T.T
                 try:
                     model.add_mass(elem.nid, float(elem.mass) * u.mass * w, offset=offset * u.length,
-                                   inertia=J * u.inertia * w)
+                                   inertia=J * u.inertia * w, id=int(eid))
                 except ModelError as exc:
                     raise ModelError(f"{where}: {exc}") from None
                 self.deck.mass_sources.append(("CONM2", int(eid)))
@@ -69,7 +69,7 @@ class MassesMixin:
                     self.skip("CONM1 (not a rigid-body mass matrix)", eid)
                     continue
                 m, r, J = got
-                model.add_mass(elem.nid, m * u.mass * w, offset=r * u.length, inertia=J * u.inertia * w)
+                model.add_mass(elem.nid, m * u.mass * w, offset=r * u.length, inertia=J * u.inertia * w, id=int(eid))
                 self.deck.mass_sources.append(("CONM1", int(eid)))
             elif elem.type in ("CMASS1", "CMASS2"):
                 self._scalar_mass(elem, where)
@@ -126,7 +126,7 @@ class MassesMixin:
 
     def _add_spring(self, where, a, b, k, d, frame, source) -> None:
         try:
-            self.model.add_spring(a, b, stiffness=k, damping=d, frame=frame)
+            self.model.add_spring(a, b, stiffness=k, damping=d, frame=frame, id=source[1])
         except ModelError as exc:
             raise ModelError(f"{where}: {exc}") from None
         self.deck.spring_sources.append(source)
