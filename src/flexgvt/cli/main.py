@@ -190,9 +190,9 @@ def demo(out: Path = typer.Option(Path("demo-output"), help="folder for the proj
         from ..report import write_project_report
         from ..workflow import run
         t0 = time.perf_counter()
-        project = demo_project(out, seed=seed, log=log)
+        project = demo_project(out, seed=seed, progress=log)
         t_data = time.perf_counter() - t0
-        res = run(project, log=log)
+        res = run(project, progress=log)
         if report:  # the face renders; the workflow only returns results
             write_project_report(res)
         return demo_figures(res, out, seed, t_data, t0)

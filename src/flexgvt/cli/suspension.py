@@ -97,7 +97,7 @@ def identify(mass: float = typer.Option(..., help="block mass [kg]: the mass the
         fig.savefig(out / "suspension_point.png", dpi=120)
         plt.close(fig)
         console.print(f"figure: {out / 'suspension_point.png'}")
-    _write_json(json_path, point.as_dict())
+    _write_json(json_path, point.to_dict())
 
 
 @app.command()

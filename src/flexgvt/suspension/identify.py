@@ -8,6 +8,7 @@ pulley, excite it, identify its damped frequency and damping ratio, then
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
@@ -35,8 +36,15 @@ class SuspensionPoint:
     n_tests: int = 1
     source: str = "frequency and damping"
 
-    def as_dict(self) -> dict:
+    def to_dict(self) -> dict:
+        """The point's values as a JSON-ready dictionary."""
         return {k: (float(v) if isinstance(v, (float, np.floating)) else v) for k, v in vars(self).items()}
+
+    def as_dict(self) -> dict:
+        """Deprecated: to_dict()."""
+        warnings.warn("SuspensionPoint.as_dict() is deprecated; use SuspensionPoint.to_dict()", DeprecationWarning,
+                      stacklevel=2)
+        return self.to_dict()
 
 
 def _values(mass, frequency_hz, damping_ratio):

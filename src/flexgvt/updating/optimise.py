@@ -46,7 +46,7 @@ class _Replayed:
 def continuation(problem: UpdatingProblem) -> dict[str, np.ndarray]:
     """What the next evaluation of ``problem`` depends on besides x, as arrays: each configuration's
     last equilibrium (the warm start: positions, rotations) and pairing reference (fit, shapes)."""
-    return reference_arrays({"states": problem.states, "pairing": problem._tracking})
+    return reference_arrays({"states": problem.states, "pairing": problem.pairing.reference})
 
 
 def reference_arrays(reference: dict) -> dict[str, np.ndarray]:
@@ -81,8 +81,8 @@ def _restore(problem: UpdatingProblem, arrays: dict[str, np.ndarray]) -> None:
     """Set the problem's continuation (warm starts and pairing references) exactly to ``arrays``."""
     ref = as_reference(problem, arrays)
     problem.states.update(ref["states"])
-    problem._tracking = ref["pairing"]
-    problem._cache.clear()
+    problem.pairing.reference = ref["pairing"]
+    problem.cache.clear()
 
 
 class _Driver:
@@ -165,7 +165,7 @@ class _Driver:
         if before and (before[-1]["gradient"] or not gradient):  # asked before: the same answer
             row = {**before[-1], "continuation": None}
         elif before:  # solved before without a Jacobian: its Jacobian, about that very solve
-            hit = self.problem._cache.get(key)
+            hit = self.problem.cache.get(key)
             if hit is not None:  # the solve is at hand (evaluate leaves the continuation alone then)
                 row = self._evaluate(x, key, True)
             else:  # that solve again, from its own warm start: the same numbers

@@ -101,7 +101,12 @@ class Prediction:
     proposed: dict = field(default_factory=dict)
 
     def frequencies(self) -> np.ndarray:
+        """The free-free elastic frequencies [Hz] of the rows."""
         return np.array([r["free_hz"] for r in self.rows])
+
+    def table(self) -> list[dict]:
+        """The rows (one per free elastic mode)."""
+        return self.rows
 
 
 def predict(project: Project, model: Model, configurations: dict[str, Configuration] | None = None,

@@ -157,10 +157,16 @@ def example_project(case_name: str = "xhale", data: dict[str, str] | None = None
     return text + TAIL.format(variables=variables, proposed=_toml_list(proposed), reference=ref)
 
 
-def write_example(folder: Path, seed: int = 7, log: Callable[[str], None] = lambda s: None,
-                  snr_db: float = 30.0) -> list[Path]:
+def write_example(folder: Path, seed: int = 7, progress: Callable[[str], None] = lambda s: None,
+                  snr_db: float = 30.0, *, log: Callable[[str], None] | None = None) -> list[Path]:
     """Synthetic GVT of the X-HALE-like 'as-built' airframe in both suspension layouts (two
-    references, noise), the as-built free-free frequencies as reference.json, and the project."""
+    references, noise), the as-built free-free frequencies as reference.json, and the project.
+    progress: receives one line per file written (``log``: its deprecated name)."""
+    from ..updating.settings import renamed
+    if log is not None:
+        renamed("write_example(log=...)", "write_example(progress=...)")
+        progress = log
+    log = progress
     from .. import cases
     from ..fem import solve_modes, solve_static
     from ..io.uff import TestGeometry, write_uff
