@@ -4,8 +4,10 @@ from __future__ import annotations
 
 import math
 from itertools import pairwise
+from typing import Any, Sequence
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ..errors import ModelError
 from ..model import (
@@ -278,7 +280,7 @@ def _sensors(model: Model, info: dict) -> dict:
     return sensors
 
 
-def xhale(n_per_section: int = 8, as_built: bool = False, seed: int = 0):
+def xhale(n_per_section: int = 8, as_built: bool = False, seed: int = 0) -> Case:
     """X-HALE-like very flexible flying wing on its lab suspension (docs/method.md section 5 case 6). SI units.
 
     Axes: x chordwise aft, y spanwise right, z up, gravity -z. Six 1 m wing sections (beam groups
@@ -343,7 +345,7 @@ def xhale(n_per_section: int = 8, as_built: bool = False, seed: int = 0):
                    sensors=_sensors(model, info))
 
 
-def match_modes(modes, targets_hz, labels=LABELS) -> list[int]:
+def match_modes(modes: Any, targets_hz: ArrayLike, labels: Sequence[str] = LABELS) -> list[int]:
     """Indices of the modes of ``modes`` that pair with the listed modes ``labels`` at ``targets_hz``.
 
     By shape class first, frequency second: 'Plunge' pairs with the rigid-body/suspension modes

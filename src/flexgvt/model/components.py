@@ -6,6 +6,7 @@ import fnmatch
 from dataclasses import dataclass, field
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ..errors import ModelError
 
@@ -79,8 +80,8 @@ class Spring:
     id: int | None = None
 
     @staticmethod
-    def make(node_a: int, node_b: int | None = None, stiffness=0.0, damping=0.0, frame=None, name: str = "",
-             id: int | None = None) -> "Spring":
+    def make(node_a: int, node_b: int | None = None, stiffness: ArrayLike = 0.0, damping: ArrayLike = 0.0,
+             frame: ArrayLike | None = None, name: str = "", id: int | None = None) -> "Spring":
         k = as_vector(stiffness, 6, f"spring at node {node_a}: stiffness")
         c = as_vector(damping, 6, f"spring at node {node_a}: damping")
         if np.any(k < 0) or np.any(c < 0):

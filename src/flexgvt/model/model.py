@@ -7,6 +7,7 @@ from dataclasses import dataclass, replace
 from typing import Iterable, Sequence
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ..errors import ModelError
 from .configuration import parse_dofs
@@ -112,7 +113,7 @@ class Model:
         """(n_nodes, 3) undeformed coordinates [m] in storage order."""
         return np.concatenate(self._node_xyz) if self._node_xyz else np.zeros((0, 3))
 
-    def index_of(self, node_ids, what: str = "node") -> np.ndarray:
+    def index_of(self, node_ids: ArrayLike, what: str = "node") -> np.ndarray:
         """Storage indices of node ids; a ModelError names any unknown id."""
         arr = np.asarray(node_ids, dtype=int)
         flat = arr.reshape(-1)
@@ -123,8 +124,8 @@ class Model:
         return out.reshape(arr.shape)
 
     # ------------------------------------------------------------------ elements
-    def add_beams(self, pairs, material: Material | None, section: Section | None,
-                  orientation=(0.0, 0.0, 1.0), rotary_inertia: bool = True, mass: str = "consistent",
+    def add_beams(self, pairs: ArrayLike, material: Material | None, section: Section | None,
+                  orientation: ArrayLike = (0.0, 0.0, 1.0), rotary_inertia: bool = True, mass: str = "consistent",
                   name: str = "") -> np.ndarray:
         """Add beam elements between node id ``pairs`` (n, 2); returns element ids.
 
@@ -171,7 +172,7 @@ class Model:
         self.revision += 1
         return ids
 
-    def add_rods(self, pairs, material: Material | None, area: float, torsion_constant: float = 0.0,
+    def add_rods(self, pairs: ArrayLike, material: Material | None, area: float, torsion_constant: float = 0.0,
                  mass: str = "lumped", name: str = "") -> np.ndarray:
         """Add rod elements (axial E A and torsion G J, no bending; Nastran CROD/CONROD) between node id
         ``pairs`` (n, 2); returns element ids. Geometrically nonlinear like the beams (a tensioned rod
@@ -188,7 +189,8 @@ class Model:
         return self.add_beams(pairs, material, RodSection(area, torsion_constant), orientation=orientation,
                               rotary_inertia=False, mass=mass, name=name)
 
-    def add_mass(self, node: int, mass: float, offset=(0.0, 0.0, 0.0), inertia=None, name: str = "",
+    def add_mass(self, node: int, mass: float, offset: ArrayLike = (0.0, 0.0, 0.0), inertia: ArrayLike | None = None,
+                 name: str = "",
                  id: int | None = None) -> ConcentratedMass:
         """Concentrated mass [kg] at ``offset`` [m] from ``node``; inertia: scalar, (3,) or (3, 3) [kg m^2];
         name, id: optional, unique among the model's masses (design variables address masses by them)."""
@@ -209,8 +211,8 @@ class Model:
         self.revision += 1
         return item
 
-    def add_spring(self, node_a: int, node_b: int | None = None, stiffness=0.0, damping=0.0, frame=None,
-                   name: str = "", id: int | None = None) -> Spring:
+    def add_spring(self, node_a: int, node_b: int | None = None, stiffness: ArrayLike = 0.0, damping: ArrayLike = 0.0,
+                   frame: ArrayLike | None = None, name: str = "", id: int | None = None) -> Spring:
         """6-component spring/damper between two nodes, or to ground when node_b is None (see Spring);
         name, id: optional, unique among the model's springs (design variables address springs by them)."""
         self.index_of([node_a] + ([] if node_b is None else [node_b]), "add_spring")
@@ -242,7 +244,7 @@ class Model:
         self.revision += 1
         return item
 
-    def add_interpolation(self, reference: int, nodes: Iterable[int], weights=1.0,
+    def add_interpolation(self, reference: int, nodes: Iterable[int], weights: ArrayLike = 1.0,
                           components: str = "123456") -> InterpolationLink:
         """``reference`` follows the weighted best-fit rigid motion of ``nodes`` (RBE3, see InterpolationLink)."""
         nodes = tuple(int(n) for n in nodes)
@@ -284,7 +286,7 @@ class Model:
         self.revision += 1
         return item
 
-    def add_constraint(self, terms) -> LinearConstraint:
+    def add_constraint(self, terms: Iterable[tuple[int, int, float]]) -> LinearConstraint:
         """Linear constraint sum a_j u_j = 0 (Nastran MPC, see LinearConstraint); terms: [(node,
         component 1-6, coefficient), ...] in basic axes, the first one's DOF is eliminated."""
         where = "add_constraint"
@@ -330,7 +332,7 @@ class Model:
                                      mass=group.mass if mass is None else mass)
         self.revision += 1
 
-    def set_mass(self, index: int, mass: float | None = None, offset=None) -> None:
+    def set_mass(self, index: int, mass: float | None = None, offset: ArrayLike | None = None) -> None:
         """Change concentrated mass ``index`` (position in ``masses``): its mass [kg] and/or offset [m]."""
         item = self._masses[index]
         m = item.mass if mass is None else float(mass)
@@ -340,7 +342,7 @@ class Model:
         self._masses[index] = replace(item, mass=m, offset=off)
         self.revision += 1
 
-    def set_spring(self, index: int, stiffness=None, damping=None) -> None:
+    def set_spring(self, index: int, stiffness: ArrayLike | None = None, damping: ArrayLike | None = None) -> None:
         """Change spring ``index`` (position in ``springs``): its 6 stiffnesses and/or dampings."""
         item = self._springs[index]
         self._springs[index] = Spring.make(item.node_a, item.node_b,

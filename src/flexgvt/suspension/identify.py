@@ -12,6 +12,7 @@ import warnings
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ..errors import ModelError
 
@@ -55,8 +56,9 @@ def _values(mass, frequency_hz, damping_ratio):
     return mass * wn**2, 2 * zeta * wn * mass, wn
 
 
-def identify_block(mass: float, frequency_hz=None, damping_ratio=None, *, decay=None, peak_times=None,
-                   peak_amplitudes=None, frf=None) -> SuspensionPoint:
+def identify_block(mass: float, frequency_hz: ArrayLike | None = None, damping_ratio: ArrayLike | None = None, *,
+                   decay: tuple | list | None = None, peak_times: ArrayLike | None = None,
+                   peak_amplitudes: ArrayLike | None = None, frf: tuple | None = None) -> SuspensionPoint:
     """Stiffness and damping of a suspension point from a block test.
 
     mass: the block's mass [kg] (the mass the point carries in the GVT). Give one of:

@@ -8,11 +8,12 @@ from typing import Callable, Sequence
 import numpy as np
 
 from ..errors import ModelError, SolverError
+from ..fem import StaticSettings
 from ..model import Configuration, Model
 from .optimise import as_reference, minimise, reference_arrays, starting_points
 from .parallel import single_threaded
 from .problem import UpdatingProblem
-from .store import fingerprint, pack, unpack
+from .store import ResultsStore, fingerprint, pack, unpack
 from .settings import OptimiserSettings, renamed
 from .result import UpdateResult, configuration_tables, identifiability, variable_table
 from .targets import MassTarget, Measured, Objective
@@ -24,7 +25,8 @@ def update(model: Model, configurations: Sequence[Configuration], measured: Sequ
            objective: Objective | None = None, method: str = OptimiserSettings.method,
            starts: int = OptimiserSettings.starts, seed: int = OptimiserSettings.seed,
            max_iterations: int = OptimiserSettings.max_iterations, tolerance: float = OptimiserSettings.tolerance,
-           n_modes: int | None = OptimiserSettings.n_modes, static_settings=None, store=None,
+           n_modes: int | None = OptimiserSettings.n_modes, static_settings: StaticSettings | None = None,
+           store: ResultsStore | None = None,
            progress: Callable[[dict], None] | None = None, processes: int | None = None,
            scheduler: str | None = None, callback: Callable[[dict], None] | None = None) -> UpdateResult:
     """Update ``model`` so that its pre-stressed modes in every configuration match the measured ones.

@@ -18,7 +18,9 @@ from typing import Iterable, Sequence
 import numpy as np
 
 from ..errors import ModelError
-from ..model import Configuration, Model, TaperedSection
+from ..cases.case import Case
+from ..model import BeamGroup, Configuration, Material, Model, TaperedSection
+from ..model.section import Section
 from ..model.components import ConcentratedMass, find_items
 from .settings import renamed
 
@@ -101,7 +103,7 @@ class Variable:
         return self.attribute.startswith("offset_") or self.attribute == "along"
 
 
-def beam(name: str, groups: str | Iterable[str], attribute: str, bounds=(0.9, 1.1)) -> Variable:
+def beam(name: str, groups: str | Iterable[str], attribute: str, bounds: tuple[float, float] = (0.9, 1.1)) -> Variable:
     """A material (E, G, rho) or section attribute (width, height, thickness, A, Iy, Iz, J, ...) of the
     beam groups named by ``groups`` (names or fnmatch patterns, see Model.add_beams(name=...))."""
     groups = (groups,) if isinstance(groups, str) else tuple(groups)
@@ -119,7 +121,8 @@ def _named(kind: str, targets, ids) -> tuple[tuple, tuple[int, ...]]:
     return tuple(t if isinstance(t, str) else int(t) for t in targets), tuple(int(i) for i in ids)
 
 
-def mass(name: str, masses: str | Iterable[str] | None = None, attribute: str = "mass", bounds=(0.9, 1.1),
+def mass(name: str, masses: str | Iterable[str] | None = None, attribute: str = "mass",
+         bounds: tuple[float, float] = (0.9, 1.1),
          scale: float = 0.01, configurations: Iterable[str] | None = None, *,
          ids: int | Iterable[int] | None = None) -> Variable:
     """Mass [kg] or one offset component [m] of concentrated masses; offsets shift by (x - 1) * scale [m].
@@ -135,7 +138,7 @@ def mass(name: str, masses: str | Iterable[str] | None = None, attribute: str = 
 
 
 def spring(name: str, springs: str | Iterable[str] | None = None, attribute: str = "stiffness",
-           bounds=(0.5, 2.0), *, ids: int | Iterable[int] | None = None) -> Variable:
+           bounds: tuple[float, float] = (0.5, 2.0), *, ids: int | Iterable[int] | None = None) -> Variable:
     """Stiffness or damping (all six components, or one: k1..k6, c1..c6) of springs named by
     ``springs`` (names or fnmatch patterns; positions in model.springs still work, deprecated) or
     with ``ids`` (a deck's CELAS/CBUSH EIDs)."""
@@ -143,7 +146,8 @@ def spring(name: str, springs: str | Iterable[str] | None = None, attribute: str
     return Variable(name, "spring", attribute, targets, bounds, ids=ids)
 
 
-def cord(name: str, cords: int | Iterable[int] | None = None, attribute: str = "stiffness", bounds=(0.8, 1.2),
+def cord(name: str, cords: int | Iterable[int] | None = None, attribute: str = "stiffness",
+         bounds: tuple[float, float] = (0.8, 1.2),
          configurations: Iterable[str] | None = None, scale: float = 0.01) -> Variable:
     """Stiffness, damping, attachment offset (offset_x/y/z: the attachment point's arm from its node
     [m], shifted by (x - 1) scale) or position ``along`` its element [m] (a cord with node_b: the
@@ -260,7 +264,9 @@ class Parametrisation:
         idx, initial = [], []
         for c in self._configurations_of(v, where):
             items = self.configurations[c].masses
-            for i in _positions(v, items, f"{where}: configuration '{c}' (its own masses, Configuration.masses)"):
+            for i in _positions(v, items, f"{where}: configuration '{c}' (its own masses, Configuration.masses)",
+                                f"{where}: configuration '{c}' has no mass {{}} ({len(items)} masses of its own, "
+                                "Configuration.masses)"):
                 idx.append((c, i))
                 initial.append(self._point_value(items[i], v))
         if v.attribute == "mass" and np.any(np.asarray(initial) <= 0):
@@ -309,7 +315,7 @@ class Parametrisation:
             raise ModelError(f"design point must be {len(self)} finite values, got {x}")
         return x
 
-    def beam_entities(self, group, b: Binding, idx: int, xk: float):
+    def beam_entities(self, group: BeamGroup, b: Binding, idx: int, xk: float) -> tuple[Material, Section]:
         """(material, section) of beam group ``group`` (as it is at the current design point) with
         b's attribute at normalised value xk (target ``idx`` of b)."""
         value = float(self.physical(b, xk)[b.indices.index(idx)])
@@ -415,7 +421,7 @@ class Parametrisation:
         return configs
 
 
-def case_variables(case) -> list[Variable]:
+def case_variables(case: Case) -> list[Variable]:
     """Variables of a built-in case's design-variable table, ``case.references['design_variables']``:
     plain rows (name, kind, targets, attribute, bounds), kind "beam" (targets: group names) or "spring"
     (targets: spring names), as flexgvt.cases.xhale lists its 30 variables."""
@@ -433,9 +439,9 @@ def case_variables(case) -> list[Variable]:
     return out
 
 
-def _positions(v: Variable, items, where: str) -> tuple[int, ...]:
+def _positions(v: Variable, items, where: str, absent: str | None = None) -> tuple[int, ...]:
     """Positions in ``items`` (masses or springs) of v's targets (names, patterns or positions) and
-    ids, in the order given, each once."""
+    ids, in the order given, each once; absent: the message of a position out of range ({} the position)."""
     kind = v.kind
     if not v.targets and not v.ids:
         raise ModelError(f"{where}: design variable '{v.name}' names no {kind}; give names or ids")
@@ -444,8 +450,8 @@ def _positions(v: Variable, items, where: str) -> tuple[int, ...]:
         if isinstance(t, str):
             out += find_items(items, t, where, kind)
         elif not 0 <= t < len(items):
-            raise ModelError(f"{where}: {kind} index {[t]} does not exist ({len(items)} "
-                             f"{kind}{'es' if kind == 'mass' else 's'})")
+            raise ModelError(absent.format(t) if absent else f"{where}: {kind} index {[t]} does not exist "
+                             f"({len(items)} {kind}{'es' if kind == 'mass' else 's'})")
         else:
             out.append(int(t))
     for i in v.ids:

@@ -171,7 +171,8 @@ def _configuration(c: ConfigurationSpec, available: dict, blocks: dict, model: M
         changes["gravity"] = c.gravity
     for j, m in enumerate(c.masses):
         _node(model, m.node, f"{loc}.masses[{j}].node")
-    extra = [ConcentratedMass(m.node, m.mass, np.asarray(m.offset, float), np.zeros((3, 3))) for m in c.masses]
+    extra = [ConcentratedMass(m.node, m.mass, np.asarray(m.offset, float), np.zeros((3, 3)), m.name)
+             for m in c.masses]
     fixed = dict(base.fixed)
     if c.fixed is not None:
         fixed = {}
@@ -184,7 +185,7 @@ def _configuration(c: ConfigurationSpec, available: dict, blocks: dict, model: M
     if c.shaker is not None:
         _node(model, c.shaker.node, f"{loc}.shaker.node")
         if c.shaker.mass:
-            extra.append(ConcentratedMass(c.shaker.node, c.shaker.mass, np.zeros(3), np.zeros((3, 3))))
+            extra.append(ConcentratedMass(c.shaker.node, c.shaker.mass, np.zeros(3), np.zeros((3, 3)), "shaker"))
         if c.shaker.fixed:
             held = set(fixed.get(c.shaker.node, "")) | set(c.shaker.fixed)
             fixed[c.shaker.node] = "".join(sorted(held))

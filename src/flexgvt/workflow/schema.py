@@ -92,6 +92,7 @@ class MassSpec(Strict):
     node: int
     mass: Mass
     offset: Vector3 = Field(default_factory=lambda: [0.0, 0.0, 0.0])
+    name: str = Field("", description="how a mass variable names it (the shaker's moving mass is \"shaker\")")
 
 
 Force = _q("force")

@@ -11,21 +11,22 @@ import numpy as np
 
 from ..errors import FlexGVTError
 from ..model import Configuration, Model
+from ..updating import MassTarget, Objective, ResultsStore, UpdateResult
 from .identification import Identified
 from .project import Project, ProjectError
 
 
-def objective(project: Project):
+def objective(project: Project) -> tuple[Objective, MassTarget | None]:
     """(Objective, MassTarget or None) from the project's [objective] table."""
     from dataclasses import fields
 
-    from ..updating import Objective
     o = project.spec.objective
     return Objective(**{f.name: getattr(o, f.name) for f in fields(Objective)}), o.measured_mass
 
 
-def update_model(project: Project, identified: dict[str, Identified], store=None,
-                 progress: Callable[[dict], None] | None = None, callback: Callable[[dict], None] | None = None):
+def update_model(project: Project, identified: dict[str, Identified], store: ResultsStore | None = None,
+                 progress: Callable[[dict], None] | None = None,
+                 callback: Callable[[dict], None] | None = None) -> UpdateResult:
     """flexgvt.updating.update on every configuration with role 'update' at once, with the project's
     [optimiser] settings; progress: called with each accepted iterate's history row (``callback``:
     its deprecated name)."""

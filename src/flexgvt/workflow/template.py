@@ -51,6 +51,7 @@ role = "update"
 # [[configurations.masses]] # extra masses of this test only (adapters, clips)
 # node = 12
 # mass = "15 g"
+# name = "clip"            # how a mass variable (kind = "mass", configurations = [...]) names it
 # [configurations.shaker]  # a shaker on a stinger: its moving mass, and what the stinger holds
 # node = 12
 # mass = "150 g"
