@@ -57,3 +57,12 @@ def test_callback_is_a_deprecated_name_of_progress():
     with pytest.warns(DeprecationWarning, match="progress"):
         with pytest.raises(ModelError, match="design variable"):  # no variables: after the warning
             up.update(None, [], [], [], callback=print)
+
+
+def test_a_variable_without_bounds_gets_its_kinds_default_in_scripts_and_projects():
+    from flexgvt.updating.variables import DEFAULT_BOUNDS
+    assert up.spring("k", "root").bounds == DEFAULT_BOUNDS["spring"] == (0.5, 2.0)
+    assert up.cord("c").bounds == up.Variable("c", "cord", "stiffness").bounds == (0.8, 1.2)
+    spec = ProjectFile.model_validate({**MINIMAL, "variables": [{"name": "k", "kind": "spring", "targets": ["root"],
+                                                                 "attribute": "k1"}]})
+    assert spec.variables[0].bounds is None  # resolved by Variable, as a script's

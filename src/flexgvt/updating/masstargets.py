@@ -30,8 +30,8 @@ class MassResiduals:
     def properties(self):
         """Mass properties of the working model as it is set (undeformed)."""
         system = self.system = self.system.for_values(self.work, self.system.config)
-        x, R = system.undeformed
-        return system_mass_properties(system, x, R)
+        positions, R = system.undeformed
+        return system_mass_properties(system, positions, R)
 
     def vector(self, mp) -> tuple[np.ndarray, list[str], np.ndarray]:
         """Mass residuals (relative errors), their names and reference scales."""

@@ -174,11 +174,11 @@ class UpdatingProblem:
             raise DesignPointFailure(f"configuration '{name}' did not converge at this design point: {exc}") from exc
         self.n_solves += 1
         system = state.system
-        x, R = state.positions, state.rotations
-        ev = system.evaluate(x, R, state.load_factor)
+        positions, R = state.positions, state.rotations
+        ev = system.evaluate(positions, R, state.load_factor)
         tangent = ev.tangent.tocsc()
         K = (0.5 * (tangent + tangent.T)).tocsc()
-        M = system.mass_matrix(x, R)
+        M = system.mass_matrix(positions, R)
         meas = self.measured[name]
         n = self.n_modes or len(meas.frequencies_hz) + EXTRA_MODES
         n = min(n, system.n_free - 1)
@@ -187,8 +187,8 @@ class UpdatingProblem:
         except Exception as exc:  # ARPACK or factorisation failure at this design point
             raise DesignPointFailure(f"configuration '{name}': the eigen-solution failed at this design point "
                                      f"({exc})") from exc
-        T = system.transformation(x, R) if system.has_links else None
-        f = modal_frequencies_hz(lam, K, M, system, x, T)  # rigid-body modes at 0 Hz, as solve_modes
+        T = system.transformation(positions, R) if system.has_links else None
+        f = modal_frequencies_hz(lam, K, M, system, positions, T)  # rigid-body modes at 0 Hz, as solve_modes
         self.states[name] = state
         sensors = meas.sensors
         shapes_s = seen = None

@@ -30,6 +30,8 @@ MASS_ATTRIBUTES = ("mass", "offset_x", "offset_y", "offset_z")
 SPRING_ATTRIBUTES = tuple(f"k{i}" for i in range(1, 7)) + tuple(f"c{i}" for i in range(1, 7)) + ("stiffness", "damping")
 CORD_ATTRIBUTES = ("stiffness", "damping", "offset_x", "offset_y", "offset_z", "along")
 SECTION_ALIASES = {"thickness": "height"}  # a RectangularSection's height is a strip's or skin's thickness
+# Normalised bounds of a variable that gives none, by kind (the factories, Variable and project files).
+DEFAULT_BOUNDS = {"beam": (0.9, 1.1), "mass": (0.9, 1.1), "spring": (0.5, 2.0), "cord": (0.8, 1.2)}
 
 
 @dataclass(frozen=True)
@@ -44,15 +46,15 @@ class Variable:
     model.springs, deprecated), or cord indices within each configuration named in
     ``configurations`` (None: every configuration); ids: mass or spring ids (a deck's CONM2 or
     CELAS EIDs); a mass variable with ``configurations`` targets those configurations' own masses.
-    bounds: normalised (lower, upper); scale: the absolute size of x - 1 = 1 for shifted
-    attributes (offsets) [m].
+    bounds: normalised (lower, upper), None: DEFAULT_BOUNDS of the kind; scale: the absolute size
+    of x - 1 = 1 for shifted attributes (offsets) [m].
     """
 
     name: str
     kind: str
     attribute: str
     targets: tuple = ()
-    bounds: tuple[float, float] = (0.9, 1.1)
+    bounds: tuple[float, float] | None = None
     scale: float = 0.01
     configurations: tuple[str, ...] | None = None
     ids: tuple[int, ...] = ()
@@ -60,6 +62,8 @@ class Variable:
     def __post_init__(self) -> None:
         if self.kind not in KINDS:
             raise ModelError(f"design variable '{self.name}': kind '{self.kind}' must be one of {KINDS}")
+        if self.kind in DEFAULT_BOUNDS and self.bounds is None:
+            object.__setattr__(self, "bounds", DEFAULT_BOUNDS[self.kind])
         try:
             lo, hi = (float(b) for b in self.bounds)
         except (TypeError, ValueError):
@@ -103,7 +107,8 @@ class Variable:
         return self.attribute.startswith("offset_") or self.attribute == "along"
 
 
-def beam(name: str, groups: str | Iterable[str], attribute: str, bounds: tuple[float, float] = (0.9, 1.1)) -> Variable:
+def beam(name: str, groups: str | Iterable[str], attribute: str,
+         bounds: tuple[float, float] | None = None) -> Variable:
     """A material (E, G, rho) or section attribute (width, height, thickness, A, Iy, Iz, J, ...) of the
     beam groups named by ``groups`` (names or fnmatch patterns, see Model.add_beams(name=...))."""
     groups = (groups,) if isinstance(groups, str) else tuple(groups)
@@ -122,7 +127,7 @@ def _named(kind: str, targets, ids) -> tuple[tuple, tuple[int, ...]]:
 
 
 def mass(name: str, masses: str | Iterable[str] | None = None, attribute: str = "mass",
-         bounds: tuple[float, float] = (0.9, 1.1),
+         bounds: tuple[float, float] | None = None,
          scale: float = 0.01, configurations: Iterable[str] | None = None, *,
          ids: int | Iterable[int] | None = None) -> Variable:
     """Mass [kg] or one offset component [m] of concentrated masses; offsets shift by (x - 1) * scale [m].
@@ -138,7 +143,7 @@ def mass(name: str, masses: str | Iterable[str] | None = None, attribute: str = 
 
 
 def spring(name: str, springs: str | Iterable[str] | None = None, attribute: str = "stiffness",
-           bounds: tuple[float, float] = (0.5, 2.0), *, ids: int | Iterable[int] | None = None) -> Variable:
+           bounds: tuple[float, float] | None = None, *, ids: int | Iterable[int] | None = None) -> Variable:
     """Stiffness or damping (all six components, or one: k1..k6, c1..c6) of springs named by
     ``springs`` (names or fnmatch patterns; positions in model.springs still work, deprecated) or
     with ``ids`` (a deck's CELAS/CBUSH EIDs)."""
@@ -147,7 +152,7 @@ def spring(name: str, springs: str | Iterable[str] | None = None, attribute: str
 
 
 def cord(name: str, cords: int | Iterable[int] | None = None, attribute: str = "stiffness",
-         bounds: tuple[float, float] = (0.8, 1.2),
+         bounds: tuple[float, float] | None = None,
          configurations: Iterable[str] | None = None, scale: float = 0.01) -> Variable:
     """Stiffness, damping, attachment offset (offset_x/y/z: the attachment point's arm from its node
     [m], shifted by (x - 1) scale) or position ``along`` its element [m] (a cord with node_b: the

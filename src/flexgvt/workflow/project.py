@@ -286,7 +286,7 @@ def _variables(spec: ProjectFile, model: Model, configurations: dict, where: str
                     "their names (targets = [\"name\"]) or ids (ids = [...])", 4)
         try:
             var = Variable(v.name, v.kind, v.attribute if v.attribute != "thickness" else "height",
-                           tuple(v.targets), tuple(v.bounds),
+                           tuple(v.targets), None if v.bounds is None else tuple(v.bounds),
                            configurations=None if v.configurations is None else tuple(v.configurations),
                            ids=tuple(v.ids))
             Parametrisation(model, list(configurations.values()), [var])

@@ -173,7 +173,7 @@ class VariableSpec(Strict):
     targets: list[str | int] = Field(default_factory=list)
     ids: list[int] = Field(default_factory=list)
     attribute: str
-    bounds: Annotated[list[float], Field(min_length=2, max_length=2)] = Field(default_factory=lambda: [0.9, 1.1])
+    bounds: Annotated[list[float], Field(min_length=2, max_length=2)] | None = None  # None: the kind's default
     configurations: list[str] | None = None
 
 

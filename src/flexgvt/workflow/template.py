@@ -82,7 +82,8 @@ TAIL = '''
 # Design variables: a property of model entities, normalised by its initial value (x = 1),
 # bounded. kind = beam (E, G, rho or a section attribute of beam groups named by targets, which
 # may be patterns like "wing_*"), mass (mass, offset_x/y/z of masses named by targets or with
-# ids = [...]), spring (k1..k6, c1..c6 of springs named by targets or ids) or cord.
+# ids = [...]), spring (k1..k6, c1..c6 of springs named by targets or ids) or cord. Default bounds:
+# [0.9, 1.1] (beam, mass), [0.5, 2.0] (spring), [0.8, 1.2] (cord).
 {variables}
 [objective]                # weights of the residual groups (each residual a relative error)
 frequency = 1.0
