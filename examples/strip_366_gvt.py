@@ -51,18 +51,18 @@ def _frequencies(values) -> bool:
 
 
 def variables() -> list:
-    le, te = range(0, 26, 2), range(1, 26, 2)  # the case adds LE, TE masses per station
+    # The case names its accelerometer masses by their sensors: S01LE, S01TE, ... S13TE.
     return [up.beam("E", "strip", "E", bounds=(0.95, 1.05)),
             up.beam("thickness", "strip", "thickness", bounds=(0.99, 1.01)),
             up.beam("width", "strip", "width", bounds=(0.99, 1.01)),
-            up.mass("accelerometer_mass", range(26), "mass", bounds=(0.5, 2.5)),
+            up.mass("accelerometer_mass", "S*", "mass", bounds=(0.5, 2.5)),
             # LE sensors at x = -0.02 m, TE at +0.02 m: cables pull the effective mass outward.
-            up.mass("accelerometer_LE_x", le, "offset_x", bounds=(-1.0, 1.5), scale=0.01),
-            up.mass("accelerometer_TE_x", te, "offset_x", bounds=(0.5, 3.0), scale=0.01),
+            up.mass("accelerometer_LE_x", "S*LE", "offset_x", bounds=(-1.0, 1.5), scale=0.01),
+            up.mass("accelerometer_TE_x", "S*TE", "offset_x", bounds=(0.5, 3.0), scale=0.01),
             up.cord("suspension_k", None, "stiffness", bounds=(0.8, 1.2)),
             # The hook and clip at each attachment (present only where the cords hang in each test).
-            up.mass("attachment_hardware", [0, 1], configurations=["outboard", "inboard"], bounds=(0.25, 2.5)),
-            up.mass("attachment_height", [0, 1], "offset_z", configurations=["outboard", "inboard"],
+            up.mass("attachment_hardware", "hardware_*", configurations=["outboard", "inboard"], bounds=(0.25, 2.5)),
+            up.mass("attachment_height", "hardware_*", "offset_z", configurations=["outboard", "inboard"],
                     bounds=(-1.0, 3.0), scale=0.01),
             up.cord("attach_outboard_L", 0, "offset_y", bounds=(-4.0, 6.0), configurations=["outboard"]),
             up.cord("attach_outboard_R", 1, "offset_y", bounds=(-4.0, 6.0), configurations=["outboard"]),
@@ -93,7 +93,8 @@ def with_hardware(config: fg.Configuration) -> fg.Configuration:
     """``config`` with the attachment hardware (hook and clip, assumed 20 g 10 mm above the strip's
     axis) at each cord's node: a mass of that test only (Configuration.masses)."""
     hardware = tuple(fg.model.ConcentratedMass(c.node, HARDWARE_KG, np.array([0.0, 0.0, HARDWARE_HEIGHT_M]),
-                                               np.zeros((3, 3))) for c in config.suspension)
+                                               np.zeros((3, 3)), name=f"hardware_{k}")
+                     for k, c in enumerate(config.suspension))
     return config.with_(masses=config.masses + hardware)
 
 

@@ -70,7 +70,7 @@ def main(argv=None) -> dict:
                            modes={c: ("xhale_lab_gvt.json", f"{c}", labels) for c in ("outboard", "inboard")})
     (args.out / "project.toml").write_text(text)
     project = load_project(args.out / "project.toml")
-    res = run(project, log=print)
+    res = run(project, progress=print)
     if not args.no_report:
         fg.report.write_project_report(res)
 

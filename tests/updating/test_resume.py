@@ -21,7 +21,7 @@ SCRIPT = textwrap.dedent("""
     case, initial, cfgs, variables, data, target, truth = _strip_problem(n_elements=30)
     store = up.ResultsStore({path!r})
     # A pause after each stored iterate stands for a long run (the kill must land midway).
-    up.update(initial, cfgs, data, variables, mass_target=target, store=store, callback=lambda row: time.sleep(1.0))
+    up.update(initial, cfgs, data, variables, mass_target=target, store=store, progress=lambda row: time.sleep(1.0))
 """)
 
 
@@ -113,7 +113,7 @@ def test_a_record_made_with_other_data_is_not_replayed(tmp_path):
         n_elements=12, names=("unloaded", "self_weight"), attributes=("E", "rho"))
     store = up.ResultsStore(tmp_path / "run.sqlite")
     try:
-        up.update(initial, cfgs, data, variables, mass_target=target, store=store, callback=stop)
+        up.update(initial, cfgs, data, variables, mass_target=target, store=store, progress=stop)
     except Stop:  # an interruption
         pass
     nudged = [up.Measured(m.configuration, m.frequencies_hz * (1 + 1e-9)) for m in data]

@@ -87,7 +87,7 @@ def strip_366(n_elements: int = 122, accelerometers: bool = True) -> Case:
         for s, y in enumerate(stations):
             node = int(ids[at[round(float(y), 6)]])
             for side, dx in (("LE", -ACCELEROMETER_CHORD_OFFSET), ("TE", ACCELEROMETER_CHORD_OFFSET)):
-                model.add_mass(node, ACCELEROMETER_MASS, offset=(dx, 0.0, t / 2))
+                model.add_mass(node, ACCELEROMETER_MASS, offset=(dx, 0.0, t / 2), name=f"S{s + 1:02d}{side}")
                 sensors[f"S{s + 1:02d}{side}"] = (node, (dx, 0.0, t / 2), (0.0, 0.0, 1.0))
 
     def hang(y_left, y_right):

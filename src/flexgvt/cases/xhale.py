@@ -4,8 +4,10 @@ from __future__ import annotations
 
 import math
 from itertools import pairwise
+from typing import Any, Sequence
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ..errors import ModelError
 from ..model import (
@@ -156,10 +158,11 @@ def _build(p: dict, n_per_section: int, factors: dict | None = None, mass_factor
                        rho=p["boom_rho"] * mass_factors.get(name, 1.0))
         model.add_beams(np.c_[ids[:-1], ids[1:]], mat, boom, orientation=(0, 0, 1), rotary_inertia=False, name=name)
         kf = np.array([factors.get(f"k{i}_wing_tail", 1.0) for i in range(1, 7)])
-        model.add_spring(junction_node[y], int(ids[0]), stiffness=K_WING_TAIL * kf)
+        model.add_spring(junction_node[y], int(ids[0]), stiffness=K_WING_TAIL * kf, name=f"wing_{name}")
         mt = p["tail_mass"] * mass_factors.get(name, 1.0)
         b, ch = p["tail_span"], p["tail_chord"]
-        model.add_mass(int(ids[-1]), mt, inertia=(mt * b * b / 12, mt * ch * ch / 12, mt * (b * b + ch * ch) / 12))
+        model.add_mass(int(ids[-1]), mt, inertia=(mt * b * b / 12, mt * ch * ch / 12, mt * (b * b + ch * ch) / 12),
+                       name=name.replace("_boom", ""))
         tail_nodes[name] = int(ids[-1])
 
     # Pods: what the budget leaves after wing, joiners, booms and tails, centre pod heavier
@@ -174,7 +177,7 @@ def _build(p: dict, n_per_section: int, factors: dict | None = None, mass_factor
     for y in JUNCTIONS_Y:
         m = pod_mass[y] * mass_factors.get(f"pod_{y:+.0f}", 1.0)
         model.add_mass(junction_node[y], m, offset=(pod_x, 0.0, p["pod_offset_z"]),
-                       inertia=np.array(p["pod_inertia"]) * m / pod_mass[y])
+                       inertia=np.array(p["pod_inertia"]) * m / pod_mass[y], name=f"pod_{y:+.0f}")
     return model, {"junction": junction_node, "tail": tail_nodes, "chain": chain, "groups": wing_ids,
                    "pod_x": pod_x, "pod_mass": pod_mass}
 
@@ -227,7 +230,7 @@ def _design_variables() -> list[tuple]:
     booms = tuple(f"tail_boom_{'L' if y < 0 else 'R'}{int(abs(y))}" for y in BOOM_JUNCTIONS)
     for attr in ("E", "G"):
         out.append((f"{attr}_tail_boom", "beam", booms, attr, (0.75, 1.25)))
-    springs = tuple(range(len(BOOM_JUNCTIONS)))  # the wing-tail springs are the model's only springs
+    springs = ("wing_tail_boom_*",)  # the wing-tail springs
     for i in range(1, 7):
         out.append((f"k{i}_wing_tail", "spring", springs, f"k{i}", (0.5, 2.0)))
     return out
@@ -277,7 +280,7 @@ def _sensors(model: Model, info: dict) -> dict:
     return sensors
 
 
-def xhale(n_per_section: int = 8, as_built: bool = False, seed: int = 0):
+def xhale(n_per_section: int = 8, as_built: bool = False, seed: int = 0) -> Case:
     """X-HALE-like very flexible flying wing on its lab suspension (docs/method.md section 5 case 6). SI units.
 
     Axes: x chordwise aft, y spanwise right, z up, gravity -z. Six 1 m wing sections (beam groups
@@ -291,7 +294,8 @@ def xhale(n_per_section: int = 8, as_built: bool = False, seed: int = 0):
     inertia; four tail booms (tail_boom_L2, _L1, _R1, _R2: 0.78 m fibreglass tubes, E 5.0 GPa,
     G 1.88 GPa) aft from the pods at y = +-1, +-2 with a 32 g horizontal tail (mass and inertia)
     at the end, each joined to the wing by a 6-component spring of 1e8 N/m, N m/rad between
-    coincident nodes (model.springs 0-3). Gross mass 11.35 kg, cg at x = y = 0.
+    coincident nodes (springs named wing_tail_boom_L2 ... _R2; the pods' masses pod_-2 ... pod_+2,
+    the tails' tail_L2 ... tail_R2). Gross mass 11.35 kg, cg at x = y = 0.
 
     Configurations: outboard / inboard (cords at the junctions y = +-2 / +-1 m, 1 g): left
     K = 17.59 N/m, C = 0.94 N s/m, right K = 18.01 N/m, C = 1.35 N s/m, each carrying half the
@@ -341,7 +345,7 @@ def xhale(n_per_section: int = 8, as_built: bool = False, seed: int = 0):
                    sensors=_sensors(model, info))
 
 
-def match_modes(modes, targets_hz, labels=LABELS) -> list[int]:
+def match_modes(modes: Any, targets_hz: ArrayLike, labels: Sequence[str] = LABELS) -> list[int]:
     """Indices of the modes of ``modes`` that pair with the listed modes ``labels`` at ``targets_hz``.
 
     By shape class first, frequency second: 'Plunge' pairs with the rigid-body/suspension modes

@@ -85,20 +85,6 @@ def _modes_table(title: str, results: dict) -> Table:
     return table
 
 
-def _tracking_table(title: str, tracking) -> Table:
-    """Each mode followed by MAC from the first to the last load level, with its shift."""
-    table = Table(title=title)
-    for col in ("mode", "at 0", "f [Hz]", f"at {tracking.load_factors[-1]:g}", "f [Hz]", "shift", "min MAC"):
-        table.add_column(col, justify="right")
-    last = tracking.modes[-1]
-    for j in range(tracking.frequencies_hz.shape[1]):
-        f0, f1 = tracking.frequencies_hz[0, j], tracking.frequencies_hz[-1, j]
-        label1 = last.labels[tracking.order[-1, j]] if last.labels else ""
-        table.add_row(str(j + 1), tracking.labels[j] if tracking.labels else "", f"{f0:.4f}", label1, f"{f1:.4f}",
-                      f"{100 * (f1 / f0 - 1):+.1f} %", f"{tracking.mac[:, j].min():.3f}")
-    return table
-
-
 @app.command()
 def solve(case: str = typer.Argument(..., help="built-in case (cantilever_strip, strip_366, hale_wing) or a .bdf deck"),
           config: Optional[list[str]] = typer.Option(None, "--config", "-c", help="configuration name(s); default all"),
@@ -190,9 +176,9 @@ def demo(out: Path = typer.Option(Path("demo-output"), help="folder for the proj
         from ..report import write_project_report
         from ..workflow import run
         t0 = time.perf_counter()
-        project = demo_project(out, seed=seed, log=log)
+        project = demo_project(out, seed=seed, progress=log)
         t_data = time.perf_counter() - t0
-        res = run(project, log=log)
+        res = run(project, progress=log)
         if report:  # the face renders; the workflow only returns results
             write_project_report(res)
         return demo_figures(res, out, seed, t_data, t0)

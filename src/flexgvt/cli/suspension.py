@@ -83,7 +83,7 @@ def identify(mass: float = typer.Option(..., help="block mass [kg]: the mass the
         out.mkdir(parents=True, exist_ok=True)
         suspension_response(point).savefig(out / "suspension_point.png", dpi=120)
         console.print(f"figure: {out / 'suspension_point.png'}")
-    _write_json(json_path, point.as_dict())
+    _write_json(json_path, point.to_dict())
 
 
 @app.command()

@@ -50,7 +50,7 @@ def register(app: typer.Typer, console: Console) -> None:
                           f"{r['initial_error_percent']:+.3f}", f"{r['updated_hz']:.4f}",
                           f"{r['updated_error_percent']:+.4f}", f"{r['updated_mac']:.4f}" if r["updated_mac"] else "")
             console.print(t)
-        data = result.as_dict()
+        data = result.to_dict()
         if out is not None:
             out.mkdir(parents=True, exist_ok=True)
             (out / "verification.json").write_text(json.dumps(data, indent=1))

@@ -84,7 +84,7 @@ def register(app: typer.Typer, console: Console) -> None:
             console.rule(f"[bold]{escape(p.spec.project.name)}[/]")
 
             def job(log):
-                res = run_project(p, log=log)
+                res = run_project(p, progress=log)
                 if report:  # --report (the default) as before: the face renders, the workflow only returns results
                     from ..report import write_project_report
                     write_project_report(res)
@@ -94,7 +94,7 @@ def register(app: typer.Typer, console: Console) -> None:
                 console.print(prediction_table(f"free-flying prediction, {key} model", pred.rows))
             console.print(f"outputs in {p.output}/: " + ", ".join(Path(f).name for f in res.files.values()))
             if json_path is not None:
-                json_path.write_text(json.dumps(res.as_dict(), indent=1))
+                json_path.write_text(json.dumps(res.to_dict(), indent=1))
                 console.print(f"results written to {json_path}")
         except (FlexGVTError, OSError) as exc:
             fail(console, exc)
@@ -112,7 +112,7 @@ def register(app: typer.Typer, console: Console) -> None:
             if path.exists() and not force:
                 raise FlexGVTError(f"{path} exists; use --force to overwrite it")
             if data:
-                files = write_example(folder, log=console.print)
+                files = write_example(folder, progress=console.print)
                 console.print(f"synthetic GVT written: {', '.join(Path(f).name for f in files)}")
             else:
                 path.write_text(example_project())

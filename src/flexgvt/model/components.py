@@ -2,9 +2,11 @@
 
 from __future__ import annotations
 
+import fnmatch
 from dataclasses import dataclass, field
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ..errors import ModelError
 
@@ -21,18 +23,38 @@ def as_vector(value, n: int, what: str) -> np.ndarray:
     return arr
 
 
+def find_items(items, key: str | int, where: str, kind: str) -> list[int]:
+    """Positions in ``items`` (masses or springs) named ``key`` (a name or fnmatch pattern) or with id
+    ``key`` (an integer), in list order; ModelError naming ``where`` when none matches."""
+    if isinstance(key, str):
+        found = [k for k, m in enumerate(items) if m.name and fnmatch.fnmatchcase(m.name, key)]
+        known = sorted({m.name for m in items if m.name})
+        what = f"no {kind} named '{key}'"
+    else:
+        found = [k for k, m in enumerate(items) if m.id is not None and m.id == int(key)]
+        known = sorted(m.id for m in items if m.id is not None)
+        what = f"no {kind} with id {key}"
+    if not found:
+        raise ModelError(f"{where}: {what}; {kind} {'names' if isinstance(key, str) else 'ids'}: "
+                         f"{known[:20] or '(none given)'}{' ...' if len(known) > 20 else ''}")
+    return found
+
+
 @dataclass(frozen=True)
 class ConcentratedMass:
     """Mass [kg] whose centre sits at ``offset`` [m] (global axes, undeformed) from its node.
 
     inertia: 3x3 inertia tensor about the mass's own centre [kg m^2], global axes, undeformed.
-    The offset and inertia rotate with the node.
+    The offset and inertia rotate with the node. name: optional, how design variables and tables
+    address it (flexgvt.updating.mass); id: optional entity id (a Nastran deck's CONM2 EID).
     """
 
     node: int
     mass: float
     offset: np.ndarray
     inertia: np.ndarray
+    name: str = ""
+    id: int | None = None
 
 
 @dataclass(frozen=True)
@@ -44,7 +66,9 @@ class Spring:
     (3x3, columns are the spring axes in global coordinates; identity by default).
     The axes stay fixed in space: exact for grounded springs and for joint springs between
     coincident nodes (the usual use); between distant nodes a large rigid rotation of both
-    would load the spring, so model such a connection with a beam instead.
+    would load the spring, so model such a connection with a beam instead. name: optional, how
+    design variables address it (flexgvt.updating.spring); id: optional entity id (a Nastran
+    deck's CELAS/CBUSH EID).
     """
 
     node_a: int
@@ -52,9 +76,12 @@ class Spring:
     stiffness: np.ndarray
     damping: np.ndarray
     frame: np.ndarray = field(default_factory=lambda: np.eye(3))
+    name: str = ""
+    id: int | None = None
 
     @staticmethod
-    def make(node_a: int, node_b: int | None = None, stiffness=0.0, damping=0.0, frame=None) -> "Spring":
+    def make(node_a: int, node_b: int | None = None, stiffness: ArrayLike = 0.0, damping: ArrayLike = 0.0,
+             frame: ArrayLike | None = None, name: str = "", id: int | None = None) -> "Spring":
         k = as_vector(stiffness, 6, f"spring at node {node_a}: stiffness")
         c = as_vector(damping, 6, f"spring at node {node_a}: damping")
         if np.any(k < 0) or np.any(c < 0):
@@ -64,7 +91,8 @@ class Spring:
         frame = np.asarray(frame, dtype=float)
         if frame.shape != (3, 3) or not np.allclose(frame.T @ frame, np.eye(3), atol=1e-9):
             raise ModelError(f"spring at node {node_a}: frame must be a 3x3 orthonormal matrix")
-        return Spring(int(node_a), None if node_b is None else int(node_b), k, c, frame)
+        return Spring(int(node_a), None if node_b is None else int(node_b), k, c, frame, str(name),
+                      None if id is None else int(id))
 
 
 @dataclass(frozen=True)

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import Mapping
+from typing import Iterable, Mapping
 
 import numpy as np
 
@@ -14,7 +14,7 @@ from .components import ConcentratedMass, Cord, DistributedLoad, NodalLoad, Spri
 STANDARD_GRAVITY = 9.80665  # m/s^2
 
 
-def parse_dofs(spec, where: str) -> tuple[int, ...]:
+def parse_dofs(spec: str | Iterable[int], where: str) -> tuple[int, ...]:
     """'123456'-style component string (or iterable of 1..6) -> sorted 0-based DOF indices."""
     items = list(str(spec)) if isinstance(spec, (str, int)) else list(spec)
     try:

@@ -7,10 +7,12 @@ from dataclasses import dataclass, replace
 from typing import Iterable, Sequence
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ..errors import ModelError
 from .configuration import parse_dofs
-from .components import ConcentratedMass, InterpolationLink, LinearConstraint, RigidLink, Spring, as_vector
+from .components import (ConcentratedMass, InterpolationLink, LinearConstraint, RigidLink, Spring, as_vector,
+                         find_items)
 from .material import Material
 from .section import RodSection, Section
 
@@ -110,7 +112,7 @@ class Model:
         """(n_nodes, 3) undeformed coordinates [m] in storage order."""
         return np.concatenate(self._node_xyz) if self._node_xyz else np.zeros((0, 3))
 
-    def index_of(self, node_ids, what: str = "node") -> np.ndarray:
+    def index_of(self, node_ids: ArrayLike, what: str = "node") -> np.ndarray:
         """Storage indices of node ids; a ModelError names any unknown id."""
         arr = np.asarray(node_ids, dtype=int)
         flat = arr.reshape(-1)
@@ -121,8 +123,8 @@ class Model:
         return out.reshape(arr.shape)
 
     # ------------------------------------------------------------------ elements
-    def add_beams(self, pairs, material: Material | None, section: Section | None,
-                  orientation=(0.0, 0.0, 1.0), rotary_inertia: bool = True, mass: str = "consistent",
+    def add_beams(self, pairs: ArrayLike, material: Material | None, section: Section | None,
+                  orientation: ArrayLike = (0.0, 0.0, 1.0), rotary_inertia: bool = True, mass: str = "consistent",
                   name: str = "") -> np.ndarray:
         """Add beam elements between node id ``pairs`` (n, 2); returns element ids.
 
@@ -169,7 +171,7 @@ class Model:
         self.revision += 1
         return ids
 
-    def add_rods(self, pairs, material: Material | None, area: float, torsion_constant: float = 0.0,
+    def add_rods(self, pairs: ArrayLike, material: Material | None, area: float, torsion_constant: float = 0.0,
                  mass: str = "lumped", name: str = "") -> np.ndarray:
         """Add rod elements (axial E A and torsion G J, no bending; Nastran CROD/CONROD) between node id
         ``pairs`` (n, 2); returns element ids. Geometrically nonlinear like the beams (a tensioned rod
@@ -186,9 +188,13 @@ class Model:
         return self.add_beams(pairs, material, RodSection(area, torsion_constant), orientation=orientation,
                               rotary_inertia=False, mass=mass, name=name)
 
-    def add_mass(self, node: int, mass: float, offset=(0.0, 0.0, 0.0), inertia=None) -> ConcentratedMass:
-        """Concentrated mass [kg] at ``offset`` [m] from ``node``; inertia: scalar, (3,) or (3, 3) [kg m^2]."""
+    def add_mass(self, node: int, mass: float, offset: ArrayLike = (0.0, 0.0, 0.0), inertia: ArrayLike | None = None,
+                 name: str = "",
+                 id: int | None = None) -> ConcentratedMass:
+        """Concentrated mass [kg] at ``offset`` [m] from ``node``; inertia: scalar, (3,) or (3, 3) [kg m^2];
+        name, id: optional, unique among the model's masses (design variables address masses by them)."""
         self.index_of([node], "add_mass")
+        self._check_key(self._masses, name, id, f"add_mass at node {node}")
         if not np.isfinite(mass) or mass < 0:
             raise ModelError(f"add_mass at node {node}: mass={mass!r} must be finite and >= 0")
         J = np.zeros((3, 3)) if inertia is None else np.asarray(inertia, dtype=float)
@@ -198,15 +204,19 @@ class Model:
             J = np.diag(J)
         if J.shape != (3, 3) or not np.all(np.isfinite(J)) or not np.allclose(J, J.T):
             raise ModelError(f"add_mass at node {node}: inertia must be a finite symmetric 3x3 tensor")
-        item = ConcentratedMass(int(node), float(mass), as_vector(offset, 3, f"add_mass at node {node}: offset"), J)
+        item = ConcentratedMass(int(node), float(mass), as_vector(offset, 3, f"add_mass at node {node}: offset"), J,
+                                str(name), None if id is None else int(id))
         self._masses.append(item)
         self.revision += 1
         return item
 
-    def add_spring(self, node_a: int, node_b: int | None = None, stiffness=0.0, damping=0.0, frame=None) -> Spring:
-        """6-component spring/damper between two nodes, or to ground when node_b is None (see Spring)."""
+    def add_spring(self, node_a: int, node_b: int | None = None, stiffness: ArrayLike = 0.0, damping: ArrayLike = 0.0,
+                   frame: ArrayLike | None = None, name: str = "", id: int | None = None) -> Spring:
+        """6-component spring/damper between two nodes, or to ground when node_b is None (see Spring);
+        name, id: optional, unique among the model's springs (design variables address springs by them)."""
         self.index_of([node_a] + ([] if node_b is None else [node_b]), "add_spring")
-        item = Spring.make(node_a, node_b, stiffness, damping, frame)
+        self._check_key(self._springs, name, id, f"add_spring at node {node_a}")
+        item = Spring.make(node_a, node_b, stiffness, damping, frame, name, id)
         self._springs.append(item)
         self.revision += 1
         return item
@@ -233,7 +243,7 @@ class Model:
         self.revision += 1
         return item
 
-    def add_interpolation(self, reference: int, nodes: Iterable[int], weights=1.0,
+    def add_interpolation(self, reference: int, nodes: Iterable[int], weights: ArrayLike = 1.0,
                           components: str = "123456") -> InterpolationLink:
         """``reference`` follows the weighted best-fit rigid motion of ``nodes`` (RBE3, see InterpolationLink)."""
         nodes = tuple(int(n) for n in nodes)
@@ -275,7 +285,7 @@ class Model:
         self.revision += 1
         return item
 
-    def add_constraint(self, terms) -> LinearConstraint:
+    def add_constraint(self, terms: Iterable[tuple[int, int, float]]) -> LinearConstraint:
         """Linear constraint sum a_j u_j = 0 (Nastran MPC, see LinearConstraint); terms: [(node,
         component 1-6, coefficient), ...] in basic axes, the first one's DOF is eliminated."""
         where = "add_constraint"
@@ -321,7 +331,7 @@ class Model:
                                      mass=group.mass if mass is None else mass)
         self.revision += 1
 
-    def set_mass(self, index: int, mass: float | None = None, offset=None) -> None:
+    def set_mass(self, index: int, mass: float | None = None, offset: ArrayLike | None = None) -> None:
         """Change concentrated mass ``index`` (position in ``masses``): its mass [kg] and/or offset [m]."""
         item = self._masses[index]
         m = item.mass if mass is None else float(mass)
@@ -331,13 +341,26 @@ class Model:
         self._masses[index] = replace(item, mass=m, offset=off)
         self.revision += 1
 
-    def set_spring(self, index: int, stiffness=None, damping=None) -> None:
+    def set_spring(self, index: int, stiffness: ArrayLike | None = None, damping: ArrayLike | None = None) -> None:
         """Change spring ``index`` (position in ``springs``): its 6 stiffnesses and/or dampings."""
         item = self._springs[index]
         self._springs[index] = Spring.make(item.node_a, item.node_b,
                                            item.stiffness if stiffness is None else stiffness,
-                                           item.damping if damping is None else damping, item.frame)
+                                           item.damping if damping is None else damping, item.frame, item.name,
+                                           item.id)
         self.revision += 1
+
+    @staticmethod
+    def _check_key(items: list, name: str, id: int | None, where: str) -> None:
+        if name and any(m.name == name for m in items):
+            raise ModelError(f"{where}: the name '{name}' is taken; give each mass or spring its own name")
+        if id is not None and any(m.id == int(id) for m in items):
+            raise ModelError(f"{where}: the id {id} is taken; give each mass or spring its own id")
+
+    def find(self, kind: str, key: str | int) -> list[int]:
+        """Positions in ``masses`` or ``springs`` (kind 'mass' or 'spring') of the items named ``key``
+        (a name or an fnmatch pattern, 'S*LE') or with id ``key`` (an integer); ModelError when none."""
+        return find_items(self.masses if kind == "mass" else self.springs, key, f"model '{self.name}'", kind)
 
     def copy(self, name: str | None = None) -> "Model":
         """An independent copy (components are immutable and shared)."""

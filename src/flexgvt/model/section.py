@@ -179,7 +179,7 @@ class TaperedSection:
 Section = GeneralSection | RectangularSection | CircularTubeSection | RodSection | TaperedSection
 
 
-def end_properties(section) -> tuple[dict[str, float], dict[str, float]]:
+def end_properties(section: Section) -> tuple[dict[str, float], dict[str, float]]:
     """Properties at the first and second node of an element: the same dict twice for a uniform section."""
     if isinstance(section, TaperedSection):
         return section.end_properties()

@@ -8,9 +8,11 @@ pulley, excite it, identify its damped frequency and damping ratio, then
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ..errors import ModelError
 
@@ -35,8 +37,15 @@ class SuspensionPoint:
     n_tests: int = 1
     source: str = "frequency and damping"
 
-    def as_dict(self) -> dict:
+    def to_dict(self) -> dict:
+        """The point's values as a JSON-ready dictionary."""
         return {k: (float(v) if isinstance(v, (float, np.floating)) else v) for k, v in vars(self).items()}
+
+    def as_dict(self) -> dict:
+        """Deprecated: to_dict()."""
+        warnings.warn("SuspensionPoint.as_dict() is deprecated; use SuspensionPoint.to_dict()", DeprecationWarning,
+                      stacklevel=2)
+        return self.to_dict()
 
 
 def _values(mass, frequency_hz, damping_ratio):
@@ -47,8 +56,9 @@ def _values(mass, frequency_hz, damping_ratio):
     return mass * wn**2, 2 * zeta * wn * mass, wn
 
 
-def identify_block(mass: float, frequency_hz=None, damping_ratio=None, *, decay=None, peak_times=None,
-                   peak_amplitudes=None, frf=None) -> SuspensionPoint:
+def identify_block(mass: float, frequency_hz: ArrayLike | None = None, damping_ratio: ArrayLike | None = None, *,
+                   decay: tuple | list | None = None, peak_times: ArrayLike | None = None,
+                   peak_amplitudes: ArrayLike | None = None, frf: tuple | None = None) -> SuspensionPoint:
     """Stiffness and damping of a suspension point from a block test.
 
     mass: the block's mass [kg] (the mass the point carries in the GVT). Give one of:

@@ -10,8 +10,10 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ..errors import ModelError
+from ..model import Cord
 from ..model.configuration import STANDARD_GRAVITY
 
 
@@ -79,8 +81,8 @@ class Bungee:
     name: str = "bungee"
 
     @classmethod
-    def from_load_extension(cls, loads, extensions, test_length: float, mass_per_length: float = 0.0,
-                            allowed_strain: float = np.inf, allowed_load: float = np.inf,
+    def from_load_extension(cls, loads: ArrayLike, extensions: ArrayLike, test_length: float,
+                            mass_per_length: float = 0.0, allowed_strain: float = np.inf, allowed_load: float = np.inf,
                             name: str = "bungee") -> "Bungee":
         """EA from a load-extension test of a piece of ``test_length`` [m]: the slope of load [N]
         against strain (extension / test_length), least squares through the points."""
@@ -135,12 +137,12 @@ class Line:
             below += e.mass * STANDARD_GRAVITY
         return out
 
-    def cord(self, node: int, anchor, attachment, load: float, damping: float = 0.0, offset=(0.0, 0.0, 0.0)):
+    def cord(self, node: int, anchor: ArrayLike, attachment: ArrayLike, load: float, damping: float = 0.0,
+             offset: ArrayLike = (0.0, 0.0, 0.0)) -> Cord:
         """A flexgvt Cord for this line from ``anchor`` (3,) [m] to the structure's undeformed
         attachment point ``attachment`` (3,) [m], with the line's rate and damping (plus the
         pulley's) and, without a pulley, its mass, unstretched so that it carries ``load`` [N] at
         that point with its own weight (the solver then finds the sag of the flexible structure)."""
-        from ..model import Cord
         anchor = np.asarray(anchor, float)
         reach = float(np.linalg.norm(anchor - np.asarray(attachment, float)))
         # Without a pulley the cord is the line (its own weight included in the stretch); with one,

@@ -6,11 +6,13 @@ deformed mode shapes, and a driving point that excites every target mode."""
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import Iterable, Sequence
 
 import numpy as np
 
 from ..errors import ConvergenceError, ModelError, SingularModelError
-from ..fem import solve_modes, solve_static
+from ..correlation import Sensors
+from ..fem import Modes, solve_modes, solve_static
 from ..model import Configuration, Model
 from .networks import Line
 from .removal import remove_suspension
@@ -74,7 +76,7 @@ def layout_configuration(model: Model, layout: Layout, gravity: float = 1.0) -> 
     return Configuration(layout.name, suspension=tuple(cords), gravity=gravity)
 
 
-def plan_suspension(model: Model, layouts, n_modes: int = 10, energy_limit: float = 0.1,
+def plan_suspension(model: Model, layouts: Iterable[Layout], n_modes: int = 10, energy_limit: float = 0.1,
                     shift_limit_percent: float = 1.0) -> list[LayoutResult]:
     """Predict each layout's hung test and rank them: acceptable layouts first, then by separation.
 
@@ -139,11 +141,12 @@ def effective_independence(shapes: np.ndarray, n_sensors: int) -> np.ndarray:
     return keep
 
 
-def place_sensors(modes, n_sensors: int, candidates=None, mode_indices=None):
+def place_sensors(modes: Modes, n_sensors: int, candidates: Sensors | None = None,
+                  mode_indices: Sequence[int] | None = None) -> tuple[Sensors, np.ndarray]:
     """Sensors (flexgvt.correlation.Sensors) for the target modes on their deformed state: the
     candidates (default: X, Y, Z at every node, following the deformed structure) chosen by
     effective independence, and the candidates' auto-MAC of the targets."""
-    from ..correlation import Sensors, auto_mac
+    from ..correlation import auto_mac
     idx = np.arange(modes.n_modes) if mode_indices is None else np.asarray(mode_indices, int)
     cand = candidates if candidates is not None else Sensors.triaxial(modes.node_ids)
     S = cand.matrix(modes.node_ids, modes.state)
@@ -153,7 +156,8 @@ def place_sensors(modes, n_sensors: int, candidates=None, mode_indices=None):
     return chosen, auto_mac(Phi[keep].T)
 
 
-def driving_point(modes, candidates=None, mode_indices=None):
+def driving_point(modes: Modes, candidates: Sensors | None = None,
+                  mode_indices: Sequence[int] | None = None) -> tuple[int, np.ndarray]:
     """The candidate sensor/exciter point that drives every target mode best: it maximises the
     smallest driving-point residue phi_r(p)^2, each mode's residues normalised by their largest.
     Returns (index into candidates, the normalised residues of that point per mode)."""

@@ -25,6 +25,7 @@ class Removal:
     rows: list[dict] = field(default_factory=list)
 
     def table(self) -> list[dict]:
+        """The rows (one per free elastic mode)."""
         return self.rows
 
 

@@ -43,7 +43,7 @@ def support_correction(measured_hz: float, measured_damping: float, support_hz: 
                              float(100 * (measured_damping - zst) / zst) if zst != 0 else float("inf"))
 
 
-def two_mass_model(m: float, k_sup: float, c_sup: float, k_st: float, c_st: float):
+def two_mass_model(m: float, k_sup: float, c_sup: float, k_st: float, c_st: float) -> list[tuple[float, float]]:
     """Complex eigenvalues s (rad/s) of the 2-DOF support-structure model, as (frequency_hz,
     damping_ratio) of its two modes in ascending frequency: (support mode, structural mode)."""
     M = np.diag([m, m])

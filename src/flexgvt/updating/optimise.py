@@ -20,9 +20,9 @@ from scipy.optimize import Bounds, NonlinearConstraint, least_squares, minimize
 
 from ..errors import ModelError, SolverError
 from .problem import DesignPointFailure, Point, UpdatingProblem
+from .settings import METHODS, OptimiserSettings
 from .store import pack, unpack
 
-METHODS = ("least_squares", "lm", "dogbox", "trf", "slsqp", "trust-constr", "nelder-mead")
 _PENALTY = 1e3  # weight of a violated constraint in the penalised objectives
 
 
@@ -46,7 +46,7 @@ class _Replayed:
 def continuation(problem: UpdatingProblem) -> dict[str, np.ndarray]:
     """What the next evaluation of ``problem`` depends on besides x, as arrays: each configuration's
     last equilibrium (the warm start: positions, rotations) and pairing reference (fit, shapes)."""
-    return reference_arrays({"states": problem.states, "pairing": problem._tracking})
+    return reference_arrays({"states": problem.states, "pairing": problem.pairing.reference})
 
 
 def reference_arrays(reference: dict) -> dict[str, np.ndarray]:
@@ -81,8 +81,8 @@ def _restore(problem: UpdatingProblem, arrays: dict[str, np.ndarray]) -> None:
     """Set the problem's continuation (warm starts and pairing references) exactly to ``arrays``."""
     ref = as_reference(problem, arrays)
     problem.states.update(ref["states"])
-    problem._tracking = ref["pairing"]
-    problem._cache.clear()
+    problem.pairing.reference = ref["pairing"]
+    problem.cache.clear()
 
 
 class _Driver:
@@ -96,11 +96,11 @@ class _Driver:
     the uninterrupted run did.
     """
 
-    def __init__(self, problem: UpdatingProblem, store=None, run: int = 0, callback: Callable | None = None):
+    def __init__(self, problem: UpdatingProblem, store=None, run: int = 0, progress: Callable | None = None):
         self.problem = problem
         self.store = store
         self.run = run
-        self.callback = callback
+        self.progress = progress
         self.history: list[dict] = []
         self.failures: list[tuple[np.ndarray, str]] = []
         self.best: Point | _Replayed | None = None  # lowest objective plus constraint penalty seen
@@ -165,7 +165,7 @@ class _Driver:
         if before and (before[-1]["gradient"] or not gradient):  # asked before: the same answer
             row = {**before[-1], "continuation": None}
         elif before:  # solved before without a Jacobian: its Jacobian, about that very solve
-            hit = self.problem._cache.get(key)
+            hit = self.problem.cache.get(key)
             if hit is not None:  # the solve is at hand (evaluate leaves the continuation alone then)
                 row = self._evaluate(x, key, True)
             else:  # that solve again, from its own warm start: the same numbers
@@ -211,8 +211,8 @@ class _Driver:
         old = self.stored_history.get(k)
         if self.store is not None and (old is None or old["x"] != row["x"]):
             self.store.record(self.run, row)
-        if self.callback is not None:
-            self.callback(row)
+        if self.progress is not None:
+            self.progress(row)
 
     # ---------------------------------------------------------------- least squares
     def residuals(self, x):
@@ -280,9 +280,11 @@ def _summary(p: Point) -> dict:
             "mac": {n: np.nan_to_num(c.mac, nan=-1.0).tolist() for n, c in p.configurations.items()}}
 
 
-def minimise(problem: UpdatingProblem, x0: np.ndarray, method: str = "least_squares", store=None, run: int = 0,
-             max_iterations: int = 100, tolerance: float = 1e-10, callback: Callable | None = None) -> dict:
-    """One optimiser run from x0 (normalised); returns x, the driver's history and SciPy's message."""
+def minimise(problem: UpdatingProblem, x0: np.ndarray, method: str = OptimiserSettings.method, store=None,
+             run: int = 0, max_iterations: int = OptimiserSettings.max_iterations,
+             tolerance: float = OptimiserSettings.tolerance, progress: Callable | None = None) -> dict:
+    """One optimiser run from x0 (normalised); returns x, the driver's history and SciPy's message.
+    progress: called with each accepted iterate's history row."""
     if method not in METHODS:
         raise ModelError(f"updating: method '{method}' must be one of {METHODS}")
     par = problem.par
@@ -292,7 +294,7 @@ def minimise(problem: UpdatingProblem, x0: np.ndarray, method: str = "least_squa
         raise ModelError("updating: the initial point lies outside the bounds of " + ", ".join(
             f"'{par.names[i]}' ({x0[i]:.4g} not in [{par.lower[i]:.4g}, {par.upper[i]:.4g}])" for i in outside)
             + "; widen the bounds or start inside them")
-    drv = _Driver(problem, store, run, callback)
+    drv = _Driver(problem, store, run, progress)
     first = drv.point(x0, gradient=method != "nelder-mead")
     if first is None:
         raise SolverError(f"updating: the initial design point cannot be solved: {drv.failures[-1][1]}")

@@ -55,7 +55,7 @@ class ConfigurationWorker:
             point = self.problem.evaluate(np.asarray(x, float), gradient=gradient)
         except DesignPointFailure as exc:
             return {"failure": str(exc)}
-        out = point.configurations[self.name].summary()
+        out = point.configurations[self.name].to_dict()
         out["solves"] = self.problem.n_solves
         return out
 

@@ -9,6 +9,7 @@ import numpy as np
 
 from ..model import Configuration, Model
 from .problem import Point, UpdatingProblem
+from .settings import renamed
 
 RANK_TOLERANCE = 1e-6  # singular values below this fraction of the largest count as unseen
 
@@ -50,7 +51,7 @@ class UpdateResult:
             lines.append(f"  {name}: max |error| {max(e0, default=0):.3f} % -> {max(e1, default=0):.3f} %")
         return "\n".join(lines)
 
-    def as_dict(self) -> dict:
+    def to_dict(self) -> dict:
         """A JSON-ready dictionary (the documented --json layout)."""
         return jsonable({"method": self.method, "message": self.message, "success": self.success,
                 "seconds": self.seconds, "solves": self.solves, "gradients": self.gradients, "x": self.x.tolist(),
@@ -62,6 +63,11 @@ class UpdateResult:
                                     for k, v in self.identifiability.items()},
                 "history": [{k: v for k, v in row.items() if k != "residuals"} for row in self.history],
                 "starts": self.starts})
+
+    def as_dict(self) -> dict:
+        """Deprecated: to_dict()."""
+        renamed("UpdateResult.as_dict()", "UpdateResult.to_dict()")
+        return self.to_dict()
 
 
 def jsonable(value):
@@ -141,7 +147,7 @@ def _residual_variance(problem: UpdatingProblem, point: Point, m: int, n: int) -
             if meas.frequency_std_hz is not None]
     if stds and np.any(np.concatenate(stds) > 0):
         rel = np.concatenate(stds)
-        weights = np.concatenate([problem._frequency_weights(meas) for meas in problem.measured.values()
+        weights = np.concatenate([problem.blocks.frequency_weights(meas) for meas in problem.measured.values()
                                   if meas.frequency_std_hz is not None])
         # Weighted residuals w (f - fm)/fm have standard deviation w sd/fm each: their common value.
         return float(np.median((problem.objective.frequency * weights * rel) ** 2)), "measured standard deviations"

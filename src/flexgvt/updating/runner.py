@@ -8,11 +8,13 @@ from typing import Callable, Sequence
 import numpy as np
 
 from ..errors import ModelError, SolverError
+from ..fem import StaticSettings
 from ..model import Configuration, Model
 from .optimise import as_reference, minimise, reference_arrays, starting_points
 from .parallel import single_threaded
 from .problem import UpdatingProblem
-from .store import fingerprint, pack, unpack
+from .store import ResultsStore, fingerprint, pack, unpack
+from .settings import OptimiserSettings, renamed
 from .result import UpdateResult, configuration_tables, identifiability, variable_table
 from .targets import MassTarget, Measured, Objective
 from .variables import Variable
@@ -20,10 +22,13 @@ from .variables import Variable
 
 def update(model: Model, configurations: Sequence[Configuration], measured: Sequence[Measured],
            variables: Sequence[Variable], *, mass_target: MassTarget | None = None,
-           objective: Objective | None = None, method: str = "least_squares", starts: int = 1, seed: int = 0,
-           max_iterations: int = 100, tolerance: float = 1e-10, n_modes: int | None = None, static_settings=None,
-           store=None, callback: Callable | None = None, processes: int | None = None,
-           scheduler: str | None = None) -> UpdateResult:
+           objective: Objective | None = None, method: str = OptimiserSettings.method,
+           starts: int = OptimiserSettings.starts, seed: int = OptimiserSettings.seed,
+           max_iterations: int = OptimiserSettings.max_iterations, tolerance: float = OptimiserSettings.tolerance,
+           n_modes: int | None = OptimiserSettings.n_modes, static_settings: StaticSettings | None = None,
+           store: ResultsStore | None = None,
+           progress: Callable[[dict], None] | None = None, processes: int | None = None,
+           scheduler: str | None = None, callback: Callable[[dict], None] | None = None) -> UpdateResult:
     """Update ``model`` so that its pre-stressed modes in every configuration match the measured ones.
 
     configurations: the test configurations (each with measured data); measured: one Measured per
@@ -36,13 +41,19 @@ def update(model: Model, configurations: Sequence[Configuration], measured: Sequ
     from the start), 'slsqp', 'trust-constr' (analytic
     gradients, constraints enforced), 'nelder-mead' (penalties, no gradients); starts: multi-start
     count (x0 = 1 plus seeded uniform points in the bounds; the best run wins); store: a
-    flexgvt.updating.ResultsStore (SQLite) for the history and resuming; processes / scheduler:
+    flexgvt.updating.ResultsStore (SQLite) for the history and resuming; progress: called with each
+    accepted iterate's history row (``callback``: its deprecated name); processes / scheduler:
     evaluate the configurations in that many local worker processes, or on a dask.distributed
     scheduler at that address (multi-start runs then run as parallel tasks instead); serial by
     default, which is faster for models of up to a few thousand elements (docs/benchmarks.md).
-    The input model is not changed: the result holds an updated copy.
+    The input model is not changed: the result holds an updated copy. The optimiser's defaults and
+    limits are flexgvt.updating.OptimiserSettings'.
     """
     from .parallel import attach_workers, client_for
+    if callback is not None:
+        renamed("update(callback=...)", "update(progress=...)")
+        progress = progress or callback
+    OptimiserSettings(method, starts, seed, max_iterations, tolerance, n_modes)  # checks each value
     t0 = time.perf_counter()
     problem = UpdatingProblem(model, configurations, measured, variables, mass_target, objective, n_modes,
                               static_settings)
@@ -53,12 +64,12 @@ def update(model: Model, configurations: Sequence[Configuration], measured: Sequ
     with client_for(processes, scheduler) as client:
         if client is not None and starts <= 1:
             attach_workers(problem, client)
-        result = _run(problem, model, method, starts, seed, max_iterations, tolerance, store, callback, client)
+        result = _run(problem, model, method, starts, seed, max_iterations, tolerance, store, progress, client)
     result.seconds = time.perf_counter() - t0
     return result
 
 
-def _run(problem, model, method, starts, seed, max_iterations, tolerance, store, callback, client) -> UpdateResult:
+def _run(problem, model, method, starts, seed, max_iterations, tolerance, store, progress, client) -> UpdateResult:
     initial = problem.evaluate(problem.x0, gradient=True)
     # Every start pairs the measured modes against the initial point's pairing, and the answer is
     # evaluated with the winning run's own: runs that explored elsewhere do not relabel it.
@@ -85,7 +96,7 @@ def _run(problem, model, method, starts, seed, max_iterations, tolerance, store,
         problem.set_pairing_reference(reference)
         try:
             out = minimise(problem, x0, method, store=store, run=run, max_iterations=max_iterations,
-                           tolerance=tolerance, callback=callback)
+                           tolerance=tolerance, progress=progress)
         except SolverError as exc:
             if run == 0:  # the user's own starting point: nothing to compare with, say why
                 raise

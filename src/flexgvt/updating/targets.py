@@ -9,6 +9,7 @@ import numpy as np
 
 from ..errors import ModelError
 from ..modal import ModalSet
+from .settings import setting
 
 
 @dataclass(frozen=True)
@@ -98,10 +99,10 @@ class MassTarget:
     mass [kg]; cg (3,) [m]; inertia (3,) Ixx, Iyy, Izz about the cg [kg m^2]; cg_scale: the
     absolute scale [m] of a cg term whose reference is zero (a symmetry plane)."""
 
-    mass: float | None = None
-    cg: tuple | None = None
-    inertia: tuple | None = None
-    cg_scale: float = 0.01
+    mass: float | None = setting(None, "measured mass", unit="kg", gt=0)
+    cg: tuple | None = setting(None, "measured centre of gravity (x, y, z)", unit="m", size=3)
+    inertia: tuple | None = setting(None, "measured Ixx, Iyy, Izz about the cg", unit="kg m^2", gt=0, size=3)
+    cg_scale: float = setting(0.01, "absolute scale of a cg term whose reference is zero", unit="m", gt=0)
 
 
 @dataclass(frozen=True)
@@ -118,15 +119,17 @@ class Objective:
     mac_floor: pairs below it are not made; max_frequency_ratio: modes farther apart in frequency
     than this factor are not paired (see flexgvt.correlation.pair)."""
 
-    frequency: float = 1.0
-    mac: float = 0.0
-    mass: float = 1.0
-    cg: float = 1.0
-    inertia: float = 1.0
-    static: float = 0.0
-    mac_min: float | None = None
-    mass_limits: float | None = None
-    use_std: bool = True
-    mac_floor: float = 0.5
-    max_frequency_ratio: float | None = 2.0
-    orthogonality: float = 0.0
+    frequency: float = setting(1.0, "weight of the relative frequency errors", ge=0)
+    mac: float = setting(0.0, "weight of 1 - MAC of the paired modes", ge=0)
+    mass: float = setting(1.0, "weight of the relative mass error", ge=0)
+    cg: float = setting(1.0, "weight of the cg errors", ge=0)
+    inertia: float = setting(1.0, "weight of the relative inertia errors", ge=0)
+    static: float = setting(0.0, "weight of the relative static deflection errors", ge=0)
+    mac_min: float | None = setting(None, "pairs below this MAC violate a constraint (slsqp, trust-constr) or are "
+                                    "penalised", ge=0, le=1)
+    mass_limits: float | None = setting(None, "relative band the mass properties must stay in (0.1: +-10 %)", gt=0)
+    use_std: bool = setting(True, "weight frequency errors by the measured standard deviations when given")
+    mac_floor: float = setting(0.5, "pairing: pairs below this MAC are not made", ge=0, le=1)
+    max_frequency_ratio: float | None = setting(2.0, "pairing: modes farther apart in frequency than this factor "
+                                                "are not paired", gt=1)
+    orthogonality: float = setting(0.0, "weight of the cross-orthogonality residuals XOR - I", ge=0)

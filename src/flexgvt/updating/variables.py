@@ -18,8 +18,11 @@ from typing import Iterable, Sequence
 import numpy as np
 
 from ..errors import ModelError
-from ..model import Configuration, Model, TaperedSection
-from ..model.components import ConcentratedMass
+from ..cases.case import Case
+from ..model import BeamGroup, Configuration, Material, Model, TaperedSection
+from ..model.section import Section
+from ..model.components import ConcentratedMass, find_items
+from .settings import renamed
 
 KINDS = ("beam", "mass", "spring", "cord")
 MATERIAL_ATTRIBUTES = ("E", "G", "rho")
@@ -27,6 +30,8 @@ MASS_ATTRIBUTES = ("mass", "offset_x", "offset_y", "offset_z")
 SPRING_ATTRIBUTES = tuple(f"k{i}" for i in range(1, 7)) + tuple(f"c{i}" for i in range(1, 7)) + ("stiffness", "damping")
 CORD_ATTRIBUTES = ("stiffness", "damping", "offset_x", "offset_y", "offset_z", "along")
 SECTION_ALIASES = {"thickness": "height"}  # a RectangularSection's height is a strip's or skin's thickness
+# Normalised bounds of a variable that gives none, by kind (the factories, Variable and project files).
+DEFAULT_BOUNDS = {"beam": (0.9, 1.1), "mass": (0.9, 1.1), "spring": (0.5, 2.0), "cord": (0.8, 1.2)}
 
 
 @dataclass(frozen=True)
@@ -37,37 +42,49 @@ class Variable:
     attribute: E, G, rho, or a section field (width, height, thickness, A, Iy, ...) for beams;
     mass, offset_x/y/z for masses; k1..k6, c1..c6, stiffness, damping for springs; stiffness,
     damping for cords. targets: beam group names or fnmatch patterns ('region*'), mass or spring
-    indices (order of model.masses / model.springs), or cord indices within each configuration
-    named in ``configurations`` (None: every configuration); a mass variable with
-    ``configurations`` targets those configurations' own masses. bounds: normalised (lower, upper);
-    scale: the absolute size of x - 1 = 1 for shifted attributes (offsets) [m].
+    names or patterns (ConcentratedMass.name, Spring.name; integers: positions in model.masses /
+    model.springs, deprecated), or cord indices within each configuration named in
+    ``configurations`` (None: every configuration); ids: mass or spring ids (a deck's CONM2 or
+    CELAS EIDs); a mass variable with ``configurations`` targets those configurations' own masses.
+    bounds: normalised (lower, upper), None: DEFAULT_BOUNDS of the kind; scale: the absolute size
+    of x - 1 = 1 for shifted attributes (offsets) [m].
     """
 
     name: str
     kind: str
     attribute: str
     targets: tuple = ()
-    bounds: tuple[float, float] = (0.9, 1.1)
+    bounds: tuple[float, float] | None = None
     scale: float = 0.01
     configurations: tuple[str, ...] | None = None
+    ids: tuple[int, ...] = ()
 
     def __post_init__(self) -> None:
         if self.kind not in KINDS:
             raise ModelError(f"design variable '{self.name}': kind '{self.kind}' must be one of {KINDS}")
+        if self.kind in DEFAULT_BOUNDS and self.bounds is None:
+            object.__setattr__(self, "bounds", DEFAULT_BOUNDS[self.kind])
         try:
             lo, hi = (float(b) for b in self.bounds)
         except (TypeError, ValueError):
             raise ModelError(f"design variable '{self.name}': bounds {self.bounds!r} must be two numbers "
                              "(lower, upper)") from None
         targets = tuple(self.targets)
+        ids = tuple(self.ids)
+        named = self.kind in ("mass", "spring")
         if self.kind == "beam":
             bad = [t for t in targets if not isinstance(t, str)]
             what = "beam group names or patterns (strings, e.g. \"wing_*\")"
         else:
-            bad = [t for t in targets if isinstance(t, (bool, np.bool_)) or not isinstance(t, (int, np.integer))]
-            what = f"{self.kind} indices (integers >= 0)"
+            bad = [t for t in targets if isinstance(t, (bool, np.bool_))
+                   or not isinstance(t, (int, np.integer) + ((str,) if named else ()))]
+            what = f"{self.kind} names or indices" if named else f"{self.kind} indices (integers >= 0)"
         if bad:
             raise ModelError(f"design variable '{self.name}': targets {bad} are not {what}")
+        if ids and not named:
+            raise ModelError(f"design variable '{self.name}': only masses and springs are addressed by id")
+        if any(isinstance(i, (bool, np.bool_)) or not isinstance(i, (int, np.integer)) for i in ids):
+            raise ModelError(f"design variable '{self.name}': ids {list(ids)} must be integers")
         if not (np.isfinite(lo) and np.isfinite(hi) and lo < hi):
             raise ModelError(f"design variable '{self.name}': bounds {self.bounds} must be finite with lower < upper")
         if not self.shifts:
@@ -76,6 +93,7 @@ class Variable:
                                  "must stay > 0")
         object.__setattr__(self, "bounds", (lo, hi))
         object.__setattr__(self, "targets", targets)
+        object.__setattr__(self, "ids", tuple(int(i) for i in ids))
 
     @property
     def per_configuration(self) -> bool:
@@ -89,32 +107,52 @@ class Variable:
         return self.attribute.startswith("offset_") or self.attribute == "along"
 
 
-def beam(name: str, groups: str | Iterable[str], attribute: str, bounds=(0.9, 1.1)) -> Variable:
+def beam(name: str, groups: str | Iterable[str], attribute: str,
+         bounds: tuple[float, float] | None = None) -> Variable:
     """A material (E, G, rho) or section attribute (width, height, thickness, A, Iy, Iz, J, ...) of the
     beam groups named by ``groups`` (names or fnmatch patterns, see Model.add_beams(name=...))."""
     groups = (groups,) if isinstance(groups, str) else tuple(groups)
     return Variable(name, "beam", SECTION_ALIASES.get(attribute, attribute), groups, bounds)
 
 
-def mass(name: str, masses: int | Iterable[int], attribute: str = "mass", bounds=(0.9, 1.1),
-         scale: float = 0.01, configurations: Iterable[str] | None = None) -> Variable:
+def _named(kind: str, targets, ids) -> tuple[tuple, tuple[int, ...]]:
+    """(names or positions, ids) of a mass or spring variable; positions warn (deprecated)."""
+    targets = () if targets is None else ((targets,) if isinstance(targets, str) or np.isscalar(targets)
+                                          else tuple(targets))
+    ids = () if ids is None else ((ids,) if np.isscalar(ids) else tuple(ids))
+    if any(not isinstance(t, str) for t in targets):
+        renamed(f"flexgvt.updating.{kind}() with positions in model.{kind}{'es' if kind == 'mass' else 's'}",
+                "names (ConcentratedMass.name, Spring.name, fnmatch patterns) or ids= (entity ids)", 4)
+    return tuple(t if isinstance(t, str) else int(t) for t in targets), tuple(int(i) for i in ids)
+
+
+def mass(name: str, masses: str | Iterable[str] | None = None, attribute: str = "mass",
+         bounds: tuple[float, float] | None = None,
+         scale: float = 0.01, configurations: Iterable[str] | None = None, *,
+         ids: int | Iterable[int] | None = None) -> Variable:
     """Mass [kg] or one offset component [m] of concentrated masses; offsets shift by (x - 1) * scale [m].
 
-    masses: indices in model.masses; with ``configurations``: indices in each named configuration's
-    own masses (Configuration.masses: what is present only in that test, such as suspension
-    attachment hardware or a shaker's moving mass), one value shared by all of them."""
-    masses = (masses,) if np.isscalar(masses) else tuple(masses)
-    return Variable(name, "mass", attribute, tuple(int(m) for m in masses), bounds, scale,
-                    configurations=None if configurations is None else tuple(configurations))
+    masses: names or fnmatch patterns of the masses (model.add_mass(name=...); positions in
+    model.masses still work, deprecated); ids: their ids (a deck's CONM2 EIDs); with
+    ``configurations``: the masses of each named configuration's own (Configuration.masses: what
+    is present only in that test, such as suspension attachment hardware or a shaker's moving
+    mass), one value shared by all of them."""
+    targets, ids = _named("mass", masses, ids)
+    return Variable(name, "mass", attribute, targets, bounds, scale,
+                    configurations=None if configurations is None else tuple(configurations), ids=ids)
 
 
-def spring(name: str, springs: int | Iterable[int], attribute: str = "stiffness", bounds=(0.5, 2.0)) -> Variable:
-    """Stiffness or damping (all six components, or one: k1..k6, c1..c6) of springs (indices in model.springs)."""
-    springs = (springs,) if np.isscalar(springs) else tuple(springs)
-    return Variable(name, "spring", attribute, tuple(int(s) for s in springs), bounds)
+def spring(name: str, springs: str | Iterable[str] | None = None, attribute: str = "stiffness",
+           bounds: tuple[float, float] | None = None, *, ids: int | Iterable[int] | None = None) -> Variable:
+    """Stiffness or damping (all six components, or one: k1..k6, c1..c6) of springs named by
+    ``springs`` (names or fnmatch patterns; positions in model.springs still work, deprecated) or
+    with ``ids`` (a deck's CELAS/CBUSH EIDs)."""
+    targets, ids = _named("spring", springs, ids)
+    return Variable(name, "spring", attribute, targets, bounds, ids=ids)
 
 
-def cord(name: str, cords: int | Iterable[int] | None = None, attribute: str = "stiffness", bounds=(0.8, 1.2),
+def cord(name: str, cords: int | Iterable[int] | None = None, attribute: str = "stiffness",
+         bounds: tuple[float, float] | None = None,
          configurations: Iterable[str] | None = None, scale: float = 0.01) -> Variable:
     """Stiffness, damping, attachment offset (offset_x/y/z: the attachment point's arm from its node
     [m], shifted by (x - 1) scale) or position ``along`` its element [m] (a cord with node_b: the
@@ -188,14 +226,11 @@ class Parametrisation:
             allowed = MASS_ATTRIBUTES if v.kind == "mass" else SPRING_ATTRIBUTES
             if v.attribute not in allowed:
                 raise ModelError(f"{where}: attribute '{v.attribute}' of a {v.kind} must be one of {allowed}")
-            bad = [i for i in v.targets if not 0 <= i < len(items)]
-            if bad or not v.targets:
-                raise ModelError(f"{where}: {v.kind} index {bad or '(none given)'} does not exist; model "
-                                 f"'{m.name}' has {len(items)} {v.kind}{'es' if v.kind == 'mass' else 's'}")
-            initial = [self._point_value(items[i], v) for i in v.targets]
+            idx = _positions(v, items, f"{where}: model '{m.name}'")
+            initial = [self._point_value(items[i], v) for i in idx]
             if v.kind == "spring" and np.any(np.asarray(initial) <= 0):
                 raise ModelError(f"{where}: a spring's {v.attribute} is zero; a zero value cannot be scaled")
-            return Binding(v, tuple(v.targets), np.array(initial))
+            return Binding(v, idx, np.array(initial))
         # cords
         if v.attribute not in CORD_ATTRIBUTES:
             raise ModelError(f"{where}: attribute '{v.attribute}' of a cord must be one of {CORD_ATTRIBUTES}")
@@ -229,15 +264,14 @@ class Parametrisation:
     def _bind_configuration_masses(self, v: Variable, where: str) -> Binding:
         if v.attribute not in MASS_ATTRIBUTES:
             raise ModelError(f"{where}: attribute '{v.attribute}' of a mass must be one of {MASS_ATTRIBUTES}")
-        if not v.targets:
-            raise ModelError(f"{where}: give the indices of the masses in each configuration's masses")
+        if not v.targets and not v.ids:
+            raise ModelError(f"{where}: give the names (or ids) of the masses in each configuration's masses")
         idx, initial = [], []
         for c in self._configurations_of(v, where):
             items = self.configurations[c].masses
-            for i in v.targets:
-                if not 0 <= i < len(items):
-                    raise ModelError(f"{where}: configuration '{c}' has no mass {i} ({len(items)} masses of its "
-                                     "own, Configuration.masses)")
+            for i in _positions(v, items, f"{where}: configuration '{c}' (its own masses, Configuration.masses)",
+                                f"{where}: configuration '{c}' has no mass {{}} ({len(items)} masses of its own, "
+                                "Configuration.masses)"):
                 idx.append((c, i))
                 initial.append(self._point_value(items[i], v))
         if v.attribute == "mass" and np.any(np.asarray(initial) <= 0):
@@ -286,7 +320,7 @@ class Parametrisation:
             raise ModelError(f"design point must be {len(self)} finite values, got {x}")
         return x
 
-    def beam_entities(self, group, b: Binding, idx: int, xk: float):
+    def beam_entities(self, group: BeamGroup, b: Binding, idx: int, xk: float) -> tuple[Material, Section]:
         """(material, section) of beam group ``group`` (as it is at the current design point) with
         b's attribute at normalised value xk (target ``idx`` of b)."""
         value = float(self.physical(b, xk)[b.indices.index(idx)])
@@ -392,10 +426,10 @@ class Parametrisation:
         return configs
 
 
-def case_variables(case) -> list[Variable]:
+def case_variables(case: Case) -> list[Variable]:
     """Variables of a built-in case's design-variable table, ``case.references['design_variables']``:
     plain rows (name, kind, targets, attribute, bounds), kind "beam" (targets: group names) or "spring"
-    (targets: indices in model.springs), as flexgvt.cases.xhale lists its 30 variables."""
+    (targets: spring names), as flexgvt.cases.xhale lists its 30 variables."""
     rows = getattr(case, "references", {}).get("design_variables")
     if rows is None:
         raise ModelError(f"case '{getattr(case, 'name', case)}' lists no design variables "
@@ -408,6 +442,26 @@ def case_variables(case) -> list[Variable]:
                              f"{sorted(makers)}")
         out.append(makers[kind](name, targets, attribute, bounds))
     return out
+
+
+def _positions(v: Variable, items, where: str, absent: str | None = None) -> tuple[int, ...]:
+    """Positions in ``items`` (masses or springs) of v's targets (names, patterns or positions) and
+    ids, in the order given, each once; absent: the message of a position out of range ({} the position)."""
+    kind = v.kind
+    if not v.targets and not v.ids:
+        raise ModelError(f"{where}: design variable '{v.name}' names no {kind}; give names or ids")
+    out: list[int] = []
+    for t in v.targets:
+        if isinstance(t, str):
+            out += find_items(items, t, where, kind)
+        elif not 0 <= t < len(items):
+            raise ModelError(absent.format(t) if absent else f"{where}: {kind} index {[t]} does not exist "
+                             f"({len(items)} {kind}{'es' if kind == 'mass' else 's'})")
+        else:
+            out.append(int(t))
+    for i in v.ids:
+        out += find_items(items, i, where, kind)
+    return tuple(dict.fromkeys(out))
 
 
 def _set_mass(item: ConcentratedMass, attribute: str, value: float) -> ConcentratedMass:

@@ -16,6 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import ModelError
+from .settings import renamed
 from ..fem import mass_properties, solve_modes, solve_static
 from .runner import update
 from .targets import MassTarget, Measured, Objective
@@ -26,7 +27,7 @@ CASES = ("cantilever",)
 
 @dataclass
 class Verification:
-    """Outcome of the protocol; ``as_dict()`` is the documented --json layout."""
+    """Outcome of the protocol; ``to_dict()`` is the documented --json layout."""
 
     case: str
     seed: int
@@ -37,14 +38,20 @@ class Verification:
     prediction: dict  # unseen configuration: reference, multi, single frequencies and errors
     seconds: float
 
-    def as_dict(self) -> dict:
+    def to_dict(self) -> dict:
+        """A JSON-ready dictionary (the documented --json layout of `flexgvt verify`)."""
         from .result import jsonable
         return jsonable({"case": self.case, "seed": self.seed, "seconds": self.seconds,
                 "mistuning": self.mistuning.tolist(),
                 "variable_errors_percent": {k: v.tolist() for k, v in self.variable_errors_percent.items()},
-                "prediction": self.prediction, "multi": self.multi.as_dict(),
+                "prediction": self.prediction, "multi": self.multi.to_dict(),
                 "single": {"configurations": self.single.tables, "variables": self.single.variables,
                            "seconds": self.single.seconds}})
+
+    def as_dict(self) -> dict:
+        """Deprecated: to_dict()."""
+        renamed("Verification.as_dict()", "Verification.to_dict()")
+        return self.to_dict()
 
     def summary(self) -> str:
         e = self.variable_errors_percent

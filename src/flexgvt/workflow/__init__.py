@@ -1,7 +1,7 @@
 """The main job: a project file -> identified modes -> updated model -> free-flying prediction.
 
     project = fg.workflow.load_project("project.toml")      # validated before anything long runs
-    result = fg.workflow.run(project, log=print)             # resumable from the project's store
+    result = fg.workflow.run(project, progress=print)           # resumable from the project's store
     fg.report.write_project_report(result)                   # the report: the face renders, not the workflow
 
 Each step is a public function a script can call on its own: identify_configuration, update_model, check,

@@ -10,10 +10,14 @@ from __future__ import annotations
 
 from dataclasses import dataclass, replace
 from pathlib import Path
+from typing import TYPE_CHECKING, Iterable
 
 import numpy as np
 
 from ..errors import ModelError
+
+if TYPE_CHECKING:  # reading decks imports pyNastran: only when a deck is read
+    from ..io.nastran import BdfDeck
 
 MAX_WINDOW_MODES = 400  # a window with no ND stops here (with a ModelError naming the window)
 
@@ -100,7 +104,8 @@ def _select(modes, keep: np.ndarray):
                    energy_fractions=pick(modes.energy_fractions))
 
 
-def solve_deck(deck, n_modes: int | None = None, configurations=None, mass_frame: str = "deformed",
+def solve_deck(deck: BdfDeck | str | Path, n_modes: int | None = None, configurations: Iterable[str] | None = None,
+               mass_frame: str = "deformed",
                **read_options) -> dict[str, SubcaseResult]:
     """Solve every (or the named) configuration of a deck: nonlinear static, then modes about it.
 

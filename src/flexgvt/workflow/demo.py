@@ -16,6 +16,8 @@ from typing import Callable
 import numpy as np
 
 from ..model import Configuration
+from ..updating.settings import renamed
+from .projectbase import Project
 
 SCORED_MODES = 7  # the first elastic free-free modes the prediction is judged on
 
@@ -53,23 +55,33 @@ def _rms(values) -> float:
     return float(np.sqrt(np.mean(np.square(v)))) if v else float("nan")
 
 
-def demo_project(out: Path, seed: int = 7, log: Callable[[str], None] = print):
-    """Write the demo's synthetic GVT and project file into ``out``; returns the loaded Project."""
+def demo_project(out: Path, seed: int = 7, progress: Callable[[str], None] = print, *,
+                 log: Callable[[str], None] | None = None) -> Project:
+    """Write the demo's synthetic GVT and project file into ``out``; returns the loaded Project.
+    progress: receives one line per step (``log``: its deprecated name)."""
     from .project import load_project
     from .template import write_example
+    if log is not None:
+        renamed("demo_project(log=...)", "demo_project(progress=...)")
+        progress = log
     folder = Path(out)
-    write_example(folder, seed=seed, log=log)
+    write_example(folder, seed=seed, progress=progress)
     return load_project(folder / "project.toml")
 
 
-def run_demo(out: Path, seed: int = 7, log: Callable[[str], None] = print) -> dict:
+def run_demo(out: Path, seed: int = 7, progress: Callable[[str], None] = print, *,
+             log: Callable[[str], None] | None = None) -> dict:
     """Run the demo into ``out``; returns the figures of its --json layout. The workflow never
-    renders: `flexgvt demo` runs demo_project, workflow.run, the report, then demo_figures."""
+    renders: `flexgvt demo` runs demo_project, workflow.run, the report, then demo_figures.
+    progress: receives one line per step (``log``: its deprecated name)."""
     from .runner import run
+    if log is not None:
+        renamed("run_demo(log=...)", "run_demo(progress=...)")
+        progress = log
     t0 = time.perf_counter()
-    project = demo_project(out, seed, log)
+    project = demo_project(out, seed, progress)
     t_data = time.perf_counter() - t0
-    return demo_figures(run(project, log=log), out, seed, t_data, t0)
+    return demo_figures(run(project, progress), out, seed, t_data, t0)
 
 
 def demo_figures(res, out: Path, seed: int, t_data: float, t0: float) -> dict:

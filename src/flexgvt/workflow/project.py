@@ -171,7 +171,8 @@ def _configuration(c: ConfigurationSpec, available: dict, blocks: dict, model: M
         changes["gravity"] = c.gravity
     for j, m in enumerate(c.masses):
         _node(model, m.node, f"{loc}.masses[{j}].node")
-    extra = [ConcentratedMass(m.node, m.mass, np.asarray(m.offset, float), np.zeros((3, 3))) for m in c.masses]
+    extra = [ConcentratedMass(m.node, m.mass, np.asarray(m.offset, float), np.zeros((3, 3)), m.name)
+             for m in c.masses]
     fixed = dict(base.fixed)
     if c.fixed is not None:
         fixed = {}
@@ -184,7 +185,7 @@ def _configuration(c: ConfigurationSpec, available: dict, blocks: dict, model: M
     if c.shaker is not None:
         _node(model, c.shaker.node, f"{loc}.shaker.node")
         if c.shaker.mass:
-            extra.append(ConcentratedMass(c.shaker.node, c.shaker.mass, np.zeros(3), np.zeros((3, 3))))
+            extra.append(ConcentratedMass(c.shaker.node, c.shaker.mass, np.zeros(3), np.zeros((3, 3)), "shaker"))
         if c.shaker.fixed:
             held = set(fixed.get(c.shaker.node, "")) | set(c.shaker.fixed)
             fixed[c.shaker.node] = "".join(sorted(held))
@@ -277,12 +278,17 @@ def case_points(case) -> tuple[dict, dict]:
 
 def _variables(spec: ProjectFile, model: Model, configurations: dict, where: str) -> list:
     from ..updating import Parametrisation, Variable
+    from ..updating.settings import renamed
     out = []
     for k, v in enumerate(spec.variables):
+        if v.kind in ("mass", "spring") and any(isinstance(t, int) for t in v.targets):
+            renamed(f"{where}: variables[{k}] ('{v.name}'): {v.kind} targets by position",
+                    "their names (targets = [\"name\"]) or ids (ids = [...])", 4)
         try:
             var = Variable(v.name, v.kind, v.attribute if v.attribute != "thickness" else "height",
-                           tuple(v.targets), tuple(v.bounds),
-                           configurations=None if v.configurations is None else tuple(v.configurations))
+                           tuple(v.targets), None if v.bounds is None else tuple(v.bounds),
+                           configurations=None if v.configurations is None else tuple(v.configurations),
+                           ids=tuple(v.ids))
             Parametrisation(model, list(configurations.values()), [var])
         except ModelError as exc:
             raise ProjectError(f"{where}: variables[{k}] ('{v.name}'): {exc}") from None

@@ -21,6 +21,7 @@ import numpy as np
 
 from ..errors import FlexGVTError
 from ..updating.result import jsonable
+from ..updating.settings import renamed
 from .identification import Identified, _from_json, identify_configuration
 from .outputs import remove_temporaries, safe_name, write_json_atomic, write_text_atomic
 from .project import Project, ProjectError, load_project
@@ -48,17 +49,22 @@ class RunResult:
         """The updated model (the initial one when nothing was updated)."""
         return self.project.model if self.update is None else self.update.model
 
-    def as_dict(self) -> dict:
+    def to_dict(self) -> dict:
         """The documented --json layout of `flexgvt run`."""
         up = self.update
         return jsonable({
             "project": str(self.project.path), "timings_s": self.timings, "resumed": self.resumed,
             "identified": {n: {"frequencies_hz": i.frequencies_hz, "damping_ratio": i.damping_ratio,
                                "labels": list(i.labels), "source": i.source} for n, i in self.identified.items()},
-            "updating": None if up is None else {k: v for k, v in up.as_dict().items() if k != "mac"},
+            "updating": None if up is None else {k: v for k, v in up.to_dict().items() if k != "mac"},
             "checks": self.checks,
             "prediction": {k: p.rows for k, p in self.predictions.items()},
             "files": self.files})
+
+    def as_dict(self) -> dict:
+        """Deprecated: to_dict()."""
+        renamed("RunResult.as_dict()", "RunResult.to_dict()")
+        return self.to_dict()
 
 
 def _digest(*parts) -> str:
@@ -74,11 +80,16 @@ def _identification_key(project: Project, name: str) -> str:
     return _digest(spec.model_dump(), *[project.file(f).read_bytes() for f in files])
 
 
-def identify_all(project: Project, store: Path | None = None, log: Callable[[str], None] = lambda s: None,
-                 resumed: list | None = None) -> dict[str, Identified]:
-    """identify_configuration() for every configuration with test data; cached in ``store`` (a folder) by a digest of
-    the test settings and the files' bytes, so a second run reads them back. A cache that cannot be
-    read (cut off, not JSON, wrongly shaped) is identified again, with a one-line notice."""
+def identify_all(project: Project, store: Path | None = None, progress: Callable[[str], None] = lambda s: None,
+                 resumed: list | None = None, *, log: Callable[[str], None] | None = None) -> dict[str, Identified]:
+    """identify_configuration() for every configuration with test data; cached in ``store`` (a folder) by a
+    digest of the test settings and the files' bytes, so a second run reads them back. A cache that cannot be
+    read (cut off, not JSON, wrongly shaped) is identified again, with a one-line notice. progress:
+    receives one line per configuration (``log``: its deprecated name)."""
+    if log is not None:
+        renamed("identify_all(log=...)", "identify_all(progress=...)")
+        progress = log
+    log = progress
     out = {}
     for spec in project.spec.configurations:
         if spec.test is None:
@@ -169,10 +180,11 @@ def diagram(item: Identified) -> dict | None:
             "damping_ratio": z, "stable": ok, "selected_hz": item.frequencies_hz.tolist()}
 
 
-def run(project: Project | str | Path, log: Callable[[str], None] | None = None,
-        report: bool | None = None) -> RunResult:
-    """Run a project end to end; results and outputs go to its output folder. log: a callable that
-    receives one line per step and per optimiser iteration (the CLI prints them).
+def run(project: Project | str | Path, progress: Callable[[str], None] | None = None,
+        report: bool | None = None, *, log: Callable[[str], None] | None = None) -> RunResult:
+    """Run a project end to end; results and outputs go to its output folder. progress: a callable
+    that receives one line per step and per optimiser iteration (the CLI prints them; ``log``: its
+    deprecated name).
 
     The report is not written here (the workflow never renders): ``result.report_wanted`` says
     whether the project's [outputs] report asks for one, and flexgvt.report.write_project_report
@@ -183,7 +195,10 @@ def run(project: Project | str | Path, log: Callable[[str], None] | None = None,
                       "renders; write the report with flexgvt.report.write_project_report(result)",
                       DeprecationWarning, stacklevel=2)
     from ..updating.store import acquire_lock
-    log = log or (lambda s: None)
+    if log is not None:
+        renamed("run(log=...)", "run(progress=...)")
+        progress = log
+    log = progress or (lambda s: None)
     t_all = time.perf_counter()
     if not isinstance(project, Project):
         project = load_project(project)
@@ -225,7 +240,7 @@ def _run_locked(project: Project, out: Path, store: Path, log, report, t_all: fl
         def progress(row):
             log(f"  iteration {row.get('iteration', '?')}: objective {row['objective']:.6g}")
         try:
-            result = update_model(project, identified, store=db, callback=progress)
+            result = update_model(project, identified, store=db, progress=progress)
         finally:
             db.close()
         if any(s.get("resumed") for s in result.starts):
@@ -262,9 +277,9 @@ def _run_locked(project: Project, out: Path, store: Path, log, report, t_all: fl
 
 
 def write_results(res: RunResult, out: Path | None = None) -> Path:
-    """results.json (the documented --json layout, RunResult.as_dict) in ``out`` (default: the
+    """results.json (the documented --json layout, RunResult.to_dict) in ``out`` (default: the
     project's output folder), written atomically; listed in res.files."""
     out = Path(res.project.output if out is None else out)
-    write_text_atomic(out / "results.json", json.dumps(res.as_dict(), indent=1))
+    write_text_atomic(out / "results.json", json.dumps(res.to_dict(), indent=1))
     res.files["results"] = str(out / "results.json")
     return out / "results.json"

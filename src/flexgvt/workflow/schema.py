@@ -6,11 +6,14 @@ strings with units ("17.6 N/m"), checked against the dimension the key expects.
 
 from __future__ import annotations
 
-from typing import Annotated, Literal
+from dataclasses import MISSING
+from typing import Annotated, Any, Literal, get_type_hints
 
-from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, model_validator
+from pydantic import AfterValidator, BaseModel, BeforeValidator, ConfigDict, Field, create_model, model_validator
 
-from .units import quantity
+from ..updating import MassTarget, Objective, OptimiserSettings
+from ..updating.settings import described
+from .units import DIMENSIONS, unit_dimensions, quantity
 
 
 def _q(dimension: str):
@@ -31,8 +34,10 @@ class Strict(BaseModel):
 
 
 class ProjectInfo(Strict):
-    name: str = "flexgvt project"
-    description: str = ""
+    """What the project is (shown in the report)."""
+
+    name: str = Field("flexgvt project", description="title of the project")
+    description: str = Field("", description="one line on what is tested and updated")
 
 
 class ModelSpec(Strict):
@@ -87,6 +92,7 @@ class MassSpec(Strict):
     node: int
     mass: Mass
     offset: Vector3 = Field(default_factory=lambda: [0.0, 0.0, 0.0])
+    name: str = Field("", description="how a mass variable names it (the shaker's moving mass is \"shaker\")")
 
 
 Force = _q("force")
@@ -115,18 +121,22 @@ class TestData(Strict):
 
     __test__ = False
 
-    frfs: str | list[str] | None = None
-    modes: str | None = None
-    key: str | None = None
-    points: str = "nodes"
-    band_hz: Annotated[list[Frequency], Field(min_length=2, max_length=2)] | None = None
-    max_order: int = Field(60, ge=4, le=400)
-    select_hz: list[Frequency] | None = None
-    min_fraction: float = Field(0.3, gt=0, le=1)
-    refine: bool = True
-    wide: bool = False
-    use_modes: list[int] | None = None
-    labels: list[str] | None = None
+    frfs: str | list[str] | None = Field(None, description="UFF file(s) of FRFs (dataset 58) to identify")
+    modes: str | None = Field(None, description="identified modes (UFF 55, CSV or JSON) instead of FRFs")
+    key: str | None = Field(None, description="the sub-object of a modes JSON holding them (dotted for nesting)")
+    points: str = Field("nodes", description='test point -> FE node: "nodes" (same ids), "case" (the built-in '
+                        "case's sensors) or a CSV file point,node,dx,dy,dz [m]")
+    band_hz: Annotated[list[Frequency], Field(min_length=2, max_length=2)] | None = Field(
+        None, description="identification band [low, high]", json_schema_extra={"unit": "Hz"})
+    max_order: int = Field(60, ge=4, le=400, description="highest PolyMAX model order of the stabilisation diagram")
+    select_hz: list[Frequency] | None = Field(None, description="pick the poles nearest these frequencies instead "
+                                              "of the automatic selection", json_schema_extra={"unit": "Hz"})
+    min_fraction: float = Field(0.3, gt=0, le=1, description="automatic selection: a pole stable in at least this "
+                                "fraction of the orders")
+    refine: bool = Field(True, description="maximum-likelihood refinement (frequency and damping uncertainties)")
+    wide: bool = Field(False, description="identify a wide band in overlapping sub-bands")
+    use_modes: list[int] | None = Field(None, description="keep only these identified modes (1-based)")
+    labels: list[str] | None = Field(None, description="names of the kept modes for the tables")
 
     @model_validator(mode="after")
     def _one_kind(self):
@@ -154,65 +164,82 @@ class ConfigurationSpec(Strict):
 
 
 class VariableSpec(Strict):
-    """A design variable (flexgvt.updating.Variable): targets are beam group names or patterns,
-    or indices of masses, springs or cords."""
+    """A design variable (flexgvt.updating.Variable): targets are beam group, mass or spring names
+    or patterns (positions of masses and springs still work, deprecated), or indices of cords; ids:
+    mass or spring ids (a deck's CONM2, CELAS or CBUSH EIDs)."""
 
     name: str
     kind: Literal["beam", "mass", "spring", "cord"]
     targets: list[str | int] = Field(default_factory=list)
+    ids: list[int] = Field(default_factory=list)
     attribute: str
-    bounds: Annotated[list[float], Field(min_length=2, max_length=2)] = Field(default_factory=lambda: [0.9, 1.1])
+    bounds: Annotated[list[float], Field(min_length=2, max_length=2)] | None = None  # None: the kind's default
     configurations: list[str] | None = None
 
 
-class MassTargetSpec(Strict):
-    mass: Mass | None = None
-    cg: Vector3 | None = None
-    inertia: Annotated[list[float], Field(min_length=3, max_length=3)] | None = None
+def _dimension(unit: str) -> str:
+    """The DIMENSIONS name of an SI unit ('kg m^2' -> 'inertia')."""
+    dims = unit_dimensions(unit)
+    return next(name for name, d in DIMENSIONS.items() if d == dims)
 
 
-class ObjectiveSpec(Strict):
-    frequency: float = Field(1.0, ge=0)
-    mac: float = Field(0.0, ge=0)
-    mass: float = Field(1.0, ge=0)
-    cg: float = Field(1.0, ge=0)
-    inertia: float = Field(1.0, ge=0)
-    orthogonality: float = Field(0.0, ge=0)
-    mac_min: float | None = Field(None, ge=0, le=1)
-    mac_floor: float = Field(0.5, ge=0, le=1)
-    max_frequency_ratio: float | None = Field(2.0, gt=1)
-    mass_limits: float | None = Field(None, gt=0)
-    measured_mass: MassTargetSpec | None = None
+def settings_table(cls: type, name: str, **extra: Any) -> type[BaseModel]:
+    """A project-file table generated from the settings dataclass ``cls``: one key per described field
+    (flexgvt.updating.settings.setting) with its type, default, limits, choices, unit (strings with
+    units accepted) and description; ``extra``: further keys as (type, FieldInfo)."""
+    hints = get_type_hints(cls)
+    keys: dict[str, Any] = {}
+    for f in described(cls):
+        md = f.metadata
+        kind = hints[f.name]
+        optional = f.default is None
+        if md["choices"] is not None:
+            kind = Literal[md["choices"]]
+        elif md["unit"] or md["size"]:
+            item = _q(_dimension(md["unit"])) if md["unit"] else float
+            if md["size"]:
+                item = Annotated[item, Field(**{k: md[k] for k in ("ge", "gt", "le") if md[k] is not None})]
+                item = Annotated[list[item], Field(min_length=md["size"], max_length=md["size"])]
+            kind = item | None if optional else item
+        limits = {} if md["size"] else {k: md[k] for k in ("ge", "gt", "le") if md[k] is not None}
+        default = f.default if f.default is not MISSING else ...
+        keys[f.name] = (kind, Field(default, description=md["doc"], json_schema_extra={"unit": md["unit"]},
+                                    **limits))
+    return create_model(name, __base__=Strict, __doc__=cls.__doc__, **keys, **extra)
 
 
-class OptimiserSpec(Strict):
-    method: Literal["least_squares", "lm", "dogbox", "trf", "slsqp", "trust-constr", "nelder-mead"] = "least_squares"
-    starts: int = Field(1, ge=1, le=100)
-    seed: int = 0
-    max_iterations: int = Field(50, ge=1)
-    tolerance: float = Field(1e-8, gt=0)
-    n_modes: int | None = Field(None, ge=1)
+def _into(cls: type):
+    """Validated table -> the settings dataclass ``cls`` (lists as tuples)."""
+    return AfterValidator(lambda t: cls(**{k: tuple(v) if isinstance(v, list) else v for k, v in dict(t).items()}))
+
+
+MassTargetSpec = settings_table(MassTarget, "MassTargetSpec")
+ObjectiveSpec = settings_table(Objective, "ObjectiveSpec", measured_mass=(
+    Annotated[MassTargetSpec, _into(MassTarget)] | None,
+    Field(None, description="measured mass properties ([objective.measured_mass])")))
+OptimiserSpec = settings_table(OptimiserSettings, "OptimiserSpec")
 
 
 class PredictionSpec(Strict):
     """Free-flying prediction: the suspension removed (free-free) and the ``proposed`` configurations
     (e.g. long bungees) of the model; ``reference``: a JSON of known frequencies to score against."""
 
-    free_free: bool = True
-    proposed: list[str] = Field(default_factory=list)
-    n_modes: int = Field(10, ge=1, le=100)
-    reference: str | None = None
+    free_free: bool = Field(True, description="predict the free-free modes (suspension removed)")
+    proposed: list[str] = Field(default_factory=list, description="the model's configurations to predict "
+                                "(e.g. long bungees)")
+    n_modes: int = Field(10, ge=1, le=100, description="free-free modes predicted")
+    reference: str | None = Field(None, description="JSON of known free-free frequencies to score against")
 
 
 class OutputSpec(Strict):
     """Where results go: ``directory`` (relative to the project file) must stay inside the project
     folder unless ``allow_outside`` is set."""
 
-    directory: str = "results"
-    allow_outside: bool = False
-    report: bool = True
-    bdf: bool = True
-    uff: bool = True
+    directory: str = Field("results", description="output folder, relative to the project file")
+    allow_outside: bool = Field(False, description="let ``directory`` point outside the project folder")
+    report: bool = Field(True, description="write report.html (flexgvt run)")
+    bdf: bool = Field(True, description="write the updated model as updated.bdf")
+    uff: bool = Field(True, description="write identified and predicted modes as UFF 55")
 
 
 class ProjectFile(Strict):
@@ -224,6 +251,6 @@ class ProjectFile(Strict):
     suspension_tests: list[BlockTest] = Field(default_factory=list)
     variables: list[VariableSpec] = Field(default_factory=list)
     objective: ObjectiveSpec = Field(default_factory=ObjectiveSpec)
-    optimiser: OptimiserSpec = Field(default_factory=OptimiserSpec)
+    optimiser: Annotated[OptimiserSpec, _into(OptimiserSettings)] = Field(default_factory=OptimiserSettings)
     prediction: PredictionSpec = Field(default_factory=PredictionSpec)
     outputs: OutputSpec = Field(default_factory=OutputSpec)

@@ -5,44 +5,44 @@ free-flying prediction (suspension removed, proposed suspensions) scored against
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import Callable
 
 import numpy as np
 
 from ..errors import FlexGVTError
 from ..model import Configuration, Model
+from ..updating import MassTarget, Objective, ResultsStore, UpdateResult
 from .identification import Identified, measured
 from .project import Project, ProjectError
 
 
-def objective(project: Project):
+def objective(project: Project) -> tuple[Objective, MassTarget | None]:
     """(Objective, MassTarget or None) from the project's [objective] table."""
-    from ..updating import MassTarget, Objective
+    from dataclasses import fields
+
     o = project.spec.objective
-    target = None
-    if o.measured_mass is not None:
-        m = o.measured_mass
-        target = MassTarget(m.mass, None if m.cg is None else tuple(m.cg),
-                            None if m.inertia is None else tuple(m.inertia))
-    return Objective(frequency=o.frequency, mac=o.mac, mass=o.mass, cg=o.cg, inertia=o.inertia,
-                     orthogonality=o.orthogonality, mac_min=o.mac_min, mac_floor=o.mac_floor,
-                     max_frequency_ratio=o.max_frequency_ratio,
-                     mass_limits=o.mass_limits), target
+    return Objective(**{f.name: getattr(o, f.name) for f in fields(Objective)}), o.measured_mass
 
 
-def update_model(project: Project, identified: dict[str, Identified], store=None, callback=None):
-    """flexgvt.updating.update on every configuration with role 'update' at once."""
+def update_model(project: Project, identified: dict[str, Identified], store: ResultsStore | None = None,
+                 progress: Callable[[dict], None] | None = None,
+                 callback: Callable[[dict], None] | None = None) -> UpdateResult:
+    """flexgvt.updating.update on every configuration with role 'update' at once, with the project's
+    [optimiser] settings; progress: called with each accepted iterate's history row (``callback``:
+    its deprecated name)."""
     from ..updating import update
+    from ..updating.settings import renamed
+    if callback is not None:
+        renamed("update_model(callback=...)", "update_model(progress=...)")
+        progress = progress or callback
     names = project.to_update
     missing = [n for n in names if n not in identified]
     if missing:
         raise ProjectError(f"{project.path}: no measured modes for configuration(s) {missing}")
     obj, target = objective(project)
-    opt = project.spec.optimiser
     return update(project.model, [project.configurations[n] for n in names],
                   [measured(identified[n], project) for n in names], project.variables, mass_target=target,
-                  objective=obj, method=opt.method, starts=opt.starts, seed=opt.seed,
-                  max_iterations=opt.max_iterations, tolerance=opt.tolerance, n_modes=opt.n_modes, store=store,
-                  callback=callback)
+                  objective=obj, store=store, progress=progress, **project.spec.optimiser.to_dict())
 
 
 def check(project: Project, model: Model, identified: dict[str, Identified], n_modes: int | None = None) -> dict:
@@ -97,7 +97,12 @@ class Prediction:
     proposed: dict = field(default_factory=dict)
 
     def frequencies(self) -> np.ndarray:
+        """The free-free elastic frequencies [Hz] of the rows."""
         return np.array([r["free_hz"] for r in self.rows])
+
+    def table(self) -> list[dict]:
+        """The rows (one per free elastic mode)."""
+        return self.rows
 
 
 def predict(project: Project, model: Model, configurations: dict[str, Configuration] | None = None,

@@ -51,6 +51,7 @@ role = "update"
 # [[configurations.masses]] # extra masses of this test only (adapters, clips)
 # node = 12
 # mass = "15 g"
+# name = "clip"            # how a mass variable (kind = "mass", configurations = [...]) names it
 # [configurations.shaker]  # a shaker on a stinger: its moving mass, and what the stinger holds
 # node = 12
 # mass = "150 g"
@@ -80,7 +81,9 @@ carries = "{carries:.3f} kg"  # unstretched length sized to carry this mass (or 
 TAIL = '''
 # Design variables: a property of model entities, normalised by its initial value (x = 1),
 # bounded. kind = beam (E, G, rho or a section attribute of beam groups named by targets, which
-# may be patterns like "wing_*"), mass, spring (k1..k6, c1..c6 of springs by index) or cord.
+# may be patterns like "wing_*"), mass (mass, offset_x/y/z of masses named by targets or with
+# ids = [...]), spring (k1..k6, c1..c6 of springs named by targets or ids) or cord. Default bounds:
+# [0.9, 1.1] (beam, mass), [0.5, 2.0] (spring), [0.8, 1.2] (cord).
 {variables}
 [objective]                # weights of the residual groups (each residual a relative error)
 frequency = 1.0
@@ -95,7 +98,8 @@ mac_floor = 0.5            # pairs below this MAC are not paired
 method = "least_squares"   # least_squares (Levenberg-Marquardt, then bounded), dogbox, trf, slsqp,
                            # trust-constr, nelder-mead
 starts = 1                 # multi-start
-max_iterations = 60
+max_iterations = 60        # function evaluations (default 100)
+tolerance = 1e-8           # on the cost, step and gradient (default 1e-10)
 
 [prediction]               # suspension removed: free-free modes, and proposed suspensions
 free_free = true
@@ -155,10 +159,16 @@ def example_project(case_name: str = "xhale", data: dict[str, str] | None = None
     return text + TAIL.format(variables=variables, proposed=_toml_list(proposed), reference=ref)
 
 
-def write_example(folder: Path, seed: int = 7, log: Callable[[str], None] = lambda s: None,
-                  snr_db: float = 30.0) -> list[Path]:
+def write_example(folder: Path, seed: int = 7, progress: Callable[[str], None] = lambda s: None,
+                  snr_db: float = 30.0, *, log: Callable[[str], None] | None = None) -> list[Path]:
     """Synthetic GVT of the X-HALE-like 'as-built' airframe in both suspension layouts (two
-    references, noise), the as-built free-free frequencies as reference.json, and the project."""
+    references, noise), the as-built free-free frequencies as reference.json, and the project.
+    progress: receives one line per file written (``log``: its deprecated name)."""
+    from ..updating.settings import renamed
+    if log is not None:
+        renamed("write_example(log=...)", "write_example(progress=...)")
+        progress = log
+    log = progress
     from .. import cases
     from ..fem import solve_modes, solve_static
     from ..io.uff import TestGeometry, write_uff

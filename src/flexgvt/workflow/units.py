@@ -50,6 +50,14 @@ def _parse_unit(text: str) -> tuple[float, tuple[int, ...]]:
     return factor, tuple(dims)
 
 
+def unit_dimensions(unit: str) -> tuple[int, ...]:
+    """Exponents of (kg, m, s, rad) of a unit ('N s/m' -> (1, 0, -1, 0)); ModelError for an unknown one."""
+    try:
+        return _parse_unit(unit)[1]
+    except KeyError as exc:
+        raise ModelError(f"unknown unit {exc.args[0]!r} in {unit!r}; known: {sorted(_BASE)}") from None
+
+
 def quantity(value, dimension: str, where: str = "") -> float:
     """SI value of ``value`` (a number, SI; or 'number unit') of the given dimension (DIMENSIONS);
     ``where`` prefixes the error messages."""

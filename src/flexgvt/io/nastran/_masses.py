@@ -66,7 +66,7 @@ class _Masses:
                 J = T @ J @ T.T
                 try:
                     model.add_mass(elem.nid, float(elem.mass) * u.mass * w, offset=offset * u.length,
-                                   inertia=J * u.inertia * w)
+                                   inertia=J * u.inertia * w, id=int(eid))
                 except ModelError as exc:
                     raise ModelError(f"{where}: {exc}") from None
                 self.sources.append(("CONM2", int(eid)))
@@ -82,7 +82,7 @@ class _Masses:
                     self.log.skip("CONM1 (not a rigid-body mass matrix)", eid)
                     continue
                 m, r, J = got
-                model.add_mass(elem.nid, m * u.mass * w, offset=r * u.length, inertia=J * u.inertia * w)
+                model.add_mass(elem.nid, m * u.mass * w, offset=r * u.length, inertia=J * u.inertia * w, id=int(eid))
                 self.sources.append(("CONM1", int(eid)))
             elif elem.type in ("CMASS1", "CMASS2"):
                 self._scalar_mass(elem, where)

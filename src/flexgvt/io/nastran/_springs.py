@@ -60,7 +60,7 @@ class _Springs:
 
     def _add_spring(self, where, a, b, k, d, frame, source) -> None:
         try:
-            self.model.add_spring(a, b, stiffness=k, damping=d, frame=frame)
+            self.model.add_spring(a, b, stiffness=k, damping=d, frame=frame, id=source[1])
         except ModelError as exc:
             raise ModelError(f"{where}: {exc}") from None
         self.sources.append(source)
