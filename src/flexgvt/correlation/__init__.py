@@ -11,5 +11,6 @@ from .mac import auto_mac, comac, cross_orthogonality, mac, mac_of, shapes_of, s
 from .pairing import Pairing, pair
 from .sensors import PointMap, Sensor, Sensors, map_points, sensors_from_test
 
-__all__ = ["Pairing", "PointMap", "Sensor", "Sensors", "map_points", "sensors_from_test", "auto_mac", "comac", "cross_orthogonality", "mac", "mac_of", "pair",
+__all__ = ["Pairing", "PointMap", "Sensor", "Sensors", "map_points", "sensors_from_test",
+           "auto_mac", "comac", "cross_orthogonality", "mac", "mac_of", "pair",
            "shapes_of", "subspace_mac"]

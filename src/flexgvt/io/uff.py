@@ -302,6 +302,8 @@ def read_uff(path: str | Path, *, drop_incomplete: bool = False, coordinates: st
             skipped.append(int(t) if isinstance(t, (int, np.integer)) else -1)
     if geometry is not None:
         notes = ("node coordinates taken as global (NX writes them so)",) if as_global and coordinates == "auto" else ()
+        if not units:
+            notes += ("no units dataset 164: coordinates taken as metres",)
         geometry = replace(geometry, traces=traces, elements=elements, coordinate_systems=systems, notes=notes)
     elif traces or elements:
         geometry = TestGeometry(np.zeros(0, int), np.zeros((0, 3)), traces=traces, elements=elements,
@@ -398,8 +400,10 @@ def shapes_at_points(shapes: np.ndarray, outputs: np.ndarray) -> tuple[np.ndarra
 
 
 def write_uff(path: str | Path, *, geometry: TestGeometry | None = None, frfs: FRFs | None = None,
-              modes: ModalSet | None = None, binary: bool = False) -> Path:
-    """Write geometry (15), units (164, SI), FRFs (58, complex) and modes (55: a ModalSet with labelled
+              modes: ModalSet | None = None, binary: bool = False,
+              time_histories: TimeHistories | None = None) -> Path:
+    """Write geometry (15), units (164, SI), FRFs (58, complex), time histories (58 type 1, real
+    double; force channels marked with ordinate type 13) and modes (55: a ModalSet with labelled
     translation or rotation DOFs, laid out per point) to a new UFF file."""
     import pyuff
 
@@ -430,6 +434,21 @@ def write_uff(path: str | Path, *, geometry: TestGeometry | None = None, frfs: F
                                              abscissa_inc=float(f[1] - f[0]) if len(f) > 1 else 0.0,
                                              abscissa_spec_data_type=18, ordinate_spec_data_type=12,
                                              orddenom_spec_data_type=13, id1="FRF", data=frfs.H[:, a, b], x=f))
+    if time_histories is not None:
+        th = time_histories
+        if not np.all(np.isfinite(th.data)):
+            raise FileFormatError(f"{path}: cannot write time histories containing NaN or infinity")
+        for k, (pt, d) in enumerate(np.asarray(th.dofs, int)):
+            spec = int(th.spec_types[k]) if k < len(th.spec_types) else 0
+            unit = str(th.units[k]) if k < len(th.units) else ""
+            sets.append(pyuff.prepare_58(binary=int(binary), func_type=1, rsp_node=int(pt), rsp_dir=int(d),
+                                         ref_node=0, ref_dir=0, ord_data_type=4, num_pts=th.n_samples,
+                                         abscissa_spacing=1, abscissa_min=float(th.t0_s),
+                                         abscissa_inc=1.0 / float(th.sample_rate_hz), abscissa_spec_data_type=17,
+                                         abscissa_axis_units_lab="s", ordinate_spec_data_type=spec,
+                                         ordinate_axis_units_lab=unit, orddenom_spec_data_type=0, id1="time",
+                                         data=np.asarray(th.data[k], float),
+                                         x=th.t0_s + np.arange(th.n_samples) / th.sample_rate_hz))
     if modes is not None:
         try:
             point_ids, point_shapes = modes.point_shapes()

@@ -16,7 +16,7 @@ from .uff_scan import DIRECTIONS, FUNCTION_TYPES, UFFContents, cut_message, read
 
 def _name(node, code) -> str:
     try:
-        return f"{int(node)}{DIRECTIONS.get(int(code), '?')}"
+        return f"{int(node)}{DIRECTIONS.get(int(code), '?')}" if int(code) else f"{int(node)} (scalar)"
     except (TypeError, ValueError):
         return "?"
 

@@ -95,12 +95,16 @@ def scan(data: bytes) -> list[Block]:
         end = n if end < 0 else end + 1
         return data[p:end], end
 
+    opened = 0  # a delimiter already read that opens the next dataset (after a binary 58b, see below)
     while pos < n:
-        line, pos = next_line(pos)
-        line_no += 1
-        if not _is_delimiter(line):
-            continue  # text between datasets is ignored, as the writers of UFF do
-        start = line_no
+        if opened:
+            start, opened = opened, 0
+        else:
+            line, pos = next_line(pos)
+            line_no += 1
+            if not _is_delimiter(line):
+                continue  # text between datasets is ignored, as the writers of UFF do
+            start = line_no
         if pos >= n:
             blocks.append(Block(-1, start, None))
             break
@@ -126,7 +130,38 @@ def scan(data: bytes) -> list[Block]:
                 line_no += 1
             payload = data[pos:pos + n_bytes]
             line_no += payload.count(b"\n")
+            if pos + n_bytes > n:
+                blocks.append(Block(number, start, None, True))
+                break
             pos += n_bytes
+            # One delimiter after the binary record may close it and open the next dataset at once
+            # (pyuff writes 58b so): a delimiter followed by a dataset number (not by a second
+            # delimiter) both ends this dataset and starts the next.
+            line, after = next_line(pos)
+            if line in (b"\n", b"\r\n"):  # the end of the record's last line
+                pos = after
+                line, after = next_line(pos)
+            if not _is_delimiter(line):
+                # the byte count is wrong (pyuff writes half the bytes of complex doubles): the record
+                # ends at the next delimiter, which may follow the binary data on the same line
+                hit = data.find(b"    -1", pos)
+                while hit >= 0 and hit + 6 < n and data[hit + 6:hit + 7] != b"\n" and data[hit + 6:hit + 8] != b"\r\n":
+                    hit = data.find(b"    -1", hit + 1)
+                if hit < 0:
+                    blocks.append(Block(number, start, None, True))
+                    break
+                line_no += data.count(b"\n", pos, hit)
+                pos = hit
+                line, after = next_line(pos)
+            if _is_delimiter(line):
+                nxt, _ = next_line(after)
+                pos = after
+                line_no += 1
+                closed = True
+                if after < n and nxt.strip() and not _is_delimiter(nxt):
+                    opened = line_no
+                blocks.append(Block(number, start, line_no, True))
+                continue
         while pos < n:
             line, pos = next_line(pos)
             line_no += 1

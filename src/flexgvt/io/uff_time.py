@@ -84,8 +84,8 @@ def assemble(functions, where: str) -> TimeHistories:
         raise FileFormatError(f"{where}: time histories of {len(x)} sample(s)")
     dt = np.diff(x)
     if np.any(dt <= 0) or not np.allclose(dt, dt[0], rtol=1e-4):
-        raise FileFormatError(f"{where}: the time axis is not uniformly sampled (steps {dt.min():g} to {dt.max():g} s); "
-                              "FRF estimation needs a constant sample rate")
+        raise FileFormatError(f"{where}: the time axis is not uniformly sampled (steps {dt.min():g} to "
+                              f"{dt.max():g} s); FRF estimation needs a constant sample rate")
     data = np.array([np.real(f.data) for f in functions], float)
     dofs = np.array([f.response for f in functions], int)
     seen = {}
