@@ -269,3 +269,14 @@ def sensors_from_test(outputs, geometry, point_map: PointMap, offsets: bool = Tr
         items.append(Sensor(node_of[pt], direction, arm, f"{pt}{'+' if code > 0 else '-'}{AXES[abs(code) - 1]}"))
     return Sensors(items)
 
+
+
+def map_test_geometry(geometry, model, tolerance: float = 0.05, deformed=None, **kwargs) -> PointMap:
+    """map_points for a test geometry (io.uff TestGeometry: point_ids, xyz global [m]) onto a model's
+    undeformed node positions (model.node_ids, model.xyz: the same for every configuration), or onto
+    a deformed equilibrium (``deformed``: a fem State, its node_ids and positions) when the test points
+    were measured on the loaded structure. kwargs: on_far, on_shared."""
+    if deformed is not None:
+        return map_points(geometry.point_ids, geometry.xyz, deformed.node_ids, deformed.positions, tolerance,
+                          **kwargs)
+    return map_points(geometry.point_ids, geometry.xyz, model.node_ids, model.xyz, tolerance, **kwargs)
