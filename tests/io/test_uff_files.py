@@ -158,3 +158,12 @@ def test_18_chained_through_its_reference_system_and_non_cartesian_refused(tmp_p
     path.write_text(text)
     with pytest.raises(FileFormatError, match="node 5: definition coordinate system 2 is cylindrical"):
         read_uff(path)
+
+
+def test_geometry_with_turned_displacement_axes_written_and_read_back(tmp_path):
+    from flexgvt.io.uff import write_uff
+
+    g = read_uff(TESTLAB).geometry
+    back = read_uff(write_uff(tmp_path / "geo.uff", geometry=g)).geometry
+    np.testing.assert_allclose(back.xyz, g.xyz, atol=1e-5)
+    np.testing.assert_allclose(back.axes, g.axes, atol=1e-5)  # dataset 18 points are E13.5

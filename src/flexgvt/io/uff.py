@@ -10,6 +10,7 @@ file's units, whose labels are carried with them.
 
 from __future__ import annotations
 
+import re
 import warnings
 from dataclasses import dataclass, field, replace
 from pathlib import Path
@@ -169,9 +170,13 @@ def assemble_frfs(functions, where: str = "") -> FRFs:
                 f"{functions[0].ordinate_label}/{functions[0].denominator_label}")
 
 
+def _also_cut(cut: str | None) -> str:
+    return f" (and the file is cut off: {cut.split(': ', 1)[1].split(';')[0]})" if cut else ""
+
+
 def _read_sets(path: Path):
-    """(pyuff dataset dicts, the file's dataset blocks); a cut-off file is refused naming its last
-    complete dataset."""
+    """(pyuff dataset dicts, the file's dataset blocks, the cut-off message or None); a file pyuff
+    cannot read because it is cut off is refused naming its last complete dataset."""
     import pyuff
 
     if "\x00" in str(path):
@@ -184,25 +189,29 @@ def _read_sets(path: Path):
         raise FileFormatError(f"{path}: no such file" + (" (a folder)" if path.is_dir() else ""))
     _, blocks = read_blocks(path)
     cut = cut_message(path, blocks)
-    if cut:
-        raise FileFormatError(cut)
     try:
         uff = pyuff.UFF(str(path))
         types = list(uff.get_set_types())
     except Exception as exc:  # pyuff raises bare Exceptions on malformed files
+        if cut:
+            raise FileFormatError(cut) from None
         raise FileFormatError(f"{path}: not a readable UFF file ({exc}); check that it is a universal file with "
                               "'    -1' delimiters") from None
     if not types:
+        if cut:
+            raise FileFormatError(cut)
         raise FileFormatError(f"{path}: no UFF dataset found (datasets start and end with a '    -1' line)")
     sets = []
     for k in range(len(types)):
         try:
             sets.append(uff.read_sets(k))
         except Exception as exc:
+            if cut and k >= len(blocks) - 1:
+                raise FileFormatError(cut) from None
             line = f", starting at line {blocks[k].first_line}" if k < len(blocks) else ""
             raise FileFormatError(f"{path}: dataset {k + 1} (type {int(types[k])}{line}) is malformed or truncated: "
-                                  f"{type(exc).__name__}: {exc}") from None
-    return sets, blocks
+                                  f"{type(exc).__name__}: {exc}{_also_cut(cut)}") from None
+    return sets, blocks, cut
 
 
 def _function_set(s: dict, where: str) -> Function:
@@ -262,7 +271,22 @@ def read_uff(path: str | Path, *, drop_incomplete: bool = False, coordinates: st
     if coordinates not in ("auto", "definition", "global"):
         raise FileFormatError(f"coordinates={coordinates!r} must be 'auto', 'definition' or 'global'")
     path = Path(path)
-    sets, blocks = _read_sets(path)
+    sets, blocks, cut = _read_sets(path)
+    try:
+        data = _parse(path, sets, blocks, drop_incomplete, coordinates)
+    except FileFormatError as exc:
+        if not cut or str(exc).endswith(_also_cut(cut)):
+            raise
+        found = re.search(r": dataset (\d+) \(type", str(exc))
+        if found is None or int(found.group(1)) >= len(blocks):  # the error is in the cut dataset
+            raise FileFormatError(cut) from None
+        raise FileFormatError(f"{exc}{_also_cut(cut)}") from None
+    if cut:
+        raise FileFormatError(cut)
+    return data
+
+
+def _parse(path: Path, sets, blocks, drop_incomplete: bool, coordinates: str) -> UFFData:
     units = {}
     for k, s in enumerate(sets):
         if s.get("type") == 164:
@@ -317,7 +341,7 @@ def read_uff(path: str | Path, *, drop_incomplete: bool = False, coordinates: st
         functions, dropped = drop_incomplete_channels(functions, str(path))
         if dropped:
             warnings.warn(f"{path}: incomplete FRF channels dropped: {'; '.join(dropped)}", FlexGVTWarning,
-                          stacklevel=2)
+                          stacklevel=3)
     contents = uff_describe.contents_of(path, sets, blocks, geometry, mode_set, units, functions)
     return UFFData(str(path), geometry, tuple(functions), mode_set, units, tuple(skipped), dropped, contents)
 
@@ -402,7 +426,8 @@ def shapes_at_points(shapes: np.ndarray, outputs: np.ndarray) -> tuple[np.ndarra
 def write_uff(path: str | Path, *, geometry: TestGeometry | None = None, frfs: FRFs | None = None,
               modes: ModalSet | None = None, binary: bool = False,
               time_histories: TimeHistories | None = None) -> Path:
-    """Write geometry (15), units (164, SI), FRFs (58, complex), time histories (58 type 1, real
+    """Write geometry (15; points whose displacement axes are turned get a dataset 18 system each),
+    units (164, SI), FRFs (58, complex), time histories (58 type 1, real
     double; force channels marked with ordinate type 13) and modes (55: a ModalSet with labelled
     translation or rotation DOFs, laid out per point) to a new UFF file."""
     import pyuff
@@ -420,8 +445,22 @@ def write_uff(path: str | Path, *, geometry: TestGeometry | None = None, frfs: F
                               temp_offset=273.15)]
     if geometry is not None:
         n = len(geometry.point_ids)
+        disp = [0] * n
+        turned = [k for k in range(n) if not np.allclose(geometry.axes[k], np.eye(3), atol=1e-12)]
+        if turned:  # each point's displacement axes as a dataset 18 system (origin, +x point, +xz point)
+            o = geometry.xyz[turned]
+            R = geometry.axes[turned]
+            disp = [0] * n
+            for j, k in enumerate(turned):
+                disp[k] = j + 1
+            sets.append(pyuff.prepare_18(cs_num=list(range(1, len(turned) + 1)), cs_type=[0] * len(turned),
+                                         ref_cs_num=[0] * len(turned), color=[1] * len(turned),
+                                         method=[1] * len(turned), cs_name=[f"P{int(geometry.point_ids[k])}"
+                                                                            for k in turned],
+                                         ref_o=o.tolist(), x_point=(o + R[:, 0]).tolist(),
+                                         xz_point=(o + R[:, 2]).tolist()))
         sets.append(pyuff.prepare_15(node_nums=[int(i) for i in geometry.point_ids], def_cs=[0] * n,
-                                     disp_cs=[0] * n, color=[1] * n, x=geometry.xyz[:, 0].tolist(),
+                                     disp_cs=disp, color=[1] * n, x=geometry.xyz[:, 0].tolist(),
                                      y=geometry.xyz[:, 1].tolist(), z=geometry.xyz[:, 2].tolist()))
     if frfs is not None:
         f = frfs.frequencies_hz
