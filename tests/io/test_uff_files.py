@@ -66,13 +66,17 @@ def test_nx_geometry_is_a_straight_line_of_beams_and_its_modes_read():
     assert modes.n_modes == 176
     np.testing.assert_allclose(modes.frequencies_hz[:5], [23383.2, 23384.1, 37317.1, 54308.9, 54313.4])
     assert modes.dofs[:4].tolist() == [[3992, 1], [3992, 2], [3992, 3], [9581, 1]]
-    # Shapes are given per node in its displacement system (only local y is non-zero: one sensor axis);
-    # rows-as-axes turns them normal to the beam (global Z); the transpose would make them axial.
-    pts = modes.point_shapes()[1][:2]
-    axial = np.abs(pts[..., 2]) / np.linalg.norm(pts, axis=2)
-    assert axial.max() < 0.06  # (the transpose: > 0.99)
-    # node 3992, mode 1: local (0.0195655, 13.0354, 0) @ R of CS 1 (rows in the file)
-    np.testing.assert_allclose(pts[0, 0], [-13.0354 * 0.99999887, 13.0354 * 0.0015009546, -0.0195655], rtol=1e-5)
+    # NX writes the 2414 vectors in global components too: at every node of every mode the vector
+    # lies along that node's local z axis (rows-as-axes reading of 2420: the sensor's measuring axis,
+    # as TestLab's +Z) to 1e-13; the mode DOFs are global X, Y, Z.
+    ids, pts = modes.point_shapes()
+    z = np.array([g.axes[g.index(i)][2] for i in ids])
+    norm = np.linalg.norm(pts, axis=2)
+    cos = np.abs(np.einsum("mnk,nk->mn", pts, z))[norm > 0] / norm[norm > 0]
+    assert 1 - cos.min() < 1e-12
+    np.testing.assert_allclose(pts[0, 0], [0.0195655, 13.0354, -1.92335e-7], rtol=1e-5)  # node 3992, mode 1
+    turned = read_uff(NX, coordinates="definition").modes.point_shapes()[1]
+    assert not np.allclose(turned, pts, atol=1e-3)
 
 
 def test_oros_and_artemis_geometry_with_elements():

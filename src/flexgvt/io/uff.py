@@ -264,9 +264,10 @@ def read_uff(path: str | Path, *, drop_incomplete: bool = False, coordinates: st
 
     drop_incomplete: leave out the FRF channels (responses, or a reference) whose (response,
     reference) pairs are not all present; ``.dropped`` and a FlexGVTWarning say what went.
-    coordinates: 'definition' (the format: node coordinates in each node's definition system),
-    'global' (taken as global), 'auto' (definition, except files written by NX, which writes global
-    coordinates whatever the definition system: docs/uff.md).
+    coordinates: 'definition' (the format: node coordinates in each node's definition system, 2414
+    result components in its displacement system), 'global' (both taken as global; the systems still
+    give each point's measured directions), 'auto' (definition, except files written by NX, which
+    writes both in global components whatever the systems: docs/uff.md).
     Raises FileFormatError naming the file and dataset for anything malformed or cut off."""
     if coordinates not in ("auto", "definition", "global"):
         raise FileFormatError(f"coordinates={coordinates!r} must be 'auto', 'definition' or 'global'")
@@ -325,7 +326,8 @@ def _parse(path: Path, sets, blocks, drop_incomplete: bool, coordinates: str) ->
         elif t not in (164, 18, 2420, 151, 2400):
             skipped.append(int(t) if isinstance(t, (int, np.integer)) else -1)
     if geometry is not None:
-        notes = ("node coordinates taken as global (NX writes them so)",) if as_global and coordinates == "auto" else ()
+        notes = (("node coordinates and 2414 result components taken as global (NX writes them so)",)
+                 if as_global and coordinates == "auto" else ())
         if not units:
             notes += ("no units dataset 164: coordinates taken as metres",)
         geometry = replace(geometry, traces=traces, elements=elements, coordinate_systems=systems, notes=notes)
@@ -335,7 +337,7 @@ def _parse(path: Path, sets, blocks, drop_incomplete: bool, coordinates: str) ->
     if modes and modes_2414:
         raise FileFormatError(f"{path}: modes as both dataset 55 ({len(modes)}) and 2414 ({len(modes_2414)}); "
                               "export one set of modes per file")
-    mode_set = _modes(modes, path) if modes else uff_modes.modes_2414(modes_2414, path, geometry)
+    mode_set = _modes(modes, path) if modes else uff_modes.modes_2414(modes_2414, path, geometry, as_global)
     dropped: tuple = ()
     if drop_incomplete:
         functions, dropped = drop_incomplete_channels(functions, str(path))

@@ -1,5 +1,5 @@
-"""Modes from dataset 2414 (analysis results) as NX writes them: normal modes (analysis type 2) with
-data at nodes, per node in its displacement coordinate system -> global axes."""
+"""Modes from dataset 2414 (analysis results): normal modes (analysis type 2) with data at nodes, per
+node in its displacement coordinate system -> global axes (NX: already global, docs/uff.md)."""
 
 from __future__ import annotations
 
@@ -26,8 +26,10 @@ def _frequency_hz(s: dict, where: str) -> float:
     return f
 
 
-def modes_2414(sets, path, geometry) -> ModalSet | None:
-    """ModalSet (DOFs (node, 1..3) global translations, or 1..6 with rotations) from 2414 datasets."""
+def modes_2414(sets, path, geometry, components_global: bool = False) -> ModalSet | None:
+    """ModalSet (DOFs (node, 1..3) global translations, or 1..6 with rotations) from 2414 datasets:
+    components in each node's displacement system turned to global, or taken as global
+    (components_global: NX writes them so, docs/uff.md)."""
     if not sets:
         return None
     freqs, damps, shapes = [], [], []
@@ -56,7 +58,7 @@ def modes_2414(sets, path, geometry) -> ModalSet | None:
         local = v[:, 0::2] + 1j * v[:, 1::2] if complex_ else v
         if complex_ and np.all(local.imag == 0):
             local = local.real
-        if geometry is not None and len(geometry.point_ids):
+        if geometry is not None and len(geometry.point_ids) and not components_global:
             R = np.array([geometry.axes[geometry.index(int(n))] for n in nodes])
         else:
             R = np.broadcast_to(np.eye(3), (len(nodes), 3, 3))
