@@ -5,7 +5,9 @@ on the FRFs, the modes (as a project reads them, flexgvt.workflow.read_modes) an
 
 Sources: the real files of tests/data/uff (LMS Test.Lab, OROS, ArtemiS, NX, a binary 58b record) and
 flexgvt's own output written at start (geometry + FRFs in ASCII and binary 58b, modes UFF 55 with
-the standard-deviation lines `flexgvt ema identify` writes). Each case applies one or two mutations:
+the standard-deviation lines `flexgvt ema identify` writes, a force and two responses as time
+histories). Each case is described (describe_uff), read with drop_incomplete=True, and its time
+histories turned into FRFs. Each case applies one or two mutations:
 a field replaced (0, -1, 1e20, 1e300, nan, text, blank...), a line deleted, duplicated or cut, a
 node count or id changed, two datasets swapped, a dataset duplicated or its delimiter lost, the file
 truncated, random bytes. Outcomes (bench/fuzzlib.py): read, clear (a FlexGVTError), foreign (any
@@ -34,7 +36,7 @@ DATA = ROOT / "tests" / "data" / "uff"
 REAL = ["TestLab 161 164 18 15 82.uff", "mesh_Oros-modal_uff15_uff2412.uff",
         "Artemis export - Geometry RPBC_setup_05_14102016_105117.uff", "NX simulation output.uff",
         "Sample_UFF58b_bin.uff"]
-OWN = ["own_frfs.uff", "own_frfs_58b.uff", "own_modes.uff"]
+OWN = ["own_frfs.uff", "own_frfs_58b.uff", "own_modes.uff", "own_time.uff"]
 VALUES = [b"0", b"-1", b"1", b"2", b"7", b"58", b"55", b"15", b"1e20", b"1.0E+300", b"-1e300", b"nan", b"inf",
           b"", b"abc", b"99999999999", b"2147483648", b"-0", b"1.5", b"0.0", b"1E-300", b"D", b"-99999"]
 DELIM = b"    -1"
@@ -57,6 +59,13 @@ def write_own(folder: Path) -> dict[str, bytes]:
                          rng.standard_normal((3, len(pts), 3)),
                          pts, np.array([0.001, 0.002, 0.004]), np.array([0.001, 0.001, 0.002]))
     out["own_modes.uff"] = write_uff(folder / "own_modes.uff", geometry=geo, modes=modes).read_bytes()
+    from flexgvt.ema import synthesize_time_data
+    from flexgvt.io.uff import TimeHistories
+
+    _, force, resp = synthesize_time_data(model, 32.0, 8.0, [0, 1], [0], snr_db=30, seed=1)
+    th = TimeHistories(np.vstack([force, resp]), np.array([[9, 3], [1, 3], [2, 3]]), 32.0, units=("N", "m", "m"),
+                       spec_types=(13, 8, 8))
+    out["own_time.uff"] = write_uff(folder / "own_time.uff", geometry=geo, time_histories=th).read_bytes()
     return out
 
 
@@ -145,7 +154,8 @@ _TMP: list[Path] = []
 def run_case(payload: bytes) -> str:
     """Worker side: read the file, then use what it holds as flexgvt does."""
     from flexgvt.ema import polymax
-    from flexgvt.io.uff import read_uff, shapes_at_points
+    from flexgvt.ema import estimate_frf_from_time
+    from flexgvt.io.uff import describe_uff, read_uff, shapes_at_points
     from flexgvt.workflow import read_modes
 
     if not _TMP:
@@ -153,8 +163,13 @@ def run_case(payload: bytes) -> str:
     path = _TMP[0] / "case.uff"
     path.write_bytes(payload)
     with contextlib.redirect_stdout(io.StringIO()):  # pyuff prints notes about skipped datasets
-        data = read_uff(path)
+        str(describe_uff(path))
+        data = read_uff(path, drop_incomplete=True)
     outcome = "read"
+    if any(f.kind == "time response" for f in data.functions):
+        th = data.time_histories
+        if th.n_samples >= 64:
+            estimate_frf_from_time(th, nperseg=64)
     if data.geometry is not None and len(data.geometry.point_ids):
         data.geometry.index(int(data.geometry.point_ids[-1]))
     if data.modes is not None:

@@ -9,7 +9,8 @@ sensor directions), MAC, auto-MAC, COMAC, cross-orthogonality and one-to-one pai
 
 from .mac import auto_mac, comac, cross_orthogonality, mac, mac_of, shapes_of, subspace_mac
 from .pairing import Pairing, pair
-from .sensors import Sensor, Sensors
+from .sensors import PointMap, Sensor, Sensors, map_points, map_test_geometry, sensors_from_test
 
-__all__ = ["Pairing", "Sensor", "Sensors", "auto_mac", "comac", "cross_orthogonality", "mac", "mac_of", "pair",
+__all__ = ["Pairing", "PointMap", "Sensor", "Sensors", "map_points", "map_test_geometry", "sensors_from_test",
+           "auto_mac", "comac", "cross_orthogonality", "mac", "mac_of", "pair",
            "shapes_of", "subspace_mac"]

@@ -160,3 +160,123 @@ class Sensors:
         d, r = self._turned(rows, state, True)
         s = np.asarray(shape).reshape(-1, 6)[rows]
         return np.cross(d, s[:, :3]) + np.cross(np.cross(r, d), s[:, 3:])
+
+
+@dataclass(frozen=True)
+class PointMap:
+    """Test points mapped to FE nodes: point_ids (n,), node_ids (n,) the nearest node, distances (n,)
+    [m], tolerance [m] the largest accepted distance, far (point ids beyond it), shared {node: [points]}
+    (nodes that two or more points map to), node_xyz (n, 3) the mapped nodes' positions [m]."""
+
+    point_ids: np.ndarray
+    node_ids: np.ndarray
+    distances: np.ndarray
+    tolerance: float
+    far: tuple = ()
+    shared: dict = field(default_factory=dict)
+    node_xyz: np.ndarray | None = None  # (n, 3) the mapped nodes' positions [m]
+
+    @property
+    def node_map(self) -> dict:
+        """{test point: FE node} (the node_map of Sensors.from_outputs)."""
+        return {int(p): int(n) for p, n in zip(self.point_ids, self.node_ids)}
+
+    def table(self) -> list[dict]:
+        """One row per point: point, node, distance_m, status ('ok', 'far', 'shared')."""
+        rows = []
+        for p, n, d in zip(self.point_ids, self.node_ids, self.distances):
+            status = "far" if int(p) in self.far else "shared" if int(n) in self.shared else "ok"
+            rows.append({"point": int(p), "node": int(n), "distance_m": float(d), "status": status})
+        return rows
+
+
+def map_points(point_ids, points_xyz, node_ids, nodes_xyz, tolerance: float = 0.05,
+               on_far: str = "error", on_shared: str = "warn") -> PointMap:
+    """Map each test point (n, 3) [m, global] to the nearest FE node (m, 3) [m] (give the undeformed
+    positions of the configuration the test was made in). tolerance: the largest distance accepted, as a
+    fraction of the model's size (the diagonal of its nodes' bounding box). on_far / on_shared: 'error'
+    (ModelError), 'warn' (FlexGVTWarning) or 'ignore' for points farther than the tolerance and for two
+    points mapped to one node. Check the unit systems first: test geometry in mm against a model in m is
+    the usual cause of far points."""
+    import warnings
+
+    from ..errors import FlexGVTWarning
+
+    pts = np.asarray(points_xyz, float).reshape(-1, 3)
+    nodes = np.asarray(nodes_xyz, float).reshape(-1, 3)
+    pids = np.asarray(point_ids).astype(int).reshape(-1)
+    nids = np.asarray(node_ids).astype(int).reshape(-1)
+    if len(pids) != len(pts) or len(nids) != len(nodes) or not len(pts) or not len(nodes):
+        raise ModelError(f"map_points: {len(pids)} ids for {len(pts)} test points and {len(nids)} ids for "
+                         f"{len(nodes)} nodes; give one id per position (and at least one of each)")
+    if not (np.all(np.isfinite(pts)) and np.all(np.isfinite(nodes))):
+        raise ModelError("map_points: NaN or infinite coordinates")
+    for name, v in (("on_far", on_far), ("on_shared", on_shared)):
+        if v not in ("error", "warn", "ignore"):
+            raise ModelError(f"map_points: {name}={v!r} must be 'error', 'warn' or 'ignore'")
+    size = float(np.linalg.norm(nodes.max(axis=0) - nodes.min(axis=0))) or 1.0
+    tol = float(tolerance) * size
+    d2 = ((pts[:, None, :] - nodes[None, :, :]) ** 2).sum(axis=2)
+    nearest = np.argmin(d2, axis=1)
+    dist = np.sqrt(d2[np.arange(len(pts)), nearest])
+    mapped = nids[nearest]
+    far = tuple(int(p) for p, d in zip(pids, dist) if d > tol)
+    shared = {}
+    for n in np.unique(mapped):
+        hit = pids[mapped == n]
+        if len(hit) > 1:
+            shared[int(n)] = [int(p) for p in hit]
+    result = PointMap(pids, mapped, dist, tol, far, shared, nodes[nearest])
+
+    def act(kind, message):
+        if kind == "error":
+            raise ModelError(message)
+        if kind == "warn":
+            warnings.warn(message, FlexGVTWarning, stacklevel=3)
+
+    if far:
+        worst = ", ".join(f"point {p} -> node {n} at {d:.4g} m" for p, n, d in zip(pids, mapped, dist) if d > tol)
+        act(on_far, f"{len(far)} test point(s) farther than {tol:.4g} m ({tolerance:g} of the model's size "
+                    f"{size:.4g} m) from any FE node: {worst[:400]}; check the test geometry's units and axes "
+                    "against the model's, or raise the tolerance")
+    if shared:
+        act(on_shared, "test points mapped to one FE node: " + "; ".join(
+            f"node {n}: points {p}" for n, p in list(shared.items())[:10]) + "; refine the mesh near them, "
+            "give offsets (Sensors arms) or drop duplicate points")
+    return result
+
+
+def sensors_from_test(outputs, geometry, point_map: PointMap, offsets: bool = True) -> Sensors:
+    """Sensors for measured channels (n, 2) (point, UFF direction code in the point's displacement
+    system): each on its mapped FE node, along the DOF's global direction (geometry.direction: a DOF at
+    an angle reads the projection of the node's motion on it), with the point's offset from the node
+    as the arm (offsets=True) so rotations are seen as well. geometry: io.uff TestGeometry (or any
+    object with point_ids, xyz and direction(point, code))."""
+    outputs = np.asarray(outputs).astype(int).reshape(-1, 2)
+    node_of = point_map.node_map
+    items = []
+    for k, (pt, code) in enumerate(outputs):
+        if abs(code) not in (1, 2, 3):
+            raise ModelError(f"channel {k} (point {pt}, direction {code}) is not a translation (+-1..3); "
+                             "rotational channels cannot be correlated with the FE translations: drop them")
+        if pt not in node_of:
+            raise ModelError(f"channel {k}: test point {pt} is not in the point map; map every measured point")
+        direction = np.asarray(geometry.direction(int(pt), int(code)), float)
+        arm = np.zeros(3)
+        if offsets:
+            row = int(np.flatnonzero(point_map.point_ids == pt)[0])
+            arm = np.asarray(geometry.xyz[geometry.index(int(pt))], float) - point_map.node_xyz[row]
+        items.append(Sensor(node_of[pt], direction, arm, f"{pt}{'+' if code > 0 else '-'}{AXES[abs(code) - 1]}"))
+    return Sensors(items)
+
+
+
+def map_test_geometry(geometry, model, tolerance: float = 0.05, deformed=None, **kwargs) -> PointMap:
+    """map_points for a test geometry (io.uff TestGeometry: point_ids, xyz global [m]) onto a model's
+    undeformed node positions (model.node_ids, model.xyz: the same for every configuration), or onto
+    a deformed equilibrium (``deformed``: a fem State, its node_ids and positions) when the test points
+    were measured on the loaded structure. kwargs: on_far, on_shared."""
+    if deformed is not None:
+        return map_points(geometry.point_ids, geometry.xyz, deformed.node_ids, deformed.positions, tolerance,
+                          **kwargs)
+    return map_points(geometry.point_ids, geometry.xyz, model.node_ids, model.xyz, tolerance, **kwargs)

@@ -167,3 +167,19 @@ def stepped_sine_frf(steps) -> tuple[np.ndarray, np.ndarray]:
         freqs.append(fhz)
         rows.append(amp[1:] / amp[0])
     return np.array(freqs), np.array(rows)[:, :, None]
+
+
+def estimate_frf_from_time(histories, references=None, estimator: str = "H1", **kwargs) -> FRFs:
+    """FRFs from simultaneous time histories (flexgvt.io.uff.TimeHistories, e.g. read_time_histories(path)):
+    the reference (force) channels are ``references`` [(point, direction code)] or those the file marks
+    as forces; every other channel is a response. kwargs go to :func:`estimate_frf` (nperseg, overlap,
+    window, records...). The FRFs carry the channels' DOF labels and 'response unit/force unit'."""
+    force, response, inputs, outputs = histories.signals(references)
+    est = estimate_frf(force, response, histories.sample_rate_hz, estimator, **kwargs)
+    units = getattr(histories, "units", ())
+    dofs = [tuple(d) for d in np.asarray(histories.dofs).tolist()]
+    label = ""
+    if units and len(units) == len(dofs):
+        label = f"{units[dofs.index(tuple(outputs[0]))]}/{units[dofs.index(tuple(inputs[0]))]}"
+    return FRFs(est.frequencies_hz, est.H, outputs, inputs, label, est.coherence, est.variance, est.n_averages,
+                est.estimator)

@@ -10,40 +10,25 @@ file's units, whose labels are carried with them.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+import re
+import warnings
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
 
-from ..errors import FileFormatError, ModelError
+from ..errors import FileFormatError, FlexGVTWarning, ModelError
 from ..modal import FRFs, ModalSet
 
-DIRECTIONS = {1: "+X", 2: "+Y", 3: "+Z", 4: "+RX", 5: "+RY", 6: "+RZ",
-              -1: "-X", -2: "-Y", -3: "-Z", -4: "-RX", -5: "-RY", -6: "-RZ", 0: "scalar"}
-FUNCTION_TYPES = {0: "general", 1: "time response", 2: "auto spectrum", 3: "cross spectrum", 4: "FRF",
-                  5: "transmissibility", 6: "coherence", 7: "auto correlation", 8: "cross correlation",
-                  9: "power spectral density", 10: "energy spectral density", 11: "probability density",
-                  12: "spectrum", 13: "cumulative frequency distribution", 14: "peaks valley", 15: "stress/cycles",
-                  16: "strain/cycles", 17: "orbit", 18: "mode indicator function", 19: "force pattern",
-                  20: "partial power", 21: "partial coherence", 22: "eigenvalue", 23: "eigenvector",
-                  24: "shock response spectrum", 25: "finite impulse response filter",
-                  26: "multiple coherence", 27: "order function"}
-
-
-@dataclass(frozen=True)
-class TestGeometry:
-    """Test points: ids (n,), coordinates xyz (n, 3) [m]."""
-
-    __test__ = False  # not a pytest class
-
-    point_ids: np.ndarray
-    xyz: np.ndarray
-
-    def index(self, point_id: int) -> int:
-        hits = np.flatnonzero(self.point_ids == point_id)
-        if not len(hits):
-            raise FileFormatError(f"test point {point_id} is not in the geometry")
-        return int(hits[0])
+from . import uff_describe, uff_geometry, uff_modes
+from .uff_geometry import TestGeometry
+from .uff_scan import DIRECTIONS, FUNCTION_TYPES, UFFContents, cut_message, read_blocks
+from .uff_time import TimeHistories
+from .uff_time import assemble as assemble_time
+from .uff_scan import as_column as _column
+from .uff_scan import as_ids as _ids
+from .uff_scan import as_int as _int
+from .uff_scan import get_field as _get
 
 
 @dataclass(frozen=True)
@@ -58,6 +43,8 @@ class Function:
     abscissa_label: str = ""
     ordinate_label: str = ""
     denominator_label: str = ""
+    spec_type: int = 0  # ordinate specific data type (13 force, 12 acceleration, 8 displacement...)
+    name: str = ""
 
 
 # The one FRFs and ModalSet types (flexgvt.modal). ModalResults, the former dataset-55 type, is the
@@ -70,7 +57,10 @@ ModalResults = ModalSet.from_points
 
 @dataclass(frozen=True)
 class UFFData:
-    """Everything read from a UFF file."""
+    """Everything read from a UFF file: geometry (points in global axes with their displacement
+    systems, trace lines, elements), functions (58), modes (55 or 2414), units (164), the dataset
+    numbers skipped, and ``dropped``: the incomplete FRF channels read_uff(drop_incomplete=True) left
+    out, as text lines."""
 
     path: str
     geometry: TestGeometry | None
@@ -78,14 +68,80 @@ class UFFData:
     modes: ModalSet | None
     units: dict = field(default_factory=dict)
     skipped: tuple[int, ...] = ()
+    dropped: tuple[str, ...] = ()
+    contents: UFFContents | None = field(default=None, repr=False)
+
+    def describe(self) -> str:
+        """What the file holds (datasets, functions with their DOFs, geometry, modes)."""
+        return str(self.contents) if self.contents is not None else self.path
+
+    def _missing(self, what: str, wanted: str) -> FileFormatError:
+        hint = self.contents.hint(wanted) if self.contents is not None else "export it from the test system"
+        held = self.contents.summary() if self.contents is not None else "nothing flexgvt reads"
+        return FileFormatError(f"{self.path}: no {what} in the file; it holds {held}: {hint}")
 
     @property
     def frfs(self) -> FRFs:
         """The FRFs (function type 4) assembled into an (n_freq, n_outputs, n_inputs) matrix."""
         frf = [f for f in self.functions if f.kind == "FRF"]
         if not frf:
-            raise FileFormatError(f"{self.path}: no FRF (dataset 58, function type 4) in the file")
+            raise self._missing("FRF (dataset 58, function type 4)", "frf")
         return assemble_frfs(frf, self.path)
+
+    @property
+    def time_histories(self) -> TimeHistories:
+        """The time histories (function type 1) as simultaneous channels (flexgvt.ema.estimate_frf_from_time)."""
+        th = [f for f in self.functions if f.kind == "time response"]
+        if not th:
+            raise self._missing("time history (dataset 58, function type 1)", "time")
+        return assemble_time(th, self.path)
+
+    def require_modes(self) -> ModalSet:
+        """The modes, or an error saying what the file holds instead."""
+        if self.modes is None:
+            raise self._missing("modes (dataset 55 or 2414)", "modes")
+        return self.modes
+
+
+def missing_pairs(functions) -> tuple[list, list, list]:
+    """(outputs, inputs, missing (response, reference) pairs) of FRF functions."""
+    outputs = sorted({f.response for f in functions})
+    inputs = sorted({f.reference for f in functions})
+    have = {(f.response, f.reference) for f in functions}
+    return outputs, inputs, [(o, i) for o in outputs for i in inputs if (o, i) not in have]
+
+
+def _dof(d) -> str:
+    return f"{d[0]}{DIRECTIONS.get(d[1], '?')}"
+
+
+def drop_incomplete_channels(functions, where: str = "") -> tuple[list, tuple[str, ...]]:
+    """FRF functions with the incomplete channels left out: repeatedly drop the response (row) or
+    reference (column) missing the most pairs, preferring responses, until the matrix is complete.
+    Returns (kept functions, lines saying what was dropped and why)."""
+    frf = [f for f in functions if f.kind == "FRF"]
+    outputs, inputs, missing = missing_pairs(frf)
+    dropped = []
+    while missing:
+        row = {o: sum(m[0] == o for m in missing) for o in outputs}
+        col = {i: sum(m[1] == i for m in missing) for i in inputs}
+        o, no = max(row.items(), key=lambda kv: kv[1])
+        i, ni = max(col.items(), key=lambda kv: kv[1])
+        # a reference goes only when it misses more pairs than there are references left to lose rows for
+        if ni > len(outputs) / 2 and len(inputs) > 1:
+            lost = [m for m in missing if m[1] == i]
+            dropped.append(f"reference {_dof(i)}: no FRF for {len(lost)} of {len(outputs)} responses "
+                           f"({', '.join(_dof(m[0]) for m in lost[:6])}{'...' if len(lost) > 6 else ''})")
+            frf = [f for f in frf if f.reference != i]
+        else:
+            lost = [m for m in missing if m[0] == o]
+            dropped.append(f"response {_dof(o)}: no FRF for reference {', '.join(_dof(m[1]) for m in lost)}")
+            frf = [f for f in frf if f.response != o]
+        if not frf:
+            raise FileFormatError(f"{where}: dropping the incomplete channels leaves no FRF ({'; '.join(dropped)})")
+        outputs, inputs, missing = missing_pairs(frf)
+    kept = set(map(id, frf))
+    return [f for f in functions if f.kind != "FRF" or id(f) in kept], tuple(dropped)
 
 
 def assemble_frfs(functions, where: str = "") -> FRFs:
@@ -95,20 +151,32 @@ def assemble_frfs(functions, where: str = "") -> FRFs:
         if f.x.shape != x.shape or not np.allclose(f.x, x, rtol=1e-9, atol=0):
             raise FileFormatError(f"{where}: FRF {f.response} / {f.reference} has another frequency axis than "
                                   f"{functions[0].response} / {functions[0].reference}; resample them to one axis")
-    outputs = sorted({f.response for f in functions})
-    inputs = sorted({f.reference for f in functions})
-    H = np.full((len(x), len(outputs), len(inputs)), np.nan + 0j)
+    outputs, inputs, missing = missing_pairs(functions)
+    if missing:
+        names = ", ".join(f"{_dof(o)} / {_dof(i)}" for o, i in missing[:8]) + (" ..." if len(missing) > 8 else "")
+        raise FileFormatError(f"{where}: the FRF matrix is incomplete: {len(missing)} of {len(outputs) * len(inputs)} "
+                              f"(response / reference) pairs have no FRF: {names}; supply them, or drop the "
+                              "incomplete channels (read_uff(path, drop_incomplete=True); flexgvt ema frf/identify "
+                              "--drop-incomplete; project key drop_incomplete = true)")
+    H = np.zeros((len(x), len(outputs), len(inputs)), complex)
+    seen = set()
     for f in functions:
+        key = (f.response, f.reference)
+        if key in seen:
+            raise FileFormatError(f"{where}: two FRFs for {_dof(key[0])} / {_dof(key[1])}; keep one per pair")
+        seen.add(key)
         H[:, outputs.index(f.response), inputs.index(f.reference)] = f.data
-    if np.isnan(H).any():
-        missing = [(o, i) for a, o in enumerate(outputs) for b, i in enumerate(inputs) if np.isnan(H[0, a, b])]
-        raise FileFormatError(f"{where}: the FRF matrix is incomplete: no function for (response, reference) "
-                              f"{missing[:5]}; supply every pair or read the functions individually")
     return FRFs(np.asarray(x, float), H, np.array(outputs), np.array(inputs),
                 f"{functions[0].ordinate_label}/{functions[0].denominator_label}")
 
 
+def _also_cut(cut: str | None) -> str:
+    return f" (and the file is cut off: {cut.split(': ', 1)[1].split(';')[0]})" if cut else ""
+
+
 def _read_sets(path: Path):
+    """(pyuff dataset dicts, the file's dataset blocks, the cut-off message or None); a file pyuff
+    cannot read because it is cut off is refused naming its last complete dataset."""
     import pyuff
 
     if "\x00" in str(path):
@@ -119,70 +187,31 @@ def _read_sets(path: Path):
         raise FileFormatError(f"{str(path)[:200]}: cannot be opened ({exc.strerror})") from None
     if not found:
         raise FileFormatError(f"{path}: no such file" + (" (a folder)" if path.is_dir() else ""))
+    _, blocks = read_blocks(path)
+    cut = cut_message(path, blocks)
     try:
         uff = pyuff.UFF(str(path))
         types = list(uff.get_set_types())
     except Exception as exc:  # pyuff raises bare Exceptions on malformed files
+        if cut:
+            raise FileFormatError(cut) from None
         raise FileFormatError(f"{path}: not a readable UFF file ({exc}); check that it is a universal file with "
                               "'    -1' delimiters") from None
     if not types:
+        if cut:
+            raise FileFormatError(cut)
         raise FileFormatError(f"{path}: no UFF dataset found (datasets start and end with a '    -1' line)")
     sets = []
     for k in range(len(types)):
         try:
             sets.append(uff.read_sets(k))
         except Exception as exc:
-            raise FileFormatError(f"{path}: dataset {k + 1} (type {int(types[k])}) is malformed or truncated: "
-                                  f"{type(exc).__name__}: {exc}") from None
-    return sets
-
-
-def _get(s: dict, key: str, where: str):
-    """A field of a pyuff dataset dict; missing -> FileFormatError naming the dataset and field."""
-    if key not in s:
-        raise FileFormatError(f"{where}: no field '{key}' (the dataset is incomplete or of a variant flexgvt "
-                              "does not read); re-export the file")
-    return s[key]
-
-
-def _int(value, where: str, what: str) -> int:
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        raise FileFormatError(f"{where}: {what} {value!r} is not a number") from None
-    if not np.isfinite(v) or v != int(v) or abs(v) > 2**31:
-        raise FileFormatError(f"{where}: {what} {value!r} is not an integer id/code")
-    return int(v)
-
-
-def _ids(values, where: str, what: str = "node ids") -> np.ndarray:
-    try:
-        a = np.atleast_1d(np.asarray(values, float))
-    except (TypeError, ValueError):
-        raise FileFormatError(f"{where}: {what} are not numbers") from None
-    if a.ndim != 1 or not np.all(np.isfinite(a)) or np.any(a != np.round(a)) or np.any(np.abs(a) > 2**31):
-        raise FileFormatError(f"{where}: {what} must be integers")
-    return a.astype(np.int64)
-
-
-def _column(values, where: str, what: str, n: int | None = None, dtype=float) -> np.ndarray:
-    try:
-        a = np.atleast_1d(np.asarray(values, dtype))
-    except (TypeError, ValueError):
-        raise FileFormatError(f"{where}: {what} are not numbers (a field shifted or cut?)") from None
-    if a.ndim != 1 or (n is not None and len(a) != n):
-        raise FileFormatError(f"{where}: {len(a)} values of {what} for {n} nodes (a line is missing or a node "
-                              "count changed); re-export the file")
-    return a
-
-
-def _geometry_set(s: dict, where: str, length: float) -> TestGeometry:
-    ids = _ids(_get(s, "node_nums", where), where)
-    cols = [_column(_get(s, c, where), where, f"{c} coordinates", len(ids)) for c in ("x", "y", "z")]
-    xyz = np.column_stack(cols) / length
-    if not np.all(np.isfinite(xyz)):
-        raise FileFormatError(f"{where}: NaN or infinite coordinates")
-    return TestGeometry(ids, xyz)
+            if cut and k >= len(blocks) - 1:
+                raise FileFormatError(cut) from None
+            line = f", starting at line {blocks[k].first_line}" if k < len(blocks) else ""
+            raise FileFormatError(f"{path}: dataset {k + 1} (type {int(types[k])}{line}) is malformed or truncated: "
+                                  f"{type(exc).__name__}: {exc}{_also_cut(cut)}") from None
+    return sets, blocks, cut
 
 
 def _function_set(s: dict, where: str) -> Function:
@@ -207,7 +236,9 @@ def _function_set(s: dict, where: str) -> Function:
     return Function(FUNCTION_TYPES.get(func_type, f"type {func_type}"), rsp, ref, x, data,
                     str(s.get("abscissa_axis_units_lab", "")).strip(),
                     str(s.get("ordinate_axis_units_lab", "")).strip(),
-                    str(s.get("orddenom_axis_units_lab", "")).strip())
+                    str(s.get("orddenom_axis_units_lab", "")).strip(),
+                    _int(s.get("ordinate_spec_data_type", 0), where, "ordinate data type"),
+                    str(s.get("rsp_ent_name", "")).strip())
 
 
 def _units_set(s: dict, where: str) -> dict:
@@ -222,41 +253,115 @@ def _units_set(s: dict, where: str) -> dict:
     return out
 
 
-def read_uff(path: str | Path) -> UFFData:
-    """Read geometry (15, 2411), functions (58/58b), modes (55) and units (164) from a UFF file.
+def _is_nx(sets) -> bool:
+    return any(s.get("type") == 151 and "NX" in f"{s.get('db_app', '')} {s.get('program', '')}" for s in sets)
 
-    Raises FileFormatError naming the file and dataset for anything malformed (missing fields,
-    ragged node lists, non-numeric or non-finite values)."""
+
+def read_uff(path: str | Path, *, drop_incomplete: bool = False, coordinates: str = "auto") -> UFFData:
+    """Read a UFF file: geometry (15, 2411 nodes in global axes through the coordinate systems 18 and
+    2420, each node's displacement axes; 82 trace lines, 2412 elements), functions (58/58b), modes
+    (55; 2414 normal modes as NX writes them, turned into global axes) and units (164: lengths -> m).
+
+    drop_incomplete: leave out the FRF channels (responses, or a reference) whose (response,
+    reference) pairs are not all present; ``.dropped`` and a FlexGVTWarning say what went.
+    coordinates: 'definition' (the format: node coordinates in each node's definition system, 2414
+    result components in its displacement system), 'global' (both taken as global; the systems still
+    give each point's measured directions), 'auto' (definition, except files written by NX, which
+    writes both in global components whatever the systems: docs/uff.md).
+    Raises FileFormatError naming the file and dataset for anything malformed or cut off."""
+    if coordinates not in ("auto", "definition", "global"):
+        raise FileFormatError(f"coordinates={coordinates!r} must be 'auto', 'definition' or 'global'")
     path = Path(path)
-    sets = _read_sets(path)
+    sets, blocks, cut = _read_sets(path)
+    try:
+        data = _parse(path, sets, blocks, drop_incomplete, coordinates)
+    except FileFormatError as exc:
+        if not cut or str(exc).endswith(_also_cut(cut)):
+            raise
+        found = re.search(r": dataset (\d+) \(type", str(exc))
+        if found is None or int(found.group(1)) >= len(blocks):  # the error is in the cut dataset
+            raise FileFormatError(cut) from None
+        raise FileFormatError(f"{exc}{_also_cut(cut)}") from None
+    if cut:
+        raise FileFormatError(cut)
+    return data
+
+
+def _parse(path: Path, sets, blocks, drop_incomplete: bool, coordinates: str) -> UFFData:
     units = {}
     for k, s in enumerate(sets):
         if s.get("type") == 164:
             units = _units_set(s, f"{path}: dataset {k + 1} (type 164)")
     length = units.get("length", 1.0)
+    systems: dict = {}
+    for k, s in enumerate(sets):  # 2420 first: 18 may refer to them
+        if s.get("type") == 2420:
+            systems.update(uff_geometry.systems_2420(s, f"{path}: dataset {k + 1} (type 2420)", length))
+    for k, s in enumerate(sets):
+        if s.get("type") == 18:
+            systems = uff_geometry.systems_18(s, f"{path}: dataset {k + 1} (type 18)", length, systems)
+    as_global = coordinates == "global" or (coordinates == "auto" and _is_nx(sets))
     geometry = None
+    traces: tuple = ()
+    elements: tuple = ()
     functions = []
-    modes = []
+    modes, modes_2414 = [], []
     skipped = []
     for k, s in enumerate(sets):
         t = s.get("type")
         where = f"{path}: dataset {k + 1} (type {t})"
         if t in (15, 2411):
-            g = _geometry_set(s, where, length)
-            geometry = g if geometry is None else TestGeometry(np.r_[geometry.point_ids, g.point_ids],
-                                                               np.r_[geometry.xyz, g.xyz])
+            g = uff_geometry.nodes(s, where, length, systems, as_global)
+            geometry = g if geometry is None else geometry.merged(g)
+        elif t == 82:
+            traces += uff_geometry.traces(s, where)
+        elif t == 2412:
+            elements += uff_geometry.elements(s, where)
         elif t == 58:
             functions.append(_function_set(s, where))
         elif t == 55:
             modes.append((k, s))
-        elif t != 164:
+        elif t == 2414:
+            modes_2414.append((k, s))
+        elif t not in (164, 18, 2420, 151, 2400):
             skipped.append(int(t) if isinstance(t, (int, np.integer)) else -1)
-    return UFFData(str(path), geometry, tuple(functions), _modes(modes, path), units, tuple(skipped))
+    if geometry is not None:
+        notes = (("node coordinates and 2414 result components taken as global (NX writes them so)",)
+                 if as_global and coordinates == "auto" else ())
+        if not units:
+            notes += ("no units dataset 164: coordinates taken as metres",)
+        geometry = replace(geometry, traces=traces, elements=elements, coordinate_systems=systems, notes=notes)
+    elif traces or elements:
+        geometry = TestGeometry(np.zeros(0, int), np.zeros((0, 3)), traces=traces, elements=elements,
+                                coordinate_systems=systems)
+    if modes and modes_2414:
+        raise FileFormatError(f"{path}: modes as both dataset 55 ({len(modes)}) and 2414 ({len(modes_2414)}); "
+                              "export one set of modes per file")
+    mode_set = _modes(modes, path) if modes else uff_modes.modes_2414(modes_2414, path, geometry, as_global)
+    dropped: tuple = ()
+    if drop_incomplete:
+        functions, dropped = drop_incomplete_channels(functions, str(path))
+        if dropped:
+            warnings.warn(f"{path}: incomplete FRF channels dropped: {'; '.join(dropped)}", FlexGVTWarning,
+                          stacklevel=3)
+    contents = uff_describe.contents_of(path, sets, blocks, geometry, mode_set, units, functions)
+    return UFFData(str(path), geometry, tuple(functions), mode_set, units, tuple(skipped), dropped, contents)
+
+
+def describe_uff(path: str | Path) -> UFFContents:
+    """What a UFF file holds: datasets by number with counts, the functions (58) by type with their
+    response/reference DOFs, points, coordinate systems, trace lines, elements, modes, units; a cut-off
+    file is described up to its last complete dataset. ``str()`` of the result is one readable line."""
+    return uff_describe.describe(Path(path))
+
+
+def read_time_histories(path: str | Path) -> TimeHistories:
+    """The time histories (58, function type 1) of a file as simultaneous channels; estimate FRFs with
+    flexgvt.ema.estimate_frf_from_time(histories, references=..., estimator='H1', nperseg=...)."""
+    return read_uff(path).time_histories
 
 
 def _modes(sets, path) -> ModalSet | None:
-    if not sets:
-        return None
     freqs, damps, shapes, fstd, zstd = [], [], [], [], []
     ids = None
     for k, s in sets:
@@ -321,8 +426,11 @@ def shapes_at_points(shapes: np.ndarray, outputs: np.ndarray) -> tuple[np.ndarra
 
 
 def write_uff(path: str | Path, *, geometry: TestGeometry | None = None, frfs: FRFs | None = None,
-              modes: ModalSet | None = None, binary: bool = False) -> Path:
-    """Write geometry (15), units (164, SI), FRFs (58, complex) and modes (55: a ModalSet with labelled
+              modes: ModalSet | None = None, binary: bool = False,
+              time_histories: TimeHistories | None = None) -> Path:
+    """Write geometry (15; points whose displacement axes are turned get a dataset 18 system each),
+    units (164, SI), FRFs (58, complex), time histories (58 type 1, real
+    double; force channels marked with ordinate type 13) and modes (55: a ModalSet with labelled
     translation or rotation DOFs, laid out per point) to a new UFF file."""
     import pyuff
 
@@ -339,8 +447,22 @@ def write_uff(path: str | Path, *, geometry: TestGeometry | None = None, frfs: F
                               temp_offset=273.15)]
     if geometry is not None:
         n = len(geometry.point_ids)
+        disp = [0] * n
+        turned = [k for k in range(n) if not np.allclose(geometry.axes[k], np.eye(3), atol=1e-12)]
+        if turned:  # each point's displacement axes as a dataset 18 system (origin, +x point, +xz point)
+            o = geometry.xyz[turned]
+            R = geometry.axes[turned]
+            disp = [0] * n
+            for j, k in enumerate(turned):
+                disp[k] = j + 1
+            sets.append(pyuff.prepare_18(cs_num=list(range(1, len(turned) + 1)), cs_type=[0] * len(turned),
+                                         ref_cs_num=[0] * len(turned), color=[1] * len(turned),
+                                         method=[1] * len(turned), cs_name=[f"P{int(geometry.point_ids[k])}"
+                                                                            for k in turned],
+                                         ref_o=o.tolist(), x_point=(o + R[:, 0]).tolist(),
+                                         xz_point=(o + R[:, 2]).tolist()))
         sets.append(pyuff.prepare_15(node_nums=[int(i) for i in geometry.point_ids], def_cs=[0] * n,
-                                     disp_cs=[0] * n, color=[1] * n, x=geometry.xyz[:, 0].tolist(),
+                                     disp_cs=disp, color=[1] * n, x=geometry.xyz[:, 0].tolist(),
                                      y=geometry.xyz[:, 1].tolist(), z=geometry.xyz[:, 2].tolist()))
     if frfs is not None:
         f = frfs.frequencies_hz
@@ -353,6 +475,21 @@ def write_uff(path: str | Path, *, geometry: TestGeometry | None = None, frfs: F
                                              abscissa_inc=float(f[1] - f[0]) if len(f) > 1 else 0.0,
                                              abscissa_spec_data_type=18, ordinate_spec_data_type=12,
                                              orddenom_spec_data_type=13, id1="FRF", data=frfs.H[:, a, b], x=f))
+    if time_histories is not None:
+        th = time_histories
+        if not np.all(np.isfinite(th.data)):
+            raise FileFormatError(f"{path}: cannot write time histories containing NaN or infinity")
+        for k, (pt, d) in enumerate(np.asarray(th.dofs, int)):
+            spec = int(th.spec_types[k]) if k < len(th.spec_types) else 0
+            unit = str(th.units[k]) if k < len(th.units) else ""
+            sets.append(pyuff.prepare_58(binary=int(binary), func_type=1, rsp_node=int(pt), rsp_dir=int(d),
+                                         ref_node=0, ref_dir=0, ord_data_type=4, num_pts=th.n_samples,
+                                         abscissa_spacing=1, abscissa_min=float(th.t0_s),
+                                         abscissa_inc=1.0 / float(th.sample_rate_hz), abscissa_spec_data_type=17,
+                                         abscissa_axis_units_lab="s", ordinate_spec_data_type=spec,
+                                         ordinate_axis_units_lab=unit, orddenom_spec_data_type=0, id1="time",
+                                         data=np.asarray(th.data[k], float),
+                                         x=th.t0_s + np.arange(th.n_samples) / th.sample_rate_hz))
     if modes is not None:
         try:
             point_ids, point_shapes = modes.point_shapes()
