@@ -15,7 +15,8 @@ from flexgvt.workflow import ProjectError, load_project
 TOML = DATA / "toml"
 CASES = {  # folder: (key named in the message, what it says)
     "TypeError_flexgvt_updating_variables_py_163___setcomp__": ("variables[22] ('E_tail_boom')", "beam group names"),
-    "TypeError_flexgvt_updating_variables_py_177___listcomp__": ("variables[29] ('k6_wing_tail')", "no spring named '['"),
+    "TypeError_flexgvt_updating_variables_py_177___listcomp__": ("variables[29] ('k6_wing_tail')",
+                                                                 "no spring named '['"),
     "OSError_flexgvt_workflow_project_py_99___need_file_": ("configurations[1] ('inboard').test.modes", "too long"),
     "ValueError_flexgvt_suspension_identify_py_71__identify_block_": ("suspension_tests[0] ('left')",
                                                                       "one damping ratio per frequency"),
