@@ -51,7 +51,7 @@ def test_standard_deviations_cover_the_true_errors(runs):
     """|error| < 2 sigma in 90-99 % of the 240 mode-seed-quantity cases (95.4 % expected for a
     Gaussian estimate with the right sigma; binomial standard deviation about 1.4 %)."""
     inside = []
-    for (snr, seed), (_, ms) in runs.items():
+    for _key, (_, ms) in runs.items():
         idx, _ = G.match(ms.frequencies_hz)
         inside += list(np.abs(ms.frequencies_hz[idx] - G.FN) < 2 * ms.frequency_std_hz[idx])
         inside += list(np.abs(ms.damping_ratio[idx] - G.ZETA) < 2 * ms.damping_std[idx])

@@ -96,5 +96,5 @@ def test_io_no_longer_solves_and_says_where_solving_went():
     """io never calls the solver (the layers of docs/architecture.md): the deprecated io alias of
     solve_deck is gone and its name points to flexgvt.workflow.solve_deck."""
     with pytest.raises(AttributeError, match="use flexgvt.workflow.solve_deck"):
-        fg.io.solve_deck
+        _ = fg.io.solve_deck
     assert "solve_deck" not in fg.io.__all__ and not hasattr(fg.io.nastran, "solve_deck")

@@ -28,7 +28,7 @@ def test_binary_58b_time_record():
     (f,) = data.functions
     assert f.kind == "time response" and len(f.x) == 79292 and np.all(np.diff(f.x) > 0)
     with pytest.raises(FileFormatError, match="no FRF"):
-        data.frfs
+        _ = data.frfs
 
 
 @pytest.mark.parametrize("binary", [False, True])

@@ -48,7 +48,7 @@ def test_testlab_geometry_with_per_point_displacement_systems():
     np.testing.assert_allclose(z[30:], [[0, 0, 1]] * 6, atol=1e-6)
     np.testing.assert_allclose(g.direction(1, -1), [1, 0, 0], atol=1e-6)  # local -X of point 1 is global +X
     with pytest.raises(FileFormatError, match="it holds .*36 points.*3 trace lines.*test geometry only"):
-        data.frfs
+        _ = data.frfs
 
 
 def test_nx_geometry_is_a_straight_line_of_beams_and_its_modes_read():
@@ -93,7 +93,7 @@ def test_oros_and_artemis_geometry_with_elements():
 def test_time_records_read_and_refused_as_frfs_with_what_they_hold(name):
     data = read_uff(DATA / name)
     with pytest.raises(FileFormatError, match=r"no FRF .* 1 time response \(58 type 1\).*flexgvt ema frf"):
-        data.frfs
+        _ = data.frfs
     th = read_time_histories(DATA / name)
     assert th.data.shape == (1, 79292) and th.units == ("Pa",)
     assert th.sample_rate_hz == pytest.approx(1 / 1.52588e-05, rel=1e-5)
@@ -109,7 +109,7 @@ def test_describe_uff_names_datasets_functions_and_geometry():
     s = describe_uff(DATA / "Sample_UFF58b_bin.uff")
     assert s.functions == (("time response", "0+X", "0 (scalar)", 79292),)
     with pytest.raises(FileFormatError, match="it holds .*176 modes.*read_uff\\(path\\).modes"):
-        read_uff(NX).frfs
+        _ = read_uff(NX).frfs
     with pytest.raises(FileFormatError, match="no modes .* it holds .*time response"):
         read_uff(DATA / "Sample_UFF58_ascii.uff").require_modes()
 

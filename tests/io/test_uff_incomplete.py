@@ -45,7 +45,7 @@ def test_missing_channel_names_the_pairs_and_can_be_dropped(tmp_path):
     path.write_text("\n".join(lines[:a] + lines[b + 1:]))
     data = read_uff(path)
     with pytest.raises(FileFormatError, match=r"incomplete: 1 of 6 .* 2\+Z / 1\+Z;.*drop_incomplete=True"):
-        data.frfs
+        _ = data.frfs
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         kept = read_uff(path, drop_incomplete=True)

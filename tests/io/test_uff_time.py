@@ -30,7 +30,7 @@ def test_time_histories_round_trip(uff_pair):
     force, resp, inputs, outputs = back.signals()
     assert inputs.tolist() == [[100, 3]] and outputs.tolist() == [[1, 3], [2, 3], [3, -2]]
     with pytest.raises(FileFormatError, match=r"no FRF .*4 time responses.*estimate FRFs"):
-        read_uff(path).frfs
+        _ = read_uff(path).frfs
 
 
 @pytest.mark.parametrize("estimator", ["H1", "Hv"])

@@ -149,7 +149,7 @@ def _build(p: dict, n_per_section: int, factors: dict | None = None, mass_factor
     boom = CircularTubeSection(ro, ri, shear=False)
     boom_mass = p["boom_rho"] * math.pi * (ro**2 - ri**2) * p["boom_length"]
     tail_nodes = {}
-    for k, y in enumerate(BOOM_JUNCTIONS):
+    for y in BOOM_JUNCTIONS:
         root = junction[y]
         ids = model.add_nodes(_points(root, root + np.array([p["boom_length"], 0, 0]), n_boom))
         name = f"tail_boom_{'L' if y < 0 else 'R'}{int(abs(y))}"

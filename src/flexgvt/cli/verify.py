@@ -31,7 +31,7 @@ def register(app: typer.Typer, console: Console) -> None:
             result = run(case, seed=seed, n_modes=modes, method=method)
         except FlexGVTError as exc:
             console.print(f"[bold red]error:[/] {exc}")
-            raise typer.Exit(code=2)
+            raise typer.Exit(code=2) from None
         console.print(result.summary())
         table = Table(title="design variables: error against the reference [%]")
         for col in ("variable", "initial", "multi-configuration", "single-configuration", "std (multi)"):

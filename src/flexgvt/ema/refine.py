@@ -410,7 +410,7 @@ def _solve(prob, theta0, max_iter, tol):
     mu = 1e-3
     converged = False
     it = 0
-    for it in range(1, max_iter + 1):
+    for it in range(1, max_iter + 1):  # noqa: B007 - the count is read after the loop
         d = np.maximum(np.diag(S), 1e-300)
         while True:
             try:

@@ -54,7 +54,7 @@ def average_tests(modal_sets, tol_f: float = 0.05, min_mac: float = 0.8, min_tes
                     mac = float(macs[j, m])
                     if mac >= min_mac:
                         pairs.append((mac, m, j))
-        for mac, m, j in sorted(pairs, reverse=True):
+        for _mac, m, j in sorted(pairs, reverse=True):
             if idx[m][t] is not None or j in used:
                 continue
             idx[m][t] = j

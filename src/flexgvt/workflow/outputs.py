@@ -97,7 +97,7 @@ def write_outputs(res, out: Path) -> dict[str, str]:
         files["bdf"] = str(_atomically(write_updated_bdf, res, out / "updated.bdf"))
     if spec.uff:
         for name, item in res.identified.items():
-            path = _atomically(lambda p: write_identified_uff(res.project, item, p),
+            path = _atomically(lambda p, item=item: write_identified_uff(res.project, item, p),
                                out / f"identified-{safe_name(name)}.uff")
             if path is not None:
                 files[f"identified {name}"] = str(path)
@@ -106,7 +106,7 @@ def write_outputs(res, out: Path) -> dict[str, str]:
                                                          out / f"predicted-free-free-{key}.uff"))
     for key, pred in res.predictions.items():
         # flexgvt.report's CSV: None as an empty cell, floats in full
-        path = _atomically(lambda p: write_csv(pred.rows, p), out / f"prediction-{key}.csv")
+        path = _atomically(lambda p, pred=pred: write_csv(pred.rows, p), out / f"prediction-{key}.csv")
         files[f"prediction table {key}"] = str(path)
     return files
 

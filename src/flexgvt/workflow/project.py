@@ -142,7 +142,7 @@ def resolve(path: Path, spec: ProjectFile) -> Project:
             for key, files in (("frfs", t.frfs), ("modes", t.modes)):
                 for f in ([files] if isinstance(files, str) else files or []):
                     _need_file(rel(f, f"{loc}.test.{key}"), f"{loc}.test.{key}", "test data file")
-            sensors[c.name] = _points(t.points, case, model, lambda s: rel(s, f"{loc}.test.points"),
+            sensors[c.name] = _points(t.points, case, model, lambda s, loc=loc: rel(s, f"{loc}.test.points"),
                                       f"{loc}.test.points")
     if not spec.variables and any(c.role == "update" for c in spec.configurations):
         raise ProjectError(f"{where}: variables: no design variable; add [[variables]] tables (or set every "

@@ -167,7 +167,7 @@ def load_deck(path: Path, units: Units, mass: str | None, rotary_inertia: bool, 
     except Exception as exc:
         text = exception_text(exc)
         raise ModelError(f"{path}: coordinate systems or grids could not be resolved: "
-                         f"{text.splitlines()[0] if text else type(exc).__name__}; check CORD/GRID cards")
+                         f"{text.splitlines()[0] if text else type(exc).__name__}; check CORD/GRID cards") from exc
     wtmass = float(_param(bdf, "WTMASS", 1.0))
     if not (math.isfinite(wtmass) and wtmass > 0):
         raise ModelError(f"{path}: PARAM,WTMASS={wtmass} must be a positive number")
