@@ -145,9 +145,14 @@ def test_bad_input_and_fallback():
     # A refinement that cannot converge in one iteration falls back to the start with a warning and
     # keeps the start's values, now with standard deviations.
     with pytest.warns(UserWarning, match="PolyMAX estimate is kept"):
-        kept = refine(frfs, start, max_iter=1, tol=0.0)
+        kept = refine(frfs, start, max_iterations=1, tolerance=0.0)
     np.testing.assert_allclose(kept.frequencies_hz, start.frequencies_hz, rtol=1e-12)
     assert kept.frequency_std_hz is not None and np.all(np.isfinite(kept.frequency_std_hz))
+    # The old keyword names still work, and say which names replace them.
+    with pytest.warns(DeprecationWarning, match="max_iterations=, tolerance="), \
+            pytest.warns(UserWarning, match="PolyMAX estimate is kept"):
+        old = refine(frfs, start, max_iter=1, tol=0.0)
+    np.testing.assert_array_equal(old.frequencies_hz, kept.frequencies_hz)
 
 
 def test_significance_screen_matches_the_full_statistic():

@@ -443,8 +443,8 @@ def _solve(prob, theta0, max_iter, tol):
 
 
 @serial_blas  # as polymax: medium products (outputs x lines x a few hundred), one BLAS thread
-def refine(frfs, modal_set, variance=None, frequency_band=None, max_iter: int = 30, tol: float = 1e-3,
-           return_info: bool = False) -> ModalSet:
+def refine(frfs, modal_set, variance=None, frequency_band=None, max_iterations: int = 30, tolerance: float = 1e-3,
+           return_info: bool = False, *, max_iter: int | None = None, tol: float | None = None) -> ModalSet:
     """Maximum-likelihood refinement of poles, participation factors, shapes and residuals.
 
     frfs: FRFs container (frequencies_hz, H, outputs, inputs; optional `variance`) or a tuple
@@ -461,7 +461,14 @@ def refine(frfs, modal_set, variance=None, frequency_band=None, max_iter: int = 
     within three half-power bandwidths of the start); else the start is returned with its standard
     deviations evaluated at the start and a warning. The diagnostics are ``result.info['refine']``
     (a RefineInfo); return_info=True (deprecated) returns (ModalSet, RefineInfo) as before.
+    max_iterations, tolerance: at most this many Levenberg-Marquardt iterations; stop when a step
+    lowers the (noise-weighted) cost by less than tolerance (max_iter, tol: their deprecated names).
     """
+    if max_iter is not None or tol is not None:
+        warnings.warn("refine(max_iter=, tol=) are deprecated; use max_iterations=, tolerance= (the names used "
+                      "across flexgvt)", DeprecationWarning, stacklevel=2)
+        max_iterations = max_iterations if max_iter is None else max_iter
+        tolerance = tolerance if tol is None else tol
     frfs = as_frfs(frfs)
     freq, H = frfs.frequencies_hz, frfs.H
     var_given = variance if variance is not None else frfs.variance
@@ -510,7 +517,7 @@ def refine(frfs, modal_set, variance=None, frequency_band=None, max_iter: int = 
         if theta0 is None:
             theta0 = prob.pack(wn0, z0, L0)
         try:
-            theta, cost, converged, iters = _solve(prob, theta0 if theta is None else theta, max_iter, tol)
+            theta, cost, converged, iters = _solve(prob, theta0 if theta is None else theta, max_iterations, tolerance)
             if k == passes - 1:  # the first pass only moves the start of the second
                 cost, g, S, extra = prob.normal(theta)
         except (np.linalg.LinAlgError, FloatingPointError) as exc:
