@@ -227,16 +227,10 @@ class UFFContents:
             dofs = [f"{r} / {ref}" for t, r, ref, _ in self.functions if t == kind]
             shown = ", ".join(dofs[:4]) + (f" and {len(dofs) - 4} more" if len(dofs) > 4 else "")
             parts.append(f"{k} {kind}{'s' if k > 1 else ''} (58 type {_type_code(kind)}): {shown}")
-        if self.n_points:
-            parts.append(f"{self.n_points} points")
-        if self.n_coordinate_systems:
-            parts.append(f"{self.n_coordinate_systems} coordinate systems")
-        if self.n_trace_lines:
-            parts.append(f"{self.n_trace_lines} trace lines")
-        if self.n_elements:
-            parts.append(f"{self.n_elements} elements")
-        if self.n_modes:
-            parts.append(f"{self.n_modes} modes")
+        parts += [f"{n} {what}" for n, what in ((self.n_points, "points"),
+                                                 (self.n_coordinate_systems, "coordinate systems"),
+                                                 (self.n_trace_lines, "trace lines"), (self.n_elements, "elements"),
+                                                 (self.n_modes, "modes")) if n]
         if self.units:
             parts.append(f"units {self.units}")
         sets = ", ".join(f"{n} x{c}" if c > 1 else str(n) for n, c in self.counts.items())
