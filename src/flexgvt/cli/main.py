@@ -35,6 +35,22 @@ from .workflow import register as _register_workflow  # noqa: E402
 
 app.add_typer(_suspension_app, name="suspension")
 
+
+
+def _version(value: bool) -> None:
+    if value:
+        from .. import __version__
+
+        typer.echo(f"flexgvt {__version__}")
+        raise typer.Exit()
+
+
+@app.callback()
+def _main(version: bool = typer.Option(False, "--version", callback=_version, is_eager=True,
+                                       help="print the flexgvt version and exit")) -> None:
+    """GVT and FE model updating of very flexible aircraft."""
+
+
 _register_verify(app, console)
 _register_workflow(app, console)
 
