@@ -125,7 +125,7 @@ def test_frf_from_time_histories_reproduces_the_synthetic_frf(tmp_path):
 
 
 def test_frf_reference_text_is_checked(tmp_path):
-    from flexgvt.cli.ema import parse_dof
+    from flexgvt.workflow.identification import parse_dof
 
     assert parse_dof("100+Z") == (100, 3) and parse_dof("7-ry") == (7, -5) and parse_dof("12:3") == (12, 3)
     _, path = _time_file(tmp_path)

@@ -26,19 +26,6 @@ console = Console()
 _DIRECTION = {"X": 1, "Y": 2, "Z": 3, "RX": 4, "RY": 5, "RZ": 6}
 
 
-def parse_dof(text: str) -> tuple[int, int]:
-    """'100+Z' -> (100, 3), '7-RY' -> (7, -5), '12:3' -> (12, 3): a test point and its direction code."""
-    import re
-
-    m = re.fullmatch(r"\s*(\d+)\s*(?:([+-]?)\s*(RX|RY|RZ|X|Y|Z)|:\s*([+-]?[1-6]))\s*", text.upper())
-    if m is None:
-        raise FlexGVTError(f"--reference {text!r} is not a test point and direction; write it as POINT+DIRECTION, "
-                           "e.g. 100+Z, 100-X, 7+RY (or POINT:CODE with the UFF code 1..6, e.g. 100:3)")
-    if m.group(4) is not None:
-        return int(m.group(1)), int(m.group(4))
-    return int(m.group(1)), (-1 if m.group(2) == "-" else 1) * _DIRECTION[m.group(3)]
-
-
 def dof_name(dof) -> str:
     """(100, 3) -> '100+Z'."""
     p, d = int(dof[0]), int(dof[1])
@@ -189,9 +176,10 @@ def frf(path: Path = typer.Argument(..., help="UFF file with simultaneous time h
     """Estimate FRFs from a file's time histories (averaged blocks with a window) and write them as UFF 58."""
     from ..ema import estimate_frf_from_time
     from ..io.uff import write_uff
+    from ..workflow.identification import parse_dof
 
     try:
-        refs = [parse_dof(r) for r in reference] if reference else None
+        refs = [parse_dof(r, "--reference") for r in reference] if reference else None
         if estimator not in ("H1", "H2", "Hv"):
             raise FlexGVTError(f"--estimator {estimator!r} must be H1, H2 or Hv")
         if window not in ("hann", "rect"):

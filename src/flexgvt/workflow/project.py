@@ -135,8 +135,8 @@ def resolve(path: Path, spec: ProjectFile) -> Project:
         loc = f"{where}: configurations[{k}] ('{c.name}')"
         configurations[c.name] = _configuration(c, available, blocks, model, loc)
         if c.role == "update" and c.test is None:
-            raise ProjectError(f"{loc}: no test data: add a [configurations.test] table with 'frfs' or 'modes', "
-                               "or set role = \"check\" to only predict this configuration")
+            raise ProjectError(f"{loc}: no test data: add a [configurations.test] table with 'frfs', 'time' or "
+                               "'modes', or set role = \"check\" to only predict this configuration")
         if c.test is not None:
             t = c.test
             for key, files in (("frfs", t.frfs), ("modes", t.modes)):

@@ -117,12 +117,23 @@ class ShakerSpec(Strict):
 
 
 class TestData(Strict):
-    """Measured data of a configuration: FRFs to identify (UFF 58) or identified modes (UFF 55, CSV, JSON)."""
+    """Measured data of a configuration: FRFs to identify (UFF 58), time histories to estimate them from
+    (UFF 58 type 1) or identified modes (UFF 55/2414, CSV, JSON)."""
 
     __test__ = False
 
     frfs: str | list[str] | None = Field(None, description="UFF file(s) of FRFs (dataset 58) to identify")
-    modes: str | None = Field(None, description="identified modes (UFF 55, CSV or JSON) instead of FRFs")
+    time: str | None = Field(None, description="UFF file of simultaneous time histories (dataset 58, function "
+                             "type 1): FRFs are estimated from them, then identified")
+    references: list[str] | None = Field(None, description='with time: the force channels as POINT+DIRECTION '
+                                         '(["100+Z"]); default: those the file marks as forces')
+    estimator: Literal["H1", "H2", "Hv"] = Field("H1", description="with time: the FRF estimator (H2 and Hv: one "
+                                                 "reference)")
+    nperseg: int | None = Field(None, ge=8, description="with time: samples per averaged (Hann, 50 % overlap) "
+                                "block; default the whole record")
+    drop_incomplete: bool = Field(False, description="leave out the FRF channels (responses, or a reference) "
+                                  "whose matrix is incomplete; the run's log and results say which")
+    modes: str | None = Field(None, description="identified modes (UFF 55 or 2414, CSV or JSON) instead of FRFs")
     key: str | None = Field(None, description="the sub-object of a modes JSON holding them (dotted for nesting)")
     points: str = Field("nodes", description='test point -> FE node: "nodes" (same ids), "case" (the built-in '
                         "case's sensors) or a CSV file point,node,dx,dy,dz [m]")
@@ -140,8 +151,17 @@ class TestData(Strict):
 
     @model_validator(mode="after")
     def _one_kind(self):
-        if (self.frfs is None) == (self.modes is None):
-            raise ValueError("give 'frfs' (UFF files to identify) or 'modes' (modes already identified), one of them")
+        if [self.frfs, self.time, self.modes].count(None) != 2:
+            raise ValueError("give one of 'frfs' (UFF FRFs to identify), 'time' (UFF time histories to estimate "
+                             "FRFs from) or 'modes' (modes already identified)")
+        if self.time is None:
+            given = [k for k in ("references", "nperseg") if getattr(self, k) is not None]
+            given += ["estimator"] if self.estimator != "H1" else []
+            if given:
+                raise ValueError(f"{', '.join(repr(k) for k in given)} apply to FRFs estimated from time histories: "
+                                 "give 'time' (a UFF file of time histories) or remove them")
+        if self.modes is not None and self.drop_incomplete:
+            raise ValueError("'drop_incomplete' applies to FRFs ('frfs' or 'time'), not to identified 'modes'")
         return self
 
 
