@@ -13,7 +13,7 @@ from pydantic import AfterValidator, BaseModel, BeforeValidator, ConfigDict, Fie
 
 from ..updating import MassTarget, Objective, OptimiserSettings
 from ..updating.settings import described
-from .units import DIMENSIONS, unit_dimensions, quantity
+from .units import DIMENSIONS, quantity, unit_dimensions, unit_system
 
 
 def _q(dimension: str):
@@ -40,13 +40,23 @@ class ProjectInfo(Strict):
     description: str = Field("", description="one line on what is tested and updated")
 
 
+def _unit_system(value):
+    unit_system(value, "")  # ModelError (a ValueError) with the reason; the location comes from pydantic
+    return value
+
+
 class ModelSpec(Strict):
     """The structure: a built-in case (flexgvt.cases) or a Nastran deck (one of the two)."""
 
     case: str | None = None
-    options: dict[str, int | float | bool | str] = Field(default_factory=dict)
+    options: dict[str, int | float | bool | str] = Field(
+        default_factory=dict, description="a built-in case's keyword arguments; "
+                                    'with bdf: unsupported = "warn" (read the rest of a deck holding cards flexgvt '
+                                    "does not read, and list them)")
     bdf: str | None = None
-    units: str = "SI"
+    units: Annotated[Any, AfterValidator(_unit_system)] = Field(
+        "SI", description='the deck\'s unit system: "SI" ("m-kg-s"), "mm-N-t-s" ("mm-t-s"), "in-lbf-s", '
+        '"ft-lbf-s", or a table {length = "mm", force = "N"} / {length = "mm", mass = "t", time = "s"}')
 
     @model_validator(mode="after")
     def _one_source(self):
