@@ -74,9 +74,9 @@ def test_bad_units_say_what_to_write_without_pydantic_internals(tmp_path, value,
 
 
 def test_template_units_suggestions_load(tmp_path):
-    from flexgvt.workflow.template import HEADER
+    from flexgvt.workflow.template import example_project
 
-    lines = [ln for ln in HEADER.splitlines() if "units" in ln]
+    lines = [ln for ln in example_project().splitlines() if "units" in ln]
     value = lines[0].split("=", 1)[1].split("#")[0].strip()
     assert _load(tmp_path, f"units = {value}").model.xyz[1, 0] == pytest.approx(1.0)  # "mm-t-s"
     names = re.split(r"[,:()]\s*|\s+", lines[0].split("units:")[1])

@@ -21,7 +21,7 @@ description = "{description}"
 [model]
 case = "{case}"            # a built-in model (flexgvt.cases); or bdf = "wing.bdf" (Nastran bulk data)
 # units = "mm-t-s"         # with bdf, the deck's units: SI (m-kg-s), mm-N-t-s (mm-t-s), in-lbf-s, ft-lbf-s
-#                          # or a table: units = {length = "mm", force = "N"}
+#                          # or a table: units = {{length = "mm", force = "N"}}
 # [model.options]          # keyword arguments of the built-in case, e.g. n_per_section = 8; with bdf:
 #                          # unsupported = "warn" reads a deck holding cards flexgvt skips (and lists them)
 
