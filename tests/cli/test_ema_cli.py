@@ -162,3 +162,4 @@ def test_drop_incomplete_names_the_dropped_channel(tmp_path):
 def test_version():
     result = runner.invoke(app, ["--version"])
     assert result.exit_code == 0 and result.output.strip() == f"flexgvt {fg.__version__}"
+
