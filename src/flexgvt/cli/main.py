@@ -39,9 +39,13 @@ app.add_typer(_suspension_app, name="suspension")
 
 def _version(value: bool) -> None:
     if value:
-        from .. import __version__
+        from importlib.metadata import PackageNotFoundError, version
 
-        typer.echo(f"flexgvt {__version__}")
+        try:  # the installed distribution's version (the package's __version__ is one layer up)
+            text = version("flexgvt")
+        except PackageNotFoundError:
+            text = "unknown (not installed: pip install -e .)"
+        typer.echo(f"flexgvt {text}")
         raise typer.Exit()
 
 
