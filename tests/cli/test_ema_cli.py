@@ -157,6 +157,7 @@ def test_drop_incomplete_names_the_dropped_channel(tmp_path):
     assert "dropped" in text and dropped in text
     found = json.loads((tmp_path / "m.json").read_text())
     np.testing.assert_allclose(found["frequencies_hz"], [1.2, 3.4, 7.9], rtol=2e-3)
+    assert found["dropped_channels"] == {str(uff): [f"{dropped}: no FRF for reference {int(frfs.inputs[1][0])}+Z"]}
 
 
 def test_version():

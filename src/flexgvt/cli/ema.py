@@ -45,11 +45,14 @@ def _read(path, drop_incomplete: bool):
     return data
 
 
-def _identify_one(path, fit_band, max_order, poles, wide, refine, drop_incomplete=False):
+def _identify_one(path, fit_band, max_order, poles, wide, refine, drop_incomplete=False, dropped=None):
     from ..ema import identify_wide_band, polymax
     from ..ema import refine as ml_refine
 
-    frfs = _read(path, drop_incomplete).frfs
+    data = _read(path, drop_incomplete)
+    if data.dropped and dropped is not None:
+        dropped[str(path)] = list(data.dropped)
+    frfs = data.frfs
     if wide:
         modes = identify_wide_band(frfs, frequency_band=fit_band, max_order=max_order)
         if refine:
@@ -100,7 +103,8 @@ def identify(paths: list[Path] = typer.Argument(..., help="UFF file(s) with FRFs
         fit_band = tuple(band) if band else None
         if wide and poles:
             raise FlexGVTError("--poles picks from one stabilisation diagram; use it without --wide (on a band)")
-        runs = [_identify_one(p, fit_band, max_order, poles, wide, refine, drop_incomplete) for p in paths]
+        dropped: dict[str, list[str]] = {}
+        runs = [_identify_one(p, fit_band, max_order, poles, wide, refine, drop_incomplete, dropped) for p in paths]
         frfs, stab, _ = runs[0]
         per_test = [m for _, _, m in runs]
         table_tests = None
@@ -146,6 +150,8 @@ def identify(paths: list[Path] = typer.Argument(..., help="UFF file(s) with FRFs
                    "frequencies_hz": modes.frequencies_hz.tolist(), "damping_ratio": modes.damping_ratio.tolist(),
                    "frequency_std_hz": None if fs is None else fs.tolist(),
                    "damping_std": None if zs is None else zs.tolist()}
+            if dropped:
+                doc["dropped_channels"] = dropped
             if table_tests:
                 doc["tests"] = {"frequencies_hz": [[None if not np.isfinite(v) else float(v) for v in r]
                                                    for r in table_tests["frequencies_hz"]],
