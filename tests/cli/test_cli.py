@@ -89,3 +89,21 @@ def test_solve_a_deck_honours_its_eigr_method(tmp_path):
     assert result.exit_code == 0, result.output
     f = next(iter(json.loads(out.read_text())["configurations"].values()))["frequencies_hz"]
     assert len(f) == 6 and abs(f[0] / 39.9615 - 1) < 1e-5
+
+
+def test_solve_reads_a_deck_in_units_by_their_usual_names(tmp_path):
+    deck = tmp_path / "beam.bdf"
+    deck.write_text("SOL 103\nCEND\nSPC = 1\nBEGIN BULK\nGRID,1,,0.,0.,0.\nGRID,2,,1000.,0.,0.\n"
+                    "CBAR,10,1,1,2,0.,0.,1.\nPBAR,1,1,100.,1.e4,2.e4,1.e4\nMAT1,1,7.e4,,0.3,2.7e-9\n"
+                    "CONM2,20,2,,1.e-3\nSPC1,1,123456,1\nENDDATA\n")
+    found = {}
+    for units in ("mm-N-t-s", "mm-t-s"):
+        result = runner.invoke(app, ["solve", str(deck), "--units", units, "--modes", "2",
+                                     "--json", str(tmp_path / f"{units}.json")])
+        assert result.exit_code == 0, result.output
+        found[units] = json.loads((tmp_path / f"{units}.json").read_text())
+    a, b = found["mm-t-s"]["configurations"], found["mm-N-t-s"]["configurations"]
+    assert a.keys() == b.keys() and all(a[k]["frequencies_hz"] == b[k]["frequencies_hz"] for k in a)
+    assert all(f > 0 for k in a for f in a[k]["frequencies_hz"])
+    result = runner.invoke(app, ["solve", str(deck), "--units", "mm-kg-fortnight"])
+    assert result.exit_code == 2 and "--units" in result.output and "mm-t-s" in result.output

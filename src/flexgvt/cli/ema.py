@@ -1,5 +1,6 @@
 """`flexgvt ema identify FILE.uff [MORE.uff ...]`: PolyMAX (+ maximum-likelihood refinement) on the files'
-FRFs, modes with standard deviations to UFF 55, CSV, JSON and a table, figures; several files averaged."""
+FRFs, modes with standard deviations to UFF 55, CSV, JSON and a table, figures; several files averaged.
+`flexgvt ema frf TIME.uff --out frfs.uff`: FRFs (H1/H2/Hv) estimated from the time histories of a file."""
 
 from __future__ import annotations
 
@@ -7,24 +8,51 @@ import json
 from pathlib import Path
 from typing import Optional
 
+import warnings
+
 import numpy as np
 import typer
 from rich.console import Console
+from rich.markup import escape
 from rich.table import Table
 
-from ..errors import FlexGVTError
+from ..errors import FlexGVTError, FlexGVTWarning
 from .workflow import fail
 
 app = typer.Typer(add_completion=False, no_args_is_help=True, help="Experimental modal analysis.")
 console = Console()
 
 
-def _identify_one(path, fit_band, max_order, poles, wide, refine):
-    from ..ema import identify_wide_band, polymax
-    from ..ema import refine as ml_refine
+_DIRECTION = {"X": 1, "Y": 2, "Z": 3, "RX": 4, "RY": 5, "RZ": 6}
+
+
+def dof_name(dof) -> str:
+    """(100, 3) -> '100+Z'."""
+    p, d = int(dof[0]), int(dof[1])
+    name = {v: k for k, v in _DIRECTION.items()}.get(abs(d), str(abs(d)))
+    return f"{p}{'-' if d < 0 else '+'}{name}"
+
+
+def _read(path, drop_incomplete: bool):
+    """read_uff(path), printing what was dropped with --drop-incomplete."""
     from ..io.uff import read_uff
 
-    frfs = read_uff(path).frfs
+    with warnings.catch_warnings():  # said below, once, in the console
+        warnings.simplefilter("ignore", FlexGVTWarning)
+        data = read_uff(path, drop_incomplete=drop_incomplete)
+    for line in data.dropped:
+        console.print(f"[yellow]dropped[/] ({path.name}): {escape(line)}", soft_wrap=True)
+    return data
+
+
+def _identify_one(path, fit_band, max_order, poles, wide, refine, drop_incomplete=False, dropped=None):
+    from ..ema import identify_wide_band, polymax
+    from ..ema import refine as ml_refine
+
+    data = _read(path, drop_incomplete)
+    if data.dropped and dropped is not None:
+        dropped[str(path)] = list(data.dropped)
+    frfs = data.frfs
     if wide:
         modes = identify_wide_band(frfs, frequency_band=fit_band, max_order=max_order)
         if refine:
@@ -57,7 +85,10 @@ def identify(paths: list[Path] = typer.Argument(..., help="UFF file(s) with FRFs
              refine: bool = typer.Option(True, "--refine/--no-refine", help="maximum-likelihood refinement with "
                                          "standard deviations and likelihood-ratio selection (fg.ema.refine)"),
              out: Path = typer.Option(Path("ema-output"), help="folder for modes.uff, modes.csv and figures"),
-             json_path: Optional[Path] = typer.Option(None, "--json", help="write the modes as JSON")):
+             json_path: Optional[Path] = typer.Option(None, "--json", help="write the modes as JSON"),
+             drop_incomplete: bool = typer.Option(False, "--drop-incomplete", help="leave out the FRF channels "
+                                                  "(responses, or a reference) whose matrix is incomplete, and say "
+                                                  "which")):
     """Identify modes with PolyMAX (+ maximum-likelihood refinement) + LSFD; write UFF 55, CSV, figures.
 
     Several files: each is identified, then the modes are paired by frequency and MAC and averaged
@@ -72,7 +103,8 @@ def identify(paths: list[Path] = typer.Argument(..., help="UFF file(s) with FRFs
         fit_band = tuple(band) if band else None
         if wide and poles:
             raise FlexGVTError("--poles picks from one stabilisation diagram; use it without --wide (on a band)")
-        runs = [_identify_one(p, fit_band, max_order, poles, wide, refine) for p in paths]
+        dropped: dict[str, list[str]] = {}
+        runs = [_identify_one(p, fit_band, max_order, poles, wide, refine, drop_incomplete, dropped) for p in paths]
         frfs, stab, _ = runs[0]
         per_test = [m for _, _, m in runs]
         table_tests = None
@@ -118,6 +150,8 @@ def identify(paths: list[Path] = typer.Argument(..., help="UFF file(s) with FRFs
                    "frequencies_hz": modes.frequencies_hz.tolist(), "damping_ratio": modes.damping_ratio.tolist(),
                    "frequency_std_hz": None if fs is None else fs.tolist(),
                    "damping_std": None if zs is None else zs.tolist()}
+            if dropped:
+                doc["dropped_channels"] = dropped
             if table_tests:
                 doc["tests"] = {"frequencies_hz": [[None if not np.isfinite(v) else float(v) for v in r]
                                                    for r in table_tests["frequencies_hz"]],
@@ -126,5 +160,46 @@ def identify(paths: list[Path] = typer.Argument(..., help="UFF file(s) with FRFs
                                 "n_tests": table_tests["n_tests"].tolist()}
             json_path.write_text(json.dumps(doc, indent=2))
         console.print(f"modes written to {out / 'modes.uff'} and {out / 'modes.csv'}; figures in {out}/")
+    except (FlexGVTError, OSError) as exc:
+        fail(console, exc)
+
+
+@app.command()
+def frf(path: Path = typer.Argument(..., help="UFF file with simultaneous time histories (dataset 58, function "
+                                    "type 1): force and response channels of one run"),
+        reference: Optional[list[str]] = typer.Option(None, "--reference", "-r", help="a force channel as "
+                                                      "POINT+DIRECTION (100+Z); repeat for several; default: the "
+                                                      "channels the file marks as forces"),
+        estimator: str = typer.Option("H1", help="H1 (noise on the response), H2 or Hv (one reference)"),
+        nperseg: Optional[int] = typer.Option(None, "--nperseg", min=8, help="samples per averaged block "
+                                              "(default: the whole record, no averaging)"),
+        overlap: float = typer.Option(0.5, min=0.0, max=0.95, help="overlap of the blocks (0..0.95)"),
+        window: str = typer.Option("hann", help="window of the blocks: hann or rect"),
+        drop_incomplete: bool = typer.Option(False, "--drop-incomplete", help="leave out incomplete FRF channels "
+                                             "the file also holds, and say which"),
+        out: Path = typer.Option(..., "--out", help="UFF file to write the FRFs (dataset 58, function type 4) "
+                                 "and the file's geometry to")):
+    """Estimate FRFs from a file's time histories (averaged blocks with a window) and write them as UFF 58."""
+    from ..ema import estimate_frf_from_time
+    from ..io.uff import write_uff
+    from ..workflow.identification import parse_dof
+
+    try:
+        refs = [parse_dof(r, "--reference") for r in reference] if reference else None
+        if estimator not in ("H1", "H2", "Hv"):
+            raise FlexGVTError(f"--estimator {estimator!r} must be H1, H2 or Hv")
+        if window not in ("hann", "rect"):
+            raise FlexGVTError(f"--window {window!r} must be hann or rect")
+        data = _read(path, drop_incomplete)
+        frfs = estimate_frf_from_time(data.time_histories, references=refs, estimator=estimator, nperseg=nperseg,
+                                      overlap=overlap, window=window)
+        write_uff(out, geometry=data.geometry, frfs=frfs)
+        coh = np.asarray(frfs.coherence) if frfs.coherence is not None else None
+        names = ", ".join(dof_name(d) for d in frfs.inputs.tolist())
+        console.print(f"{frfs.H.shape[1]} responses x {frfs.H.shape[2]} reference(s) ({names}), "
+                      f"{len(frfs.frequencies_hz)} lines to {frfs.frequencies_hz[-1]:.4g} Hz, {estimator}, "
+                      f"{frfs.n_averages} averages" + ("" if coh is None else
+                                                       f", median coherence {np.median(coh):.3f}"))
+        console.print(f"FRFs written to {out}", soft_wrap=True)
     except (FlexGVTError, OSError) as exc:
         fail(console, exc)

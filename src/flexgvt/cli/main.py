@@ -35,6 +35,26 @@ from .workflow import register as _register_workflow  # noqa: E402
 
 app.add_typer(_suspension_app, name="suspension")
 
+
+
+def _version(value: bool) -> None:
+    if value:
+        from importlib.metadata import PackageNotFoundError, version
+
+        try:  # the installed distribution's version (the package's __version__ is one layer up)
+            text = version("flexgvt")
+        except PackageNotFoundError:
+            text = "unknown (not installed: pip install -e .)"
+        typer.echo(f"flexgvt {text}")
+        raise typer.Exit()
+
+
+@app.callback()
+def _main(version: bool = typer.Option(False, "--version", callback=_version, is_eager=True,
+                                       help="print the flexgvt version and exit")) -> None:
+    """GVT and FE model updating of very flexible aircraft."""
+
+
 _register_verify(app, console)
 _register_workflow(app, console)
 
@@ -92,7 +112,8 @@ def solve(case: str = typer.Argument(..., help="built-in case (cantilever_strip,
                                               "and normalisation, as Nastran; else 10)"),
           out: Optional[Path] = typer.Option(None, help="folder for figures"),
           json_path: Optional[Path] = typer.Option(None, "--json", help="write results as JSON (layout: docs/cli.md)"),
-          units: str = typer.Option("SI", help="bulk data units: SI, mm-N-t-s, in-lbf-s"),
+          units: str = typer.Option("SI", help="bulk data units: SI (m-kg-s), mm-N-t-s (mm-t-s), in-lbf-s, "
+                                    "ft-lbf-s"),
           allow_unsupported: bool = typer.Option(False,
                                                  help="bulk data: warn about unsupported cards instead of failing"),
           cbar_torsional_inertia: bool = typer.Option(False, help="bulk data: add rho*Ip torsional inertia to CBAR "
@@ -102,10 +123,12 @@ def solve(case: str = typer.Argument(..., help="built-in case (cantilever_strip,
     """Static shape and pre-stressed modes of each configuration of a built-in case or a Nastran deck."""
     try:
         if case.lower().endswith((".bdf", ".dat", ".nas", ".blk")):
-            from ..io.nastran import read_bdf
+            from ..io.nastran import Units, read_bdf
+            from ..workflow.units import unit_system
+            system = Units(*unit_system(units, "--units"))
             with warnings.catch_warnings(record=True) as caught:
                 warnings.simplefilter("always")
-                deck = read_bdf(case, units=units, unsupported="warn" if allow_unsupported else "error",
+                deck = read_bdf(case, units=system, unsupported="warn" if allow_unsupported else "error",
                                 cbar_torsional_inertia=cbar_torsional_inertia)
             for w in caught:
                 console.print(f"[yellow]note:[/] {w.message}")

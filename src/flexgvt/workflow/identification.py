@@ -56,7 +56,7 @@ def identify_configuration(project: Project, name: str) -> ModalSet:
         raise ProjectError(f"{project.path}: configuration '{name}' has no test data")
     where = f"{project.path}: configurations '{name}' test"
     try:
-        if t.frfs is not None:
+        if t.frfs is not None or t.time is not None:
             out = _from_frfs(project, name, t)
         else:
             out = read_modes(project.file(t.modes), name, t.key)
@@ -76,7 +76,8 @@ def identify_configuration(project: Project, name: str) -> ModalSet:
     pick = (lambda v: None if v is None else v[keep])  # noqa: E731
     return Identified(out.frequencies_hz[keep], out.damping_ratio[keep], pick(out.shapes), dofs=out.dofs,
                     frequency_std_hz=pick(out.frequency_std_hz), damping_std=pick(out.damping_std), labels=labels,
-                    name=name, source=out.source, stabilisation=out.stabilisation, frfs=out.frfs)
+                    name=name, source=out.source, stabilisation=out.stabilisation, frfs=out.frfs,
+                    info={k: v for k, v in out.info.items() if k == "dropped"})
 
 
 def identify(project: Project, name: str) -> ModalSet:
@@ -88,16 +89,90 @@ def identify(project: Project, name: str) -> ModalSet:
     return identify_configuration(project, name)
 
 
+_DIRECTION = {"X": 1, "Y": 2, "Z": 3, "RX": 4, "RY": 5, "RZ": 6}
+
+
+def parse_dof(text: str, what: str = "a channel") -> tuple[int, int]:
+    """'100+Z' -> (100, 3), '7-RY' -> (7, -5), '12:3' -> (12, 3): a test point and its UFF direction code;
+    ModelError (``what`` names the key or option) for any other text."""
+    import re
+
+    from ..errors import ModelError
+    m = re.fullmatch(r"\s*(\d+)\s*(?:([+-]?)\s*(RX|RY|RZ|X|Y|Z)|:\s*([+-]?[1-6]))\s*", str(text).upper())
+    if m is None:
+        raise ModelError(f"{what} {text!r} is not a test point and direction; write it as POINT+DIRECTION, e.g. "
+                         "100+Z, 100-X, 7+RY (or POINT:CODE with the UFF direction code 1..6, e.g. 100:3)")
+    if m.group(4) is not None:
+        return int(m.group(1)), int(m.group(4))
+    return int(m.group(1)), (-1 if m.group(2) == "-" else 1) * _DIRECTION[m.group(3)]
+
+
+def project_hint(contents, key: str) -> str:
+    """What to do, in project keys, with a UFF file (its describe_uff contents) given as test.``key``."""
+    fc = contents.function_counts()
+    if "time response" in fc and key != "time":
+        return ("it holds time histories: give it as test.time (FRFs are estimated from them, with test.references "
+                "and test.estimator), or estimate them with `flexgvt ema frf`")
+    if "FRF" in fc and key != "frfs":
+        return "it holds FRFs: give it as test.frfs"
+    if contents.n_modes and key != "modes":
+        return "it holds modes: give it as test.modes"
+    if contents.n_points or contents.n_coordinate_systems:
+        what = "test geometry" + (" and coordinate systems" if contents.n_coordinate_systems else "")
+        return (f"it holds {what} only, no measurements: give the FRFs (test.frfs), time histories (test.time) or "
+                "identified modes (test.modes) from another file exported by the test system")
+    return "export the FRFs, time histories or modes from the test system"
+
+
+def measured_frfs(project: Project, t, where: str = ""):
+    """(FRFs, files, dropped lines) of a [configurations.test] table: the FRFs of its ``frfs`` files (one
+    matrix), or those estimated from its ``time`` histories; incomplete channels left out (and listed)
+    with ``drop_incomplete``. ProjectError when a file holds no FRFs, saying what it holds."""
+    import warnings
+
+    from ..ema import estimate_frf_from_time
+    from ..errors import FlexGVTWarning
+    from ..io.uff import assemble_frfs, describe_uff, drop_incomplete_channels, read_uff
+    if t.time is not None:
+        path = project.file(t.time)
+        data = read_uff(path)
+        if not any(fn.kind == "time response" for fn in data.functions):
+            c = describe_uff(path)
+            raise ProjectError(f"{where}.time: no time history (dataset 58, function type 1) in '{t.time}': it holds "
+                               f"{c.summary()}: {project_hint(c, 'time')}")
+        try:
+            refs = [parse_dof(r, f"{where}.references:") for r in t.references] if t.references else None
+        except FlexGVTError as exc:
+            raise ProjectError(str(exc)) from None
+        try:
+            frfs = estimate_frf_from_time(data.time_histories, references=refs, estimator=t.estimator,
+                                          nperseg=t.nperseg)
+        except FlexGVTError as exc:
+            raise ProjectError(f"{where}.time: '{t.time}': {exc}") from None
+        return frfs, [t.time], ()
+    files = [t.frfs] if isinstance(t.frfs, str) else list(t.frfs)
+    functions, empty = [], []
+    for f in files:
+        found = [fn for fn in read_uff(project.file(f)).functions if fn.kind == "FRF"]
+        functions += found
+        if not found:
+            empty.append(f)
+    if not functions:
+        held = "; ".join(f"'{f}' holds {c.summary()}: {project_hint(c, 'frfs')}"
+                         for f in files for c in [describe_uff(project.file(f))])
+        raise ProjectError(f"{where}.frfs: no FRF (dataset 58, function type 4) in {files}: {held}")
+    dropped: tuple = ()
+    if t.drop_incomplete:
+        functions, dropped = drop_incomplete_channels(functions, ", ".join(files))
+        if dropped:
+            warnings.warn(f"{where}: incomplete FRF channels dropped: {'; '.join(dropped)}", FlexGVTWarning,
+                          stacklevel=2)
+    return assemble_frfs(functions, where=", ".join(files)), files, dropped
+
+
 def _from_frfs(project: Project, name: str, t) -> ModalSet:
     from ..ema import identify_wide_band, polymax
-    from ..io.uff import assemble_frfs, read_uff
-    files = [t.frfs] if isinstance(t.frfs, str) else list(t.frfs)
-    functions = []
-    for f in files:
-        functions += [fn for fn in read_uff(project.file(f)).functions if fn.kind == "FRF"]
-    if not functions:
-        raise ProjectError(f"configuration '{name}': no FRF (dataset 58, function type 4) in {files}")
-    frfs = assemble_frfs(functions, where=", ".join(files))
+    frfs, files, dropped = measured_frfs(project, t, f"configuration '{name}' test")
     band = tuple(t.band_hz) if t.band_hz is not None else None
     if t.wide:
         stab, modes = None, identify_wide_band(frfs, frequency_band=band, max_order=t.max_order,
@@ -109,7 +184,8 @@ def _from_frfs(project: Project, name: str, t) -> ModalSet:
     return Identified(np.asarray(modes.frequencies_hz), np.asarray(modes.damping_ratio), np.asarray(modes.shapes),
                     dofs=np.asarray(modes.dofs), frequency_std_hz=None if std is None else np.asarray(std, float),
                     damping_std=None if modes.damping_std is None else np.asarray(modes.damping_std),
-                    name=name, source=", ".join(files), stabilisation=stab, frfs=frfs)
+                    name=name, source=", ".join(files), stabilisation=stab, frfs=frfs,
+                    info={"dropped": dropped} if dropped else {})
 
 
 def read_modes(path: Path, name: str = "", key: str | None = None) -> ModalSet:
@@ -121,7 +197,10 @@ def read_modes(path: Path, name: str = "", key: str | None = None) -> ModalSet:
         from ..io.uff import read_uff
         data = read_uff(path)
         if data.modes is None:
-            raise ProjectError(f"{path}: no modal dataset 55 in the file")
+            from ..io.uff import describe_uff
+            c = describe_uff(path)
+            raise ProjectError(f"{path}: no modes (dataset 55 or 2414) in the file; it holds {c.summary()}: "
+                               f"{project_hint(c, 'modes')}")
         m = data.modes
         translations = np.abs(m.dofs[:, 1]) <= 3  # UFF 55 lays out (point, 1..3 or 1..6) per point
         return Identified(m.frequencies_hz, m.damping_ratio, m.shapes[:, translations], dofs=m.dofs[translations],

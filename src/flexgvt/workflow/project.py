@@ -89,6 +89,49 @@ def _need_file(path: Path, where: str, what: str) -> Path:
     return need_file(path, where, what)
 
 
+_DECK_OPTIONS = {"unsupported": ("error", "warn"), "mass": ("lumped", "consistent"),
+                 "rotary_inertia": (True, False), "cbar_torsional_inertia": (True, False)}
+
+
+def _read_deck(bdf: Path, spec, where: str):
+    """read_bdf with the project's model.units and [model.options] (each checked; unknown keys are errors);
+    the deck's warnings (cards not read, approximations) re-issued as FlexGVTWarnings naming the project."""
+    import warnings
+
+    from ..errors import FlexGVTWarning
+    from ..io import read_bdf
+    from ..io.nastran import Units, UnsupportedCardsError
+    from .units import unit_system
+    options = dict(spec.options)
+    for key, value in options.items():
+        if key not in _DECK_OPTIONS:
+            raise ProjectError(f"{where}: model.options.{key}: unknown key for a deck; the keys are "
+                               f"{', '.join(_DECK_OPTIONS)} (unsupported = \"warn\" reads a deck holding cards "
+                               "flexgvt does not read)")
+        allowed = _DECK_OPTIONS[key]
+        if not any(value is v if isinstance(v, bool) else value == v for v in allowed):
+            shown = " or ".join(str(v).lower() if isinstance(v, bool) else f'"{v}"' for v in allowed)
+            raise ProjectError(f"{where}: model.options.{key}: {value!r} must be {shown}")
+    try:
+        units = Units(*unit_system(spec.units, f"{where}: model.units"))
+    except ModelError as exc:
+        raise ProjectError(str(exc)) from None
+    try:
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            deck = read_bdf(bdf, units=units, **options)
+    except UnsupportedCardsError as exc:
+        text = str(exc).split(". Remove or replace them")[0]
+        raise ProjectError(f"{where}: model.bdf: {text}. Remove or replace them, or set unsupported = \"warn\" "
+                           "under [model.options] to read the rest (on the command line: flexgvt solve "
+                           "--allow-unsupported)") from None
+    except FlexGVTError as exc:
+        raise ProjectError(f"{where}: model.bdf: {exc}") from None
+    for w in caught:
+        warnings.warn(f"{where}: model.bdf: {w.message}", FlexGVTWarning, stacklevel=3)
+    return deck
+
+
 def resolve(path: Path, spec: ProjectFile) -> Project:
     """Build the model, configurations and variables a validated spec names, checking every reference."""
     from .validate import check_test_data, checked_path, output_dir, read_reference
@@ -111,11 +154,7 @@ def resolve(path: Path, spec: ProjectFile) -> Project:
         model, available = case.model, dict(case.configurations)
     else:
         bdf = _need_file(rel(spec.model.bdf, f"{where}: model.bdf"), f"{where}: model.bdf", "deck")
-        from ..io import read_bdf
-        try:
-            deck = read_bdf(bdf, units=spec.model.units)
-        except FlexGVTError as exc:
-            raise ProjectError(f"{where}: model.bdf: {exc}") from None
+        deck = _read_deck(bdf, spec.model, where)
         model, available = deck.model, dict(deck.configurations)
 
     names = [c.name for c in spec.configurations]
@@ -135,8 +174,8 @@ def resolve(path: Path, spec: ProjectFile) -> Project:
         loc = f"{where}: configurations[{k}] ('{c.name}')"
         configurations[c.name] = _configuration(c, available, blocks, model, loc)
         if c.role == "update" and c.test is None:
-            raise ProjectError(f"{loc}: no test data: add a [configurations.test] table with 'frfs' or 'modes', "
-                               "or set role = \"check\" to only predict this configuration")
+            raise ProjectError(f"{loc}: no test data: add a [configurations.test] table with 'frfs', 'time' or "
+                               "'modes', or set role = \"check\" to only predict this configuration")
         if c.test is not None:
             t = c.test
             for key, files in (("frfs", t.frfs), ("modes", t.modes)):

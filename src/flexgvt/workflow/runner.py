@@ -55,7 +55,9 @@ class RunResult:
         return jsonable({
             "project": str(self.project.path), "timings_s": self.timings, "resumed": self.resumed,
             "identified": {n: {"frequencies_hz": i.frequencies_hz, "damping_ratio": i.damping_ratio,
-                               "labels": list(i.labels), "source": i.source} for n, i in self.identified.items()},
+                               "labels": list(i.labels), "source": i.source,
+                               **({"dropped_channels": list(i.info["dropped"])} if i.info.get("dropped") else {})}
+                           for n, i in self.identified.items()},
             "updating": None if up is None else {k: v for k, v in up.to_dict().items() if k != "mac"},
             "checks": self.checks,
             "prediction": {k: p.rows for k, p in self.predictions.items()},
@@ -76,7 +78,8 @@ def _digest(*parts) -> str:
 
 def _identification_key(project: Project, name: str) -> str:
     spec = next(c for c in project.spec.configurations if c.name == name).test
-    files = [spec.frfs] if isinstance(spec.frfs, str) else list(spec.frfs or []) + ([spec.modes] if spec.modes else [])
+    files = ([spec.frfs] if isinstance(spec.frfs, str) else list(spec.frfs or [])) + \
+        [f for f in (spec.time, spec.modes) if f]
     return _digest(spec.model_dump(), *[project.file(f).read_bytes() for f in files])
 
 
@@ -100,6 +103,8 @@ def identify_all(project: Project, store: Path | None = None, progress: Callable
             item, why = _read_cache(cache, key, spec.name)
             if item is not None:
                 out[spec.name] = item
+                for line in item.info.get("dropped", ()):
+                    log(f"identification '{spec.name}': dropped {line} (from the store)")
                 if resumed is not None:
                     resumed.append(f"identification {spec.name}")
                 log(f"identification '{spec.name}': {len(item.frequencies_hz)} modes (from the store)")
@@ -111,10 +116,13 @@ def identify_all(project: Project, store: Path | None = None, progress: Callable
         item = identify_configuration(project, spec.name)
         item = item.with_info(diagram=diagram(item))
         out[spec.name] = item
+        for line in item.info.get("dropped", ()):
+            log(f"identification '{spec.name}': dropped {line}")
         log(f"identification '{spec.name}': {len(item.frequencies_hz)} modes from {item.source} "
             f"({time.perf_counter() - t0:.1f} s)")
         if cache is not None:
-            write_json_atomic(cache, jsonable({"key": key, "data": item.as_dict(), "diagram": item.diagram}))
+            write_json_atomic(cache, jsonable({"key": key, "data": item.as_dict(), "diagram": item.diagram,
+                                               "dropped": list(item.info.get("dropped", ()))}))
     return out
 
 
@@ -146,7 +154,10 @@ def _read_cache(cache: Path, key: str, name: str) -> tuple[Identified | None, st
         return None, "no source"
     if d is not None and not _diagram_ok(d):
         return None, "a malformed stabilisation diagram"
-    return replace(item, source=source).with_info(diagram=d), ""
+    dropped = saved.get("dropped", [])
+    if not isinstance(dropped, list) or not all(isinstance(s, str) for s in dropped):
+        return None, "a malformed list of dropped channels"
+    return replace(item, source=source).with_info(diagram=d, dropped=tuple(dropped)), ""
 
 
 def _diagram_ok(d) -> bool:

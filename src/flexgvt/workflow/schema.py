@@ -13,7 +13,7 @@ from pydantic import AfterValidator, BaseModel, BeforeValidator, ConfigDict, Fie
 
 from ..updating import MassTarget, Objective, OptimiserSettings
 from ..updating.settings import described
-from .units import DIMENSIONS, unit_dimensions, quantity
+from .units import DIMENSIONS, quantity, unit_dimensions, unit_system
 
 
 def _q(dimension: str):
@@ -40,13 +40,23 @@ class ProjectInfo(Strict):
     description: str = Field("", description="one line on what is tested and updated")
 
 
+def _unit_system(value):
+    unit_system(value, "")  # ModelError (a ValueError) with the reason; the location comes from pydantic
+    return value
+
+
 class ModelSpec(Strict):
     """The structure: a built-in case (flexgvt.cases) or a Nastran deck (one of the two)."""
 
     case: str | None = None
-    options: dict[str, int | float | bool | str] = Field(default_factory=dict)
+    options: dict[str, int | float | bool | str] = Field(
+        default_factory=dict, description="a built-in case's keyword arguments; "
+                                    'with bdf: unsupported = "warn" (read the rest of a deck holding cards flexgvt '
+                                    "does not read, and list them)")
     bdf: str | None = None
-    units: str = "SI"
+    units: Annotated[Any, AfterValidator(_unit_system)] = Field(
+        "SI", description='the deck\'s unit system: "SI" ("m-kg-s"), "mm-N-t-s" ("mm-t-s"), "in-lbf-s", '
+        '"ft-lbf-s", or a table {length = "mm", force = "N"} / {length = "mm", mass = "t", time = "s"}')
 
     @model_validator(mode="after")
     def _one_source(self):
@@ -117,12 +127,23 @@ class ShakerSpec(Strict):
 
 
 class TestData(Strict):
-    """Measured data of a configuration: FRFs to identify (UFF 58) or identified modes (UFF 55, CSV, JSON)."""
+    """Measured data of a configuration: FRFs to identify (UFF 58), time histories to estimate them from
+    (UFF 58 type 1) or identified modes (UFF 55/2414, CSV, JSON)."""
 
     __test__ = False
 
     frfs: str | list[str] | None = Field(None, description="UFF file(s) of FRFs (dataset 58) to identify")
-    modes: str | None = Field(None, description="identified modes (UFF 55, CSV or JSON) instead of FRFs")
+    time: str | None = Field(None, description="UFF file of simultaneous time histories (dataset 58, function "
+                             "type 1): FRFs are estimated from them, then identified")
+    references: list[str] | None = Field(None, description='with time: the force channels as POINT+DIRECTION '
+                                         '(["100+Z"]); default: those the file marks as forces')
+    estimator: Literal["H1", "H2", "Hv"] = Field("H1", description="with time: the FRF estimator (H2 and Hv: one "
+                                                 "reference)")
+    nperseg: int | None = Field(None, ge=8, description="with time: samples per averaged (Hann, 50 % overlap) "
+                                "block; default the whole record")
+    drop_incomplete: bool = Field(False, description="leave out the FRF channels (responses, or a reference) "
+                                  "whose matrix is incomplete; the run's log and results say which")
+    modes: str | None = Field(None, description="identified modes (UFF 55 or 2414, CSV or JSON) instead of FRFs")
     key: str | None = Field(None, description="the sub-object of a modes JSON holding them (dotted for nesting)")
     points: str = Field("nodes", description='test point -> FE node: "nodes" (same ids), "case" (the built-in '
                         "case's sensors) or a CSV file point,node,dx,dy,dz [m]")
@@ -140,8 +161,17 @@ class TestData(Strict):
 
     @model_validator(mode="after")
     def _one_kind(self):
-        if (self.frfs is None) == (self.modes is None):
-            raise ValueError("give 'frfs' (UFF files to identify) or 'modes' (modes already identified), one of them")
+        if [self.frfs, self.time, self.modes].count(None) != 2:
+            raise ValueError("give one of 'frfs' (UFF FRFs to identify), 'time' (UFF time histories to estimate "
+                             "FRFs from) or 'modes' (modes already identified)")
+        if self.time is None:
+            given = [k for k in ("references", "nperseg") if getattr(self, k) is not None]
+            given += ["estimator"] if self.estimator != "H1" else []
+            if given:
+                raise ValueError(f"{', '.join(repr(k) for k in given)} apply to FRFs estimated from time histories: "
+                                 "give 'time' (a UFF file of time histories) or remove them")
+        if self.modes is not None and self.drop_incomplete:
+            raise ValueError("'drop_incomplete' applies to FRFs ('frfs' or 'time'), not to identified 'modes'")
         return self
 
 

@@ -20,8 +20,10 @@ description = "{description}"
 
 [model]
 case = "{case}"            # a built-in model (flexgvt.cases); or bdf = "wing.bdf" (Nastran bulk data)
-# units = "SI"             # the deck's unit system, with bdf (SI, mm-t-s, in-lbf-s, ...)
-# [model.options]          # keyword arguments of the built-in case, e.g. n_per_section = 8
+# units = "mm-t-s"         # with bdf, the deck's units: SI (m-kg-s), mm-N-t-s (mm-t-s), in-lbf-s, ft-lbf-s
+#                          # or a table: units = {{length = "mm", force = "N"}}
+# [model.options]          # keyword arguments of the built-in case, e.g. n_per_section = 8; with bdf:
+#                          # unsupported = "warn" reads a deck holding cards flexgvt skips (and lists them)
 
 # Suspension points characterised on a block (docs/method.md section 2): stiffness and damping from the
 # block's mass, damped frequency and damping ratio (lists = repeated tests, averaged).

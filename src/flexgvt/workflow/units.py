@@ -21,6 +21,9 @@ _BASE = {
     "GPa": (1e9, (1, -1, -2, 0)),
     "Hz": (1.0, (0, 0, -1, 0)), "rad": (1.0, (0, 0, 0, 1)), "deg": (math.pi / 180, (0, 0, 0, 1)),
     "J": (1.0, (1, 2, -2, 0)),
+    "in": (0.0254, (0, 1, 0, 0)), "ft": (0.3048, (0, 1, 0, 0)),
+    "lbf": (4.4482216152605, (1, 1, -2, 0)), "kip": (4448.2216152605, (1, 1, -2, 0)),
+    "lbm": (0.45359237, (1, 0, 0, 0)), "slug": (14.593902937206364, (1, 0, 0, 0)),
 }
 
 DIMENSIONS = {
@@ -93,3 +96,71 @@ def _example(dimension: str) -> str:
             "damping": "N s/m", "modulus": "Pa or GPa", "density": "kg/m^3", "angle": "rad or deg",
             "rotational_stiffness": "N m/rad", "moment": "N m", "inertia": "kg m^2",
             "acceleration": "m/s^2"}.get(dimension, "SI")
+
+
+# Consistent unit systems by the names engineers write: (length [m], force [N]); time is seconds and
+# mass the consistent one (force s^2 / length: tonne for mm-N, lbf s^2/in for in-lbf, slug for ft-lbf).
+UNIT_SYSTEM_NAMES = {
+    "SI": (1.0, 1.0), "m-kg-s": (1.0, 1.0), "m-N-kg-s": (1.0, 1.0), "m-kg-N-s": (1.0, 1.0), "m-N-s": (1.0, 1.0),
+    "mm-N-t-s": (1e-3, 1.0), "mm-t-s": (1e-3, 1.0), "mm-t-N-s": (1e-3, 1.0), "mm-N-s": (1e-3, 1.0),
+    "in-lbf-s": (0.0254, 4.4482216152605), "in-lbf-lbfs2/in-s": (0.0254, 4.4482216152605),
+    "ft-lbf-s": (0.3048, 4.4482216152605), "ft-slug-s": (0.3048, 4.4482216152605),
+    "ft-lbf-slug-s": (0.3048, 4.4482216152605),
+}
+_SYSTEM_KEYS = ("length", "force", "mass", "time")
+
+
+def _at(where: str, key: str = "") -> str:
+    """'where.key: ', 'key: ', 'where: ' or ''."""
+    at = ".".join(p for p in (where, key) if p)
+    return f"{at}: " if at else ""
+
+
+def _unit_of(value, dimension: str, key: str, where: str) -> float:
+    if not isinstance(value, str):
+        raise ModelError(f"{_at(where, key)}expected a unit name in quotes (e.g. \"{_example(dimension)}\"), got "
+                         f"{value!r}")
+    try:
+        factor, dims = _parse_unit(value)
+    except KeyError as exc:
+        raise ModelError(f"{_at(where, key)}unknown unit {exc.args[0]!r}; use one of {sorted(_BASE)}") from None
+    if dims != DIMENSIONS[dimension]:
+        raise ModelError(f"{_at(where, key)}{value!r} is not a unit of {dimension} (e.g. {_example(dimension)})")
+    return factor
+
+
+def unit_system(value, where: str = "units") -> tuple[str, float, float]:
+    """(name, length [m], force [N]) of a deck's consistent unit system: a name ("SI", "m-kg-s",
+    "mm-N-t-s", "mm-t-s", "in-lbf-s", "ft-lbf-s"; case and spaces ignored) or a table of units,
+    {length = "mm", force = "N"} or {length = "mm", mass = "t", time = "s"} (the force derived; given
+    both, they must agree). Time must be seconds. ModelError, naming ``where``, for anything else."""
+    names = ", ".join(f'"{n}"' for n in ("SI", "m-kg-s", "mm-N-t-s", "mm-t-s", "in-lbf-s", "ft-lbf-s"))
+    if isinstance(value, str):
+        key = {n.lower().replace(" ", ""): n for n in UNIT_SYSTEM_NAMES}.get(value.lower().replace(" ", ""))
+        if key is None:
+            raise ModelError(f"{_at(where)}unknown unit system {value!r}; write one of {names}, or a table such as "
+                             '{length = "mm", force = "N"} or {length = "mm", mass = "t", time = "s"}')
+        return key, *UNIT_SYSTEM_NAMES[key]
+    if not isinstance(value, dict):
+        raise ModelError(f"{_at(where)}expected a unit system name ({names}) or a table such as "
+                         f'{{length = "mm", force = "N"}}, got {value!r}')
+    unknown = [k for k in value if k not in _SYSTEM_KEYS]
+    if unknown:
+        raise ModelError(f"{_at(where)}unknown key(s) {unknown} in the unit table; keys: {list(_SYSTEM_KEYS)}")
+    if "length" not in value or not ({"force", "mass"} & set(value)):
+        raise ModelError(f"{_at(where)}give 'length' and 'force' (or 'mass'), e.g. "
+                         '{length = "mm", force = "N"} or {length = "mm", mass = "t", time = "s"}')
+    length = _unit_of(value["length"], "length", "length", where)
+    if "time" in value and _unit_of(value["time"], "time", "time", where) != 1.0:
+        raise ModelError(f"{_at(where, 'time')}{value['time']!r}: decks are read in seconds only; convert the deck's "
+                         "time unit or use a system in seconds")
+    force = _unit_of(value["force"], "force", "force", where) if "force" in value else None
+    if "mass" in value:
+        derived = _unit_of(value["mass"], "mass", "mass", where) * length  # mass length / s^2
+        if force is not None and not math.isclose(force, derived, rel_tol=1e-6):
+            raise ModelError(f"{_at(where)}{value['force']!r} is not {value['mass']!r} {value['length']}/s^2 "
+                             f"({derived:.6g} N against {force:.6g} N): the system is not consistent; give "
+                             "'force' or 'mass', not both")
+        force = derived
+    name = "-".join(str(value[k]) for k in _SYSTEM_KEYS if k in value)
+    return name, length, force

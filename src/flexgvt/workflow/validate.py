@@ -161,27 +161,25 @@ def check_test_data(project, k: int, c, where: str) -> None:
         raise ProjectError(f"{loc}.band_hz: {t.band_hz} must be [low, high] with 0 <= low < high [Hz]")
     if t.select_hz is not None and not all(math.isfinite(v) and v > 0 for v in t.select_hz):
         raise ProjectError(f"{loc}.select_hz: frequencies must be finite and > 0 [Hz]")
-    if t.frfs is not None:
-        from ..io.uff import assemble_frfs, read_uff
-        files = [t.frfs] if isinstance(t.frfs, str) else list(t.frfs)
-        if not files:
+    if t.frfs is not None or t.time is not None:
+        import warnings
+
+        from ..errors import FlexGVTWarning
+        from .identification import measured_frfs
+        if t.frfs is not None and not t.frfs:
             raise ProjectError(f"{loc}.frfs: no file given")
-        functions = []
-        for f in files:
-            path = project.file(f)
-            try:
-                functions += [fn for fn in read_uff(path).functions if fn.kind == "FRF"]
-            except FlexGVTError as exc:
-                raise ProjectError(f"{loc}.frfs: {exc}") from None
-        if not functions:
-            raise ProjectError(f"{loc}.frfs: no FRF (dataset 58, function type 4) in {files}")
         try:
-            frfs = assemble_frfs(functions, where=", ".join(files))
+            with warnings.catch_warnings():  # the run says what it drops
+                warnings.simplefilter("ignore", FlexGVTWarning)
+                frfs, files, _ = measured_frfs(project, t, loc)
+        except ProjectError:
+            raise
         except FlexGVTError as exc:
-            raise ProjectError(f"{loc}.frfs: {exc}") from None
+            raise ProjectError(f"{loc}.{'frfs' if t.frfs is not None else 'time'}: {exc}") from None
         f = frfs.frequencies_hz
         if len(f) < 8 or np.any(np.diff(f) <= 0):
-            raise ProjectError(f"{loc}.frfs: {len(f)} frequency lines, not strictly increasing or fewer than 8")
+            raise ProjectError(f"{loc}.{'frfs' if t.frfs is not None else 'nperseg'}: {len(f)} frequency lines, not "
+                               "strictly increasing or fewer than 8")
         if t.band_hz is not None and (t.band_hz[1] <= f[0] or t.band_hz[0] >= f[-1]):
             raise ProjectError(f"{loc}.band_hz: {t.band_hz} Hz is outside the FRFs' {f[0]:.4g}-{f[-1]:.4g} Hz")
         _check_sensors(project, c.name, frfs.outputs, f"{loc}.points", ", ".join(files))
