@@ -192,24 +192,39 @@ def test_kills_during_identification_optimisation_and_outputs_then_rerun_give_th
 def test_a_second_run_of_the_same_project_refuses_at_once(project_files, tmp_path):
     project = _copy(project_files, tmp_path / "twice")
     lock = project.parent / "results" / "store" / "run.lock"
-    first = _start(project)
+    # A real run takes the lock, naming its process, while it runs.
+    run = _start(project)
     try:
         deadline = time.time() + 60
         while not (lock.exists() and lock.read_text().strip()) and time.time() < deadline:
             time.sleep(0.01)
+        assert f"flexgvt process {run.pid}" in lock.read_text()
+    finally:
+        run.wait(timeout=120)
+    # A second run while the first holds the lock: the first is a process holding it the way a run
+    # does (the runner's own acquire_lock) for as long as the check takes, so that the check does
+    # not race a small project's few seconds (a second process's start-up and project load can
+    # take longer than that on a loaded machine).
+    holder = subprocess.Popen([sys.executable, "-c", "import sys, time; from pathlib import Path; "
+                               "from flexgvt.updating.store import acquire_lock; "
+                               "h = acquire_lock(Path(sys.argv[1]), Path(sys.argv[2])); print('locked', flush=True); "
+                               "time.sleep(120)", str(lock), str(project.parent)],
+                              stdout=subprocess.PIPE, text=True)
+    try:
+        assert holder.stdout.readline().strip() == "locked"
         t0 = time.time()
         second = subprocess.run([sys.executable, "-c", CLI, "run", str(project)], capture_output=True, text=True,
                                 env={**os.environ, "COLUMNS": "400"}, timeout=60)
-        assert first.poll() is None, "the first run ended before the second started"
+        assert holder.poll() is None
         assert second.returncode == 2
         msg = " ".join(second.stdout.split())
-        assert f"in use by flexgvt process {first.pid}" in msg and "wait until that run ends" in msg, msg
+        assert f"in use by flexgvt process {holder.pid}" in msg and "wait until that run ends" in msg, msg
         assert "Traceback" not in second.stdout + second.stderr
         assert time.time() - t0 < 30  # refused at once, not after the first run
     finally:
-        if first.poll() is None:
-            os.kill(first.pid, signal.SIGKILL)
-        first.wait()
+        if holder.poll() is None:
+            os.kill(holder.pid, signal.SIGKILL)
+        holder.wait()
     # The lock of a killed run is gone with its process: the next run takes it.
     from flexgvt.updating.store import acquire_lock
     acquire_lock(lock, project.parent).close()
