@@ -21,7 +21,8 @@ def test_solve_builtin_case_writes_documented_json(tmp_path):
     assert set(cfg) == {"unloaded", "self_weight"}
     for rec in cfg.values():
         assert set(rec) == {"load_factor", "max_displacement_m", "frequencies_hz", "damping_ratio", "labels", "mass_kg",
-                            "cg_m", "timings_s"}
+                            "cg_m", "timings_s", "cautions"}
+        assert rec["cautions"] == []  # the built-in strip is sound
     assert abs(cfg["unloaded"]["frequencies_hz"][0] - 1.0967) < 1e-3
     assert 0.25 < cfg["self_weight"]["max_displacement_m"] < 0.35
     assert (tmp_path / "fig" / "static_shape.png").stat().st_size > 10_000

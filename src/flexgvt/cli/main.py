@@ -13,6 +13,7 @@ import typer
 from rich.console import Console
 from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 from rich.table import Table
+from rich.markup import escape
 
 from ..errors import FlexGVTError
 
@@ -60,8 +61,6 @@ _register_workflow(app, console)
 
 
 def _fail(exc: Exception) -> None:
-    from rich.markup import escape
-
     console.print(f"[bold red]error:[/] {escape(str(exc))}", soft_wrap=True)  # one line, whatever its length
     raise typer.Exit(code=2)
 
@@ -82,7 +81,8 @@ def _result_record(state, modes, timings) -> dict:
     u = state.displacements[:, :3]
     return {"load_factor": state.load_factor, "max_displacement_m": float(np.linalg.norm(u, axis=1).max()),
             "frequencies_hz": modes.frequencies_hz.tolist(), "damping_ratio": modes.damping_ratio.tolist(),
-            "labels": list(modes.labels), "mass_kg": mp.mass, "cg_m": mp.cg.tolist(), "timings_s": timings}
+            "labels": list(modes.labels), "mass_kg": mp.mass, "cg_m": mp.cg.tolist(), "timings_s": timings,
+            "cautions": list(state.cautions + modes.cautions)}
 
 
 def _modes_table(title: str, results: dict) -> Table:
@@ -146,18 +146,26 @@ def solve(case: str = typer.Argument(..., help="built-in case (cantilever_strip,
         from ..fem import solve_modes
         results, states, mode_sets = {}, {}, {}
         for name in names:
-            t0 = time.perf_counter()
-            st = _solve_with_progress(model, configurations[name])
-            t1 = time.perf_counter()
-            if methods.get(name) is not None:
-                from ..workflow.deck import deck_modes
-                md = deck_modes(st, methods[name], modes, mass_frame)
-            else:
-                md = solve_modes(st, modes or 10, mass_frame=mass_frame)
-            t2 = time.perf_counter()
+            with warnings.catch_warnings(record=True) as caught:  # the cautions are printed below, once
+                warnings.simplefilter("always")
+                t0 = time.perf_counter()
+                st = _solve_with_progress(model, configurations[name])
+                t1 = time.perf_counter()
+                if methods.get(name) is not None:
+                    from ..workflow.deck import deck_modes
+                    md = deck_modes(st, methods[name], modes, mass_frame)
+                else:
+                    md = solve_modes(st, modes or 10, mass_frame=mass_frame)
+                t2 = time.perf_counter()
             states[name], mode_sets[name] = st, md
             results[name] = _result_record(st, md, {"static": t1 - t0, "modes": t2 - t1})
-            console.print(f"[green]{st.summary()}[/]  ({t1 - t0:.2f} s static, {t2 - t1:.2f} s modes)")
+            summary, _, _ = st.summary().partition("\n  warning: ")
+            console.print(f"[green]{escape(summary)}[/]  ({t1 - t0:.2f} s static, {t2 - t1:.2f} s modes)")
+            for caution in st.cautions + md.cautions:
+                console.print(f"  [bold yellow]warning:[/] {escape(caution)}")
+            for w in caught:
+                if str(w.message) not in st.cautions + md.cautions:
+                    console.print(f"  [yellow]note:[/] {escape(str(w.message))}")
         console.print(_modes_table(f"{title}: pre-stressed modes", results))
         if out is not None:
             _write_figures(out, title, states, mode_sets)

@@ -4,11 +4,12 @@ stiffness included), sparse shift-invert, rigid-body modes, and complex modes wi
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+import warnings
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from ..errors import ModelError
+from ..errors import FlexGVTWarning, ModelError
 from ..modal import ModalSet, as_dofs
 from .checks import check_matrix
 from .eigen import (_NO_MASS, DEFAULT_SHIFT, DENSE_LIMIT, complex_modes, modal_frequencies_hz,  # noqa: F401
@@ -38,6 +39,7 @@ class Modes:
     eigenvalues: np.ndarray | None = None  # lambda = omega^2 [rad^2/s^2] (real) or s [rad/s] (complex)
     energy_fractions: np.ndarray | None = None  # (n_modes, 5): OOP, IP, T, EXT, rigid/suspension
     state: State | None = field(default=None, repr=False, compare=False)
+    cautions: tuple[str, ...] = ()  # what makes these modes doubtful (see mode_cautions)
 
     def matrix(self, dofs: str = "all") -> np.ndarray:
         """(n_dof, n_modes) matrix of the shapes (node-major, 6 DOF per node; 'translations' for 3)."""
@@ -136,10 +138,10 @@ def solve_modes(state: State, n_modes: int = 15, *, damped: bool | None = None, 
     T = system.transformation(x, R) if system.has_links else None
     n = system.n_nodes
     use_damping = system.has_damping if damped is None else damped
+    n_rigid = 0 if clamped else rigid_count(system, x, T, K, M)
     if use_damping:
         C = system.damping_matrix(x, R)
-        n_rigid = None if clamped else rigid_count(system, x, T, K, M)
-        s, v = complex_modes(K, C, M, n_modes, clamped, n_rigid)
+        s, v = complex_modes(K, C, M, n_modes, clamped, None if clamped else n_rigid)
         wn = np.abs(s)
         freq = np.where(wn < 1e-5 * max(wn.max(initial=0.0), 1.0), 0.0, wn / (2 * np.pi))
         zeta = np.where(wn > 0, -s.real / np.where(wn > 0, wn, 1), 0.0)
@@ -159,4 +161,51 @@ def solve_modes(state: State, n_modes: int = 15, *, damped: bool | None = None, 
     if label:
         from .labels import label_modes
         modes = label_modes(modes)
-    return modes
+    return mode_cautions(modes, n_rigid)
+
+
+MECHANISM_RATIO = 1e-6  # a mode this far below the highest one found is a zero-energy mode
+
+
+def mode_cautions(modes: Modes, n_rigid: int) -> Modes:
+    """The modes with their cautions (a FlexGVTWarning for each) and honest labels:
+    - an unstable state: a negative eigenvalue (negative frequency) or a root with negative damping
+      is labelled 'unstable k (CLASS)', never as an elastic mode;
+    - mechanisms: more zero-frequency modes (below MECHANISM_RATIO of the highest one found) than
+      the structure has rigid-body motions (n_rigid: none when it is restrained), with the DOFs that
+      move most in each."""
+    f = np.asarray(modes.frequencies_hz, float)
+    name = modes.state.configuration.name if modes.state is not None else "?"
+    labels = list(modes.labels) if modes.labels else [""] * len(f)
+    notes = []
+    unstable = np.flatnonzero((f < 0) | (np.asarray(modes.damping_ratio) < -1e-9))
+    for k, m in enumerate(unstable):
+        cls = labels[m].split(" ", 1)[-1] if labels[m] else ""
+        labels[m] = f"unstable {k + 1}" + (f" ({cls})" if cls else "")
+    if len(unstable):
+        shown = ", ".join(f"{f[m]:.4g} Hz" for m in unstable[:4])
+        notes.append(f"configuration '{name}': the state is unstable: {len(unstable)} mode(s) with a negative "
+                     f"eigenvalue or negative damping ({shown}; labelled 'unstable'). The tangent stiffness is not "
+                     "positive definite there: the structure has buckled or is loaded past a limit point, so these "
+                     "are not elastic modes. Check the loads and supports, or solve at a lower load factor")
+    top = np.abs(f).max(initial=0.0)
+    zero = np.flatnonzero(np.abs(f) <= MECHANISM_RATIO * top) if top > 0 else np.arange(len(f))
+    if len(zero) > n_rigid:
+        extra = zero[n_rigid:] if n_rigid else zero
+        moving = []
+        for k, m in enumerate(extra):
+            labels[m] = f"mechanism {k + 1}"
+            a = np.abs(modes.shapes[m])
+            node, dof = np.unravel_index(int(np.argmax(a)), a.shape)
+            moving.append(f"node {modes.node_ids[node]} {('T1', 'T2', 'T3', 'R1', 'R2', 'R3')[dof]}")
+        moving = moving[:4]
+        notes.append(f"configuration '{name}': {len(zero)} zero-frequency mode(s) where the structure has "
+                     f"{n_rigid} rigid-body motion(s): {len(extra)} mechanism(s), moving most at "
+                     f"{', '.join(moving)}{' ...' if len(extra) > 4 else ''}. A stiffness is missing or "
+                     "absurdly small there (a section property, a released end, a spring or a support): check "
+                     "the model's values at those nodes")
+    for note in notes:
+        warnings.warn(note, FlexGVTWarning, stacklevel=3)
+    if not notes:
+        return modes
+    return replace(modes, labels=tuple(labels), cautions=modes.cautions + tuple(notes))

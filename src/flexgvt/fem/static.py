@@ -692,9 +692,32 @@ def check_state(state: State, settings: StaticSettings) -> State:
                      + (f" plus its longest cord ({reach:.4g} m)" if reach else "")
                      + ": check the supports, springs, cords and loads; a displacement that large is rarely the "
                      "intended equilibrium")
+    units = unit_system_caution(state.model, size)
+    if units:
+        notes.append(f"configuration '{name}': {units}")
     for note in notes:
         warnings.warn(note, FlexGVTWarning, stacklevel=3)
     return dataclasses.replace(state, cautions=tuple(notes)) if notes else state
+
+
+def unit_system_caution(model: Model, size: float) -> str:
+    """Why the model's values look like another unit system read as SI (mm-t-s or in-lbf-s values
+    taken as m-kg-s: a 2 m beam read from an mm deck is 2 km long and sags by hundreds of metres
+    under 1 g), or '' when they look like SI: a structure over 1 km across, a density below 1 kg/m^3
+    or a Young's modulus below 1 MPa (no structural material has them)."""
+    seen = []
+    if size > 1000.0:
+        seen.append(f"it is {size:.4g} m across")
+    for g in model.beams:
+        mat = g.material
+        if 0 < mat.rho < 1.0 or 0 < mat.E < 1e6:
+            seen.append(f"material '{mat.name}' has E = {mat.E:.4g} Pa and rho = {mat.rho:.4g} kg/m^3")
+            break
+    if not seen:
+        return ""
+    return ("the model's values look like another unit system read as SI (" + "; ".join(seen) + "). A deck in "
+            "mm-t-s (mm, tonne, s: E in N/mm^2, rho in t/mm^3) or in-lbf-s needs its units: flexgvt solve "
+            "--units mm-t-s, or units = \"mm-t-s\" under [model] in a project")
 
 
 def _prescribed_forces(system: System, model: Model, configuration: Configuration) -> np.ndarray:

@@ -1,0 +1,106 @@
+"""Modes that are not elastic modes say so (issue 32, "honest results"): an unstable state's
+negative eigenvalues, mechanisms of a supported structure, and a model whose values are in another
+unit system than the one it was read in."""
+
+import warnings
+
+import numpy as np
+import pytest
+
+import flexgvt as fg
+from flexgvt.errors import FlexGVTWarning
+
+E, L, B, H = 70e9, 2.0, 0.05, 0.01
+
+
+def _column(section=None, n: int = 20):
+    model = fg.Model()
+    ids = model.add_nodes(np.c_[np.zeros(n + 1), np.zeros(n + 1), np.linspace(0.0, L, n + 1)])
+    model.add_beams(np.c_[ids[:-1], ids[1:]], material=fg.Material("Al", E=E, nu=0.33, rho=2700.0),
+                    section=section or fg.RectangularSection(width=B, height=H), orientation=(1.0, 0.0, 0.0))
+    return model, ids
+
+
+def _quiet(function, *args, **kwargs):
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        out = function(*args, **kwargs)
+    return out, [str(w.message) for w in caught if issubclass(w.category, FlexGVTWarning)]
+
+
+def test_a_column_compressed_past_buckling_is_unstable_not_an_elastic_mode():
+    model, ids = _column()
+    p_cr = np.pi ** 2 * E * (B * H ** 3 / 12) / (4 * L ** 2)  # clamped-free Euler load, weak axis
+    cfg = fg.Configuration("past buckling", fixed={ids[0]: "123456"},
+                           forces=(fg.NodalLoad(ids[-1], force=(0.0, 0.0, -1.5 * p_cr)),))
+    state = fg.solve_static(model, cfg)  # the straight column: an equilibrium, an unstable one
+    modes, said = _quiet(fg.solve_modes, state, n_modes=4)
+    assert modes.frequencies_hz[0] < 0
+    assert modes.labels[0].startswith("unstable 1") and "OOP" not in modes.labels[0].split("(")[0]
+    assert not any(lab.startswith("unstable") for lab, f in zip(modes.labels, modes.frequencies_hz) if f > 0)
+    assert len(modes.cautions) == 1 and "unstable" in modes.cautions[0] and "buckled" in modes.cautions[0]
+    assert said == list(modes.cautions)
+    # Below the buckling load the same column is stable and says nothing.
+    below = fg.Configuration("below", fixed={ids[0]: "123456"},
+                             forces=(fg.NodalLoad(ids[-1], force=(0.0, 0.0, -0.5 * p_cr)),))
+    modes, said = _quiet(fg.solve_modes, fg.solve_static(model, below), n_modes=4)
+    assert modes.frequencies_hz.min() > 0 and not modes.cautions and not said
+
+
+def test_a_missing_stiffness_on_a_clamped_beam_is_a_mechanism_not_a_rigid_mode():
+    # A section typo: Iz = 5e-81 leaves one bending plane with no stiffness on a clamped beam.
+    typo = fg.GeneralSection(A=B * H, Iy=B * H ** 3 / 12, Iz=5e-81, J=1e-9)
+    model, ids = _column(typo)
+    cfg = fg.Configuration("clamped", fixed={ids[0]: "123456"})
+    modes, said = _quiet(fg.solve_modes, fg.solve_static(model, cfg), n_modes=6)
+    zero = np.abs(modes.frequencies_hz) <= 1e-6 * np.abs(modes.frequencies_hz).max()
+    assert zero.any()
+    assert all(lab.startswith("mechanism") for lab in np.array(modes.labels)[zero])
+    assert not any(lab.startswith("RB") for lab in modes.labels)
+    assert len(said) == 1 and "mechanism" in said[0] and "node " in said[0] and "rigid-body motion(s)" in said[0]
+    # The same beam with its section right has none.
+    model, ids = _column()
+    modes, said = _quiet(fg.solve_modes, fg.solve_static(model, cfg), n_modes=6)
+    assert not modes.cautions and not said
+
+
+def test_a_free_structure_keeps_its_rigid_modes_without_a_word():
+    model, ids = _column()
+    modes, said = _quiet(fg.solve_modes, fg.solve_static(model, fg.Configuration("free")), n_modes=9)
+    assert (modes.frequencies_hz == 0).sum() == 6 and not modes.cautions and not said
+    assert sum(lab.startswith("RB") for lab in modes.labels) == 6
+
+
+@pytest.mark.parametrize("n_modes", [4])
+def test_a_mm_model_read_as_si_is_named(n_modes):
+    # The beam in mm-t-s values (mm, N/mm^2, t/mm^3) solved as if they were SI.
+    model = fg.Model()
+    ids = model.add_nodes(np.c_[np.zeros(21), np.linspace(0.0, 2000.0, 21), np.zeros(21)])
+    model.add_beams(np.c_[ids[:-1], ids[1:]], material=fg.Material("Al", E=70e3, nu=0.33, rho=2.7e-9),
+                    section=fg.RectangularSection(width=50.0, height=10.0), orientation=(0.0, 0.0, 1.0))
+    cfg = fg.Configuration("1 g", fixed={ids[0]: "123456"}, gravity=1.0)
+    state, said = _quiet(fg.solve_static, model, cfg)
+    assert any("mm-t-s" in c for c in state.cautions) and said == list(state.cautions)
+
+
+def test_solve_prints_the_cautions_once_with_every_bracket_shown(tmp_path):
+    from typer.testing import CliRunner
+
+    from flexgvt.cli.main import app
+
+    lines = ["SOL 103", "CEND", "SUBCASE 1", "  SPC = 1", "  LOAD = 10", "  METHOD = 1", "BEGIN BULK",
+             "EIGRL,1,,,4", "MAT1,1,70000.,,0.33,2.7-9", "PBAR,1,1,500.,4166.7,104166.7,10000.",
+             "GRAV,10,,9810.,0.,0.,-1.", "SPC1,1,123456,1"]
+    lines += [f"GRID,{i + 1},,0.,{100.0 * i},0." for i in range(21)]
+    lines += [f"CBAR,{i + 1},1,{i + 1},{i + 2},0.,0.,1." for i in range(20)] + ["ENDDATA"]
+    deck = tmp_path / "mm.bdf"
+    deck.write_text("\n".join(lines) + "\n")
+    out = CliRunner().invoke(app, ["solve", str(deck), "--json", str(tmp_path / "r.json")], env={"COLUMNS": "400"})
+    assert out.exit_code == 0, out.output
+    text = " ".join(out.output.split())  # the console wraps at its width
+    assert text.count("look like another unit system") == 1 and 'units = "mm-t-s" under [model]' in text
+    import json
+    saved = json.loads((tmp_path / "r.json").read_text())["configurations"]["subcase_1"]
+    assert any("mm-t-s" in c for c in saved["cautions"])
+    out = CliRunner().invoke(app, ["solve", str(deck), "--units", "mm-t-s"], env={"COLUMNS": "400"})
+    assert out.exit_code == 0 and "warning" not in out.output
