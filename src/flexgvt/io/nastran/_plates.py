@@ -189,14 +189,14 @@ def read_plates(deck: Deck, model: Model, log: Findings, parts: Parts) -> Parts:
 def _corner_thickness(deck: Deck, elems, prop, p: int) -> np.ndarray | None:
     """(n, p) corner thicknesses [m] when any element gives one (TFLAG 0: values, 1: factors of T)."""
     names = ("T1", "T2", "T3", "T4")[:p]
-    if not any(getattr(e, f, None) not in (None, -1.0) for e in elems for f in names):
+    if not any(getattr(e, f, None) is not None for e in elems for f in names):
         return None
     t_prop = prop.thickness
     out = np.empty((len(elems), p))
     for k, e in enumerate(elems):
         for j, f in enumerate(names):
             v = getattr(e, f, None)
-            if v in (None, -1.0):
+            if v is None:
                 if t_prop is None:
                     raise ModelError(f"{deck.at(e.type, e.eid)}: {f} is blank and property {e.pid} has no T; "
                                      "give the corner thickness or the property's T")

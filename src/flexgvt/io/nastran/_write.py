@@ -24,7 +24,7 @@ from ._write_beams import update_beams, write_beams
 from ._write_cases import write_configurations
 from ._write_common import Numbering
 from ._write_masses import update_masses, write_masses
-from ._write_plates import check_plates, write_plates
+from ._write_plates import add_as_ctria3, check_plates, write_plates
 from ._write_rigid import check_rigid, write_rigid
 from ._write_springs import update_springs, write_springs
 
@@ -43,16 +43,24 @@ def _copy_deck(bdf):
     """A copy of a pyNastran deck to write into: the deck object and the card groups the template
     writer edits or adds to are deep copies; every other card group (loads, aero, monitor points,
     plot elements...) is shared, untouched. pyNastran cannot deep-copy some cards (PLOTEL, TLOAD2
-    with an integer phase, MONPNT1 with a long label: the glider deck fmondsp.dat has them all)."""
+    with an integer phase, MONPNT1 with a long label: the glider deck fmondsp.dat has them all;
+    CTRIAR, whose written TFLAG its reader rejects: copied as CTRIA3, see _write_plates)."""
     other = {name: value for name, value in vars(bdf).items()
              if isinstance(value, (dict, list)) and name not in _EDITED}
+    elements = dict(bdf.elements)
+    triar = {eid: e for eid, e in elements.items() if e.type == "CTRIAR"}
     for name in other:
         setattr(bdf, name, {})
+    for eid in triar:
+        del bdf.elements[eid]
     try:
         new = copy.deepcopy(bdf)
     finally:
         for name, value in other.items():
             setattr(bdf, name, value)
+        bdf.elements.clear()
+        bdf.elements.update(elements)
+    add_as_ctria3(new, triar)
     for name, value in other.items():
         setattr(new, name, copy.copy(value))
     return new

@@ -132,6 +132,16 @@ def _group_values(g: ShellGroup) -> tuple:
     return (g.nodes.tolist(), g.theta, g.material_axis, g.zoffs, g.corner_thickness, g.mass)
 
 
+def add_as_ctria3(bdf, triar: dict) -> None:
+    """Add CTRIAR cards to ``bdf`` as CTRIA3 (as read_bdf reads them): pyNastran writes a CTRIAR's
+    TFLAG into the field its own reader requires blank, so a written CTRIAR could not be read back."""
+    if triar:  # the copy's id map is shallow: a list of its own before adding
+        bdf._type_to_id_map["CTRIA3"] = list(bdf._type_to_id_map.get("CTRIA3", []))
+    for eid, e in triar.items():
+        bdf.add_ctria3(eid, e.pid, list(e.nodes), theta_mcid=e.theta_mcid, zoffset=e.zoffset, tflag=e.tflag,
+                       T1=e.T1, T2=e.T2, T3=e.T3, comment=f"CTRIAR {eid} written as CTRIA3")
+
+
 def check_plates(model: Model, deck: BdfDeck) -> None:
     """A template deck keeps its shell cards: the model's shell groups must be the deck's. Changed
     shell values are not written back yet (a ModelError says so rather than writing stale values)."""
