@@ -117,13 +117,33 @@ def test_round_trip_goland_with_rods(tmp_path):
     assert shell_data(back.model) == shell_data(deck.model) and back.model.n_beams == deck.model.n_beams
 
 
-def test_template_keeps_shells_and_refuses_changed_ones(plates, tmp_path):
+def test_template_writes_changed_shell_values(plates, tmp_path):
     fg.io.write_bdf(plates.model, tmp_path / "same.bdf", template=plates)
     assert shell_data(read(tmp_path / "same.bdf", units="mm-N-t-s").model) == shell_data(plates.model)
     changed = plates.model.copy()
-    changed.set_shell_group(0, dataclasses.replace(changed.shells[0].property, thickness=0.002))
-    with pytest.raises(ModelError, match="shell group 'PSHELL_1_CQUAD4' differs from the template"):
-        fg.io.write_bdf(changed, tmp_path / "changed.bdf", template=plates)
+    # PSHELL 1 is shared by the CQUAD4 and the CTRIAR group: the changed quads take a new PSHELL
+    k = changed.shell_group("PSHELL_1_CQUAD4")
+    changed.set_shell_group(k, dataclasses.replace(changed.shells[k].property, thickness=0.002, nsm=3.0))
+    # MAT2 2 is shared with a PCOMPG ply: the MID1 of PSHELL 2 becomes a new MAT2
+    k = changed.shell_group("PSHELL_2_CTRIA3_MCID")
+    prop = changed.shells[k].property
+    changed.set_shell_group(k, dataclasses.replace(prop, membrane=dataclasses.replace(prop.membrane, G11=90e9)))
+    with pytest.warns(UserWarning, match="PSHELL 1 is shared by shell groups that now differ"):
+        path = fg.io.write_bdf(changed, tmp_path / "changed.bdf", template=plates)
+    back = read(path, units="mm-N-t-s")
+    assert sorted(shell_data(back.model)) == sorted(shell_data(changed))  # groups come in property id order
+    assert back.shells["PSHELL_1_CTRIA3"].pid == 1 and "PSHELL_1_CQUAD4" not in back.shells
+    assert back.shells["PSHELL_1_CTRIA3"].eids == (15,) and back.shells["PSHELL_5_CQUAD4"].eids == (11, 12)
+    assert back.model.shells[back.model.shell_group("PSHELL_5_CQUAD4")].property.thickness == pytest.approx(0.002)
+    # the template's own cards (PARAMs, CQUADR) are kept; its CTRIAR is written as CTRIA3
+    assert back.notes[1:] == plates.notes[1:] and back.notes[0].startswith("CQUADR read as CQUAD4 ")
+
+
+def test_template_refuses_a_changed_mesh(plates):
+    changed = plates.model.copy()
+    changed.set_shell_group(0, mass="lumped")
+    with pytest.raises(ModelError, match="shell group 'PSHELL_1_CQUAD4': mass 'lumped' differs"):
+        fg.io.write_bdf(changed, Path("unused.bdf"), template=plates)
 
 
 BASE = """BEGIN BULK

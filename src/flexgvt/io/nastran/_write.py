@@ -24,7 +24,7 @@ from ._write_beams import update_beams, write_beams
 from ._write_cases import write_configurations
 from ._write_common import Numbering
 from ._write_masses import update_masses, write_masses
-from ._write_plates import add_as_ctria3, check_plates, write_plates
+from ._write_plates import add_as_ctria3, update_plates, write_plates
 from ._write_rigid import check_rigid, write_rigid
 from ._write_springs import update_springs, write_springs
 
@@ -84,7 +84,7 @@ def _write_into_template(model: Model, path: Path, deck: BdfDeck, size: int) -> 
     update_masses(bdf, model, deck, notes)
     update_springs(bdf, model, deck, next_pid)
     check_rigid(model, deck)
-    check_plates(model, deck)
+    update_plates(bdf, model, deck, notes)
     _quiet_write(bdf, path, size)
     return notes
 
@@ -126,7 +126,8 @@ def write_bdf(model: Model, path: str | Path, template: BdfDeck | None = None, *
     spring/damper values. A MAT1 or spring property shared by groups that now differ is split
     into copies with new ids; a PBARL/PBEAML whose values no longer fit its shape becomes an
     equivalent PBAR/PBEAM. The deck's units and PARAM,WTMASS are kept.
-    Shells are kept as the template has them (a changed shell group raises: write without template=).
+    Shells: changed PSHELL/PCOMP/PCOMPG and material values go into their cards (a property shared by
+    groups that now differ is split), THETA, ZOFFS and corner thicknesses into the elements.
     Without template: a compact deck (GRID, CBAR + PBAR/PBARL + MAT1, CQUAD4/CTRIA3 + PSHELL/PCOMP/
     PCOMPG + MAT1/MAT2/MAT8, CONM2, CELAS2/CDAMP2 or
     CBUSH, RBE2, RBE3, MPC) in ``units``, with one SUBCASE per entry of ``configurations`` (SPC1, GRAV,

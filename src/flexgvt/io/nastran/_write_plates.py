@@ -1,7 +1,9 @@
-"""Writing shells: CQUAD4/CTRIA3 on PSHELL or PCOMP/PCOMPG with MAT1/MAT2/MAT8 in a compact deck;
-a template deck's shells are checked unchanged (their values are not yet written back)."""
+"""Writing shells: CQUAD4/CTRIA3 on PSHELL or PCOMP/PCOMPG with MAT1/MAT2/MAT8, in a compact deck
+or into a template deck (changed properties, materials, THETA, ZOFFS and corner thicknesses)."""
 
 from __future__ import annotations
+
+from collections import Counter
 
 import numpy as np
 
@@ -15,40 +17,37 @@ from ._write_common import Numbering, same
 
 
 class _MaterialIds:
-    """Material -> MAT id of a compact deck: the beams' MAT1s (numbered 1.. in beam order by
-    write_beams) reused, new ones after the largest id."""
+    """Material -> MAT id: the ``known`` (material, id) pairs reused, new cards after the largest id.
+    wtmass: the deck's PARAM,WTMASS (densities are written divided by it)."""
 
-    def __init__(self, bdf, model: Model, u: Units) -> None:
-        self.bdf, self.u, self.ids = bdf, u, []
-        for g in model.beams:
-            if not any(m == g.material for m, _ in self.ids):
-                self.ids.append((g.material, len(self.ids) + 1))
+    def __init__(self, bdf, u: Units, known: list, wtmass: float = 1.0) -> None:
+        self.bdf, self.u, self.ids, self.wtmass = bdf, u, list(known), wtmass
         self.next = max(list(bdf.materials) + [0]) + 1
 
     def __call__(self, mat) -> int:
         for m, mid in self.ids:
             if m == mat:
                 return mid
-        mid, u = self.next, self.u
+        mid, u, w = self.next, self.u, self.wtmass
         self.next += 1
         self.ids.append((mat, mid))
         comment = f"flexgvt material '{mat.name}'"
         if isinstance(mat, Material):
-            v = _material_values(mat, u, 1.0)
+            v = _material_values(mat, u, w)
             self.bdf.add_mat1(mid, v["E"], v["G"] if mat.G is not None else None, v["nu"], rho=v["rho"],
                               comment=comment)
         elif isinstance(mat, AnisotropicMaterial):
             G = [getattr(mat, f) / u.stress for f in ("G11", "G12", "G13", "G22", "G23", "G33")]
-            self.bdf.add_mat2(mid, *G, rho=mat.rho / u.density, comment=comment)
+            self.bdf.add_mat2(mid, *G, rho=mat.rho / (u.density * w), comment=comment)
         else:
             gz = [None if g is None else g / u.stress for g in (mat.G1z, mat.G2z)]
             self.bdf.add_mat8(mid, mat.E1 / u.stress, mat.E2 / u.stress, mat.nu12, mat.G12 / u.stress, g1z=gz[0],
-                              g2z=gz[1], rho=mat.rho / u.density, comment=comment)
+                              g2z=gz[1], rho=mat.rho / (u.density * w), comment=comment)
         return mid
 
 
 def _property(bdf, prop, pid: int, mats: _MaterialIds, u: Units, comment: str) -> None:
-    area_mass = u.mass / u.length**2
+    area_mass = u.mass * mats.wtmass / u.length**2
     if isinstance(prop, ShellProperty):
         mid = [None if m is None else mats(m) for m in (prop.membrane, prop.bending, prop.shear, prop.coupling)]
         t = None if prop.thickness is None else prop.thickness / u.length
@@ -97,7 +96,11 @@ def write_plates(bdf, model: Model, u: Units, ids: Numbering) -> None:
                          "PARAM,COUPMASS is global. Use one formulation")
     if shell_mass == {"consistent"} and "COUPMASS" not in bdf.params:
         bdf.add_param("COUPMASS", [1])
-    mats = _MaterialIds(bdf, model, u)
+    beam_mats: list = []  # write_beams numbers the beams' MAT1s 1.. in beam order
+    for g in model.beams:
+        if not any(m == g.material for m, _ in beam_mats):
+            beam_mats.append((g.material, len(beam_mats) + 1))
+    mats = _MaterialIds(bdf, u, beam_mats)
     pids: list[tuple[object, int]] = []
     systems: dict = {}
     for group in model.shells:
@@ -142,19 +145,92 @@ def add_as_ctria3(bdf, triar: dict) -> None:
                        T1=e.T1, T2=e.T2, T3=e.T3, comment=f"CTRIAR {eid} written as CTRIA3")
 
 
-def check_plates(model: Model, deck: BdfDeck) -> None:
-    """A template deck keeps its shell cards: the model's shell groups must be the deck's. Changed
-    shell values are not written back yet (a ModelError says so rather than writing stale values)."""
+_MAT_FIELDS = {"MAT1": ("e", "g", "nu", "rho"), "MAT2": ("G11", "G12", "G13", "G22", "G23", "G33", "rho"),
+               "MAT8": ("e11", "e22", "nu12", "g12", "g1z", "g2z", "rho")}
+
+
+def _materials_of(prop) -> list:
+    if isinstance(prop, ShellProperty):
+        return [prop.membrane, prop.bending, prop.shear, prop.coupling]
+    return [p.material for p in prop.plies]
+
+
+def _mids_of(card) -> list:
+    return [card.mid1, card.mid2, card.mid3, card.mid4] if card.type == "PSHELL" else list(card.mids)
+
+
+def update_plates(bdf, model: Model, deck: BdfDeck, notes: list[str]) -> None:
+    """Write the model's shell groups into the template's cards (after the beams: a MAT1 the beam
+    writer changed is not the shells' any more). A changed property is written into its card when
+    only this group uses it, else into a new card the group's elements take; new materials get new
+    MAT cards; THETA, ZOFFS and corner thicknesses are written into the elements. The mesh, the
+    material axes (MCID) and the mass formulation (PARAM,COUPMASS) must be the template's."""
     old = deck.model.shells
     if len(model.shells) != len(old):
         raise ModelError(f"write_bdf: the model has {len(model.shells)} shell groups, the template {len(old)}; write "
                          "without template=")
-    for new, was in zip(model.shells, old):
-        a, b = _group_values(new), _group_values(was)
-        equal = a[0] == b[0] and a[5] == b[5] and new.property == was.property and all(
-            (x is None and y is None) or (x is not None and y is not None and same(x, y)) for x, y in zip(a[1:5],
-                                                                                                      b[1:5]))
-        if not equal:
-            raise ModelError(f"write_bdf: shell group '{new.name}' differs from the template deck's; shell values are "
-                             "not yet written into a template: write without template= (a compact deck)")
+    u = deck.units
+    ids_map = bdf._type_to_id_map  # shallow copy of the template's: give the lists this copy adds to their own
+    for key in list(ids_map):
+        ids_map[key] = list(ids_map[key])
 
+    def intact(mid) -> bool:  # the template's card still holds the values read (G of a MAT1: computed or not)
+        a, b = bdf.materials.get(mid), deck.bdf.materials.get(mid)
+        if a is None or b is None or a.type != b.type:
+            return False
+        for f in _MAT_FIELDS.get(a.type, ()):
+            x, y = getattr(a, f, None), getattr(b, f, None)
+            if (x is None or y is None) and (f == "g" or x is y):
+                continue
+            if x is None or y is None or not same(x, y):
+                return False
+        return True
+
+    known = []
+    for g in old:
+        card = deck.bdf.properties[deck.shells[g.name].pid]
+        known += [(m, mid) for m, mid in zip(_materials_of(g.property), _mids_of(card))
+                  if m is not None and mid not in (None, 0) and intact(mid)]
+    mats = _MaterialIds(bdf, u, known, deck.wtmass)
+    users = Counter(deck.shells[g.name].pid for g in old)
+    next_pid = max(list(bdf.properties) + [0]) + 1
+    for new, was in zip(model.shells, old):
+        src = deck.shells[was.name]
+        where = f"write_bdf: shell group '{new.name}'"
+        if new.nodes.shape != was.nodes.shape or not np.array_equal(new.nodes, was.nodes):
+            raise ModelError(f"{where}: its elements differ from the template deck's; write without template=")
+        if new.mass != was.mass:
+            raise ModelError(f"{where}: mass '{new.mass}' differs from the template's '{was.mass}' (PARAM,COUPMASS is "
+                             "global); write without template=")
+        if (new.material_axis is None) != (was.material_axis is None) or (
+                new.material_axis is not None and not same(new.material_axis, was.material_axis)):
+            raise ModelError(f"{where}: its material axes (MCID) differ from the template's; write without template=")
+        card = deck.bdf.properties[src.pid]
+        if new.property != was.property or not all(intact(mid) for mid in _mids_of(card) if mid not in (None, 0)):
+            if users[src.pid] == 1:
+                pid = src.pid
+                del bdf.properties[pid]
+            else:
+                pid, next_pid = next_pid, next_pid + 1
+                notes.append(f"{card.type} {src.pid} is shared by shell groups that now differ: group '{new.name}' "
+                             f"takes a new {card.type} {pid}")
+            _property(bdf, new.property, pid, mats, u, f"flexgvt shell group '{new.name}' (was {card.type} {src.pid})")
+            for eid in src.eids:
+                bdf.elements[eid].pid = pid
+        # corner thicknesses are absolute in the model: a blank Ti or TFLAG 1 follows the card's T
+        _update_elements(bdf, new, was, src.eids, u, new.property.thickness != was.property.thickness)
+
+
+def _update_elements(bdf, new: ShellGroup, was: ShellGroup, eids, u: Units, new_t: bool) -> None:
+    names = ("T1", "T2", "T3", "T4")[:new.nodes.shape[1]]
+    for k, eid in enumerate(eids):
+        e = bdf.elements[eid]
+        if new.material_axis is None and new.theta[k] != was.theta[k]:
+            e.theta_mcid = float(new.theta[k])
+        if new.zoffs[k] != was.zoffs[k]:
+            e.zoffset = float(new.zoffs[k]) / u.length
+        a, b = new.corner_thickness, was.corner_thickness
+        if (a is None) != (b is None) or (a is not None and (new_t or not same(a[k], b[k]))):
+            e.tflag = 0
+            for j, f in enumerate(names):
+                setattr(e, f, None if a is None else float(a[k, j]) / u.length)
