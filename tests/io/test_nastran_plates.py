@@ -198,3 +198,16 @@ def _values(obj):
 def shell_data(model):
     return [(g.nodes.tolist(), _values(g.property), _values(g.theta), _values(g.material_axis), _values(g.zoffs),
              _values(g.corner_thickness), g.mass) for g in model.shells]
+
+
+def test_template_shells_keep_their_mat1_when_the_rods_change_it(tmp_path):
+    """Goland: CROD and PSHELL share MAT1 1; a stiffer rod material must not reach the skins."""
+    deck = read(DATA / "pynastran" / "goland" / "goland_final_test.bdf")
+    changed = deck.model.copy()
+    for k, g in enumerate(changed.beams):
+        changed.set_beam_group(k, material=dataclasses.replace(g.material, E=2 * g.material.E))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        back = read(fg.io.write_bdf(changed, tmp_path / "g.bdf", template=deck))
+    assert sorted(shell_data(back.model)) == sorted(shell_data(deck.model))
+    assert {g.material.E for g in back.model.beams} == {2 * 1.4976e9}
