@@ -63,12 +63,12 @@ def test_missing_spc_and_load_sets(tmp_path):
 
 def test_unknown_and_unsupported_cards_in_one_error(tmp_path):
     body = BEAM + "RBE3,50,,2,123,1.,1,1\nFOOBAR,1,2\nGRID,3,,1.,1.,0.\nGRID,4,,0.,1.,0.\n" \
-        "CQUAD4,60,2,1,2,3,4\nPSHELL,2,1,0.001\n"
+        "CQUAD8,60,2,1,2,3,4\nPSHELL,2,1,0.001\n"
     with pytest.raises(UnsupportedCardsError) as err:
         fg.io.read_bdf(deck(tmp_path, body))
-    assert set(err.value.unsupported) == {"RBE3 (independent components other than 123)", "FOOBAR", "CQUAD4",
-                                          "PSHELL"}
+    assert set(err.value.unsupported) == {"RBE3 (independent components other than 123)", "FOOBAR", "CQUAD8"}
     assert "unsupported='warn'" in str(err.value)
+    assert "CQUAD8: 60" in str(err.value) and "CQUAD8: 8-node quads: remesh with CQUAD4" in str(err.value)
     with pytest.warns(UserWarning, match=r"RBE3 \(independent components other than 123\): 50"):
         got = fg.io.read_bdf(deck(tmp_path, body), unsupported="warn")
     assert got.model.n_beams == 1

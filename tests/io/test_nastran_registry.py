@@ -17,6 +17,7 @@ READ_BEFORE = {
     "FORCE", "MOMENT", "GRAV", "PLOAD1", "SPCD", "GRID", "GRDSET", "MAT1", "CORD2R", "CORD2C", "CORD2S", "CORD1R",
     "CORD1C", "CORD1S", "SPC", "SPC1", "SPCADD", "LOAD", "MPC", "MPCADD", "SUPORT", "SUPORT1", "CMASS1", "CMASS2",
     "PMASS"}
+PLATE_CARDS = {"CQUAD4", "CTRIA3", "CQUADR", "CTRIAR", "PSHELL", "PCOMP", "PCOMPG", "MAT2", "MAT8"}
 
 PLATE = """SOL 103
 CEND
@@ -38,13 +39,18 @@ def test_each_card_is_read_by_one_family_and_the_set_is_unchanged():
     names = [card for family in _registry.FAMILIES for card in family.cards]
     names += list(_registry.DECK_CARDS) + list(_registry.CASE_CARDS)
     assert len(names) == len(set(names)), "a card is claimed by two families"
-    assert _registry.READ_CARDS == READ_BEFORE
-    assert [f.name for f in _registry.FAMILIES] == ["materials", "beams", "rods", "masses", "springs", "rigid"]
+    assert _registry.READ_CARDS == READ_BEFORE | PLATE_CARDS
+    assert [f.name for f in _registry.FAMILIES] == ["materials", "beams", "rods", "plates", "masses", "springs",
+                                                    "rigid"]
 
 
 def test_a_new_family_plugs_in_through_the_registry(tmp_path, monkeypatch):
     path = tmp_path / "plate.bdf"
     path.write_text(PLATE)
+    # the registry as it was before the plate family: plates unsupported
+    before = tuple(f for f in _registry.FAMILIES if f.name != "plates")
+    monkeypatch.setattr(_read, "FAMILIES", before)
+    monkeypatch.setattr(_read, "READ_CARDS", READ_BEFORE)
     with pytest.raises(UnsupportedCardsError) as err:
         fg.io.read_bdf(path)
     assert set(err.value.unsupported) == {"CQUAD4", "PSHELL"}
@@ -58,8 +64,8 @@ def test_a_new_family_plugs_in_through_the_registry(tmp_path, monkeypatch):
         return Parts()
 
     plates = Family("plates", ("CQUAD4", "PSHELL"), read_plates, needs_property=("CQUAD4",))
-    monkeypatch.setattr(_read, "FAMILIES", _registry.FAMILIES + (plates,))
-    monkeypatch.setattr(_read, "READ_CARDS", _registry.READ_CARDS | set(plates.cards))
+    monkeypatch.setattr(_read, "FAMILIES", before + (plates,))
+    monkeypatch.setattr(_read, "READ_CARDS", READ_BEFORE | set(plates.cards))
     with pytest.warns(UserWarning, match="plates read by a test family"):
         deck = fg.io.read_bdf(path)
     assert seen == [([1, 2, 3, 4], f"{path}:11: CQUAD4 60", [1], 1)]

@@ -5,10 +5,12 @@ from .components import (ConcentratedMass, Cord, DistributedLoad, InterpolationL
 from .configuration import STANDARD_GRAVITY, Configuration, parse_dofs
 from .material import Material
 from .model import BeamGroup, Model
+from .shells import AnisotropicMaterial, Laminate, OrthotropicMaterial, Ply, ShellGroup, ShellProperty
 from .section import (CircularTubeSection, GeneralSection, RectangularSection, RodSection, TaperedSection,
                       end_properties, rectangle_torsion_constant)
 
-__all__ = ["BeamGroup", "CircularTubeSection", "ConcentratedMass", "Configuration", "Cord", "DistributedLoad",
-           "GeneralSection", "InterpolationLink", "LinearConstraint", "Material", "Model", "NodalLoad",
+__all__ = ["BeamGroup", "CircularTubeSection", "AnisotropicMaterial", "ConcentratedMass", "Configuration", "Cord",
+           "DistributedLoad", "GeneralSection", "Laminate", "OrthotropicMaterial", "Ply", "ShellGroup",
+           "ShellProperty", "InterpolationLink", "LinearConstraint", "Material", "Model", "NodalLoad",
            "RectangularSection", "RodSection", "RigidLink", "Spring", "STANDARD_GRAVITY", "TaperedSection",
            "end_properties", "parse_dofs", "rectangle_torsion_constant"]

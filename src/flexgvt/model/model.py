@@ -15,6 +15,7 @@ from .components import (ConcentratedMass, InterpolationLink, LinearConstraint, 
                          find_items)
 from .material import Material
 from .section import RodSection, Section
+from .shells import SHELL_MASS, Laminate, ShellGroup, ShellProperty, ShellPropertyLike, check_shell_geometry
 
 # consistent: cubic bending, linear axial and torsion; lumped: half of everything at each node;
 # consistent-bending: cubic bending, axial and torsional mass lumped (MSC Nastran's CBEAM under COUPMASS).
@@ -53,6 +54,7 @@ class Model:
         self._node_xyz: list[np.ndarray] = []
         self._node_index: dict[int, int] = {}
         self._beams: list[BeamGroup] = []
+        self._shells: list[ShellGroup] = []
         self._masses: list[ConcentratedMass] = []
         self._springs: list[Spring] = []
         self._rigid_links: list[RigidLink] = []
@@ -187,6 +189,73 @@ class Model:
         orientation = np.eye(3)[np.argmin(np.abs(axis), axis=1)]
         return self.add_beams(pairs, material, RodSection(area, torsion_constant), orientation=orientation,
                               rotary_inertia=False, mass=mass, name=name)
+
+    def add_shells(self, elements: ArrayLike, property: ShellPropertyLike | None = None, *,
+                   material: Material | None = None, thickness: float | None = None, name: str = "",
+                   theta: ArrayLike = 0.0, material_axis: ArrayLike | None = None, zoffs: ArrayLike = 0.0,
+                   corner_thickness: ArrayLike | None = None, mass: str = "lumped") -> np.ndarray:
+        """Add shell elements (Nastran CQUAD4/CTRIA3): ``elements`` (n, 4) quadrilaterals or (n, 3)
+        triangles of node ids, counter-clockwise about the normal; returns element ids.
+
+        property: a ShellProperty (PSHELL) or Laminate (PCOMP); or material= and thickness= [m] for
+        a solid isotropic plate (ShellProperty.isotropic). theta: material angle [deg] from the
+        element x axis (one or (n,)); material_axis: instead, one or (n, 3) basic vectors projected
+        on the element (Nastran MCID). zoffs: reference-plane offset [m] along the normal (one or
+        (n,)); corner_thickness: (n, p) thickness [m] at each node (None: the property's).
+        mass: 'lumped' or 'consistent'. name: the group's tag for design variables and reports.
+        """
+        where = f"add_shells{f' ({name})' if name else ''}"
+        if property is None:
+            if material is None or thickness is None:
+                raise ModelError(f"{where}: give property=ShellProperty(...)/Laminate(...), or material= and "
+                                 "thickness=")
+            property = ShellProperty.isotropic(material, thickness, name=name)
+        elif material is not None or thickness is not None:
+            raise ModelError(f"{where}: give either property= or material= and thickness=, not both")
+        if not isinstance(property, (ShellProperty, Laminate)):
+            raise ModelError(f"{where}: property is a {type(property).__name__}; give a ShellProperty or Laminate")
+        if mass not in SHELL_MASS:
+            raise ModelError(f"{where}: mass='{mass}' must be one of {SHELL_MASS}")
+        try:
+            nodes = np.atleast_2d(np.asarray(elements, dtype=np.int64)).astype(int)
+        except (TypeError, ValueError, OverflowError):
+            raise ModelError(f"{where}: elements must be an (n, 3) or (n, 4) array of node ids") from None
+        if nodes.ndim != 2 or nodes.shape[1] not in (3, 4) or not len(nodes):
+            raise ModelError(f"{where}: elements must have shape (n, 3) or (n, 4), got {nodes.shape}")
+        n, p = nodes.shape
+        idx = self.index_of(nodes, where)
+        check_shell_geometry(nodes, self.xyz[idx], where)
+
+        def per_element(value, shape, what, positive=False):
+            try:
+                arr = np.broadcast_to(np.asarray(value, dtype=float), shape).copy()
+            except (TypeError, ValueError):
+                raise ModelError(f"{where}: {what} must be one value or one per element, shape {shape}") from None
+            if not np.all(np.isfinite(arr)) or (positive and np.any(arr <= 0)):
+                k = int(np.flatnonzero(~np.isfinite(arr) | (positive & (arr <= 0))).min() // max(arr[0].size, 1))
+                raise ModelError(f"{where}: {what} of element {k + 1} (nodes {nodes[k].tolist()}) is "
+                                 f"{arr[k].tolist()}; it must be finite{' and positive' if positive else ''}")
+            return arr
+
+        th = per_element(theta, (n,), "theta")
+        axis = None
+        if material_axis is not None:
+            if np.any(th != 0):
+                raise ModelError(f"{where}: give theta or material_axis, not both")
+            axis = per_element(material_axis, (n, 3), "material_axis")
+            if np.any(np.linalg.norm(axis, axis=1) == 0):
+                raise ModelError(f"{where}: material_axis has a zero vector; give a direction")
+        z = per_element(zoffs, (n,), "zoffs")
+        corners = None if corner_thickness is None else per_element(corner_thickness, (n, p), "corner_thickness",
+                                                                    positive=True)
+        if corners is None and property.thickness is None:
+            raise ModelError(f"{where}: property '{property.name}' has no thickness; give corner_thickness or a "
+                             "thickness on the property")
+        ids = np.arange(self._next_element, self._next_element + n)
+        self._next_element += n
+        self._shells.append(ShellGroup(ids, nodes.copy(), property, th, axis, z, corners, mass, name))
+        self.revision += 1
+        return ids
 
     def add_mass(self, node: int, mass: float, offset: ArrayLike = (0.0, 0.0, 0.0), inertia: ArrayLike | None = None,
                  name: str = "",
@@ -331,6 +400,30 @@ class Model:
                                      mass=group.mass if mass is None else mass)
         self.revision += 1
 
+    def set_shell_group(self, index: int, property: ShellPropertyLike | None = None,
+                        mass: str | None = None) -> None:
+        """Give shell group ``index`` (position in ``shells``) another property of the same kind
+        (ShellProperty or Laminate) and/or mass formulation; the elements stay."""
+        group = self._shells[index]
+        if property is not None and type(property) is not type(group.property):
+            raise ModelError(f"shell group '{group.name}': a {type(group.property).__name__} cannot become a "
+                             f"{type(property).__name__}")
+        if property is not None and property.thickness is None and group.corner_thickness is None:
+            raise ModelError(f"shell group '{group.name}': property '{property.name}' has no thickness")
+        if mass is not None and mass not in SHELL_MASS:
+            raise ModelError(f"shell group '{group.name}': mass='{mass}' must be one of {SHELL_MASS}")
+        self._shells[index] = replace(group, property=group.property if property is None else property,
+                                      mass=group.mass if mass is None else mass)
+        self.revision += 1
+
+    def shell_group(self, name: str) -> int:
+        """Position in ``shells`` of the group named ``name``; ModelError when none or several."""
+        found = [k for k, g in enumerate(self._shells) if g.name == name]
+        if len(found) != 1:
+            raise ModelError(f"model '{self.name}': {len(found)} shell groups are named '{name}' (named: "
+                             f"{sorted({g.name for g in self._shells})[:10]}); give a unique group name")
+        return found[0]
+
     def set_mass(self, index: int, mass: float | None = None, offset: ArrayLike | None = None) -> None:
         """Change concentrated mass ``index`` (position in ``masses``): its mass [kg] and/or offset [m]."""
         item = self._masses[index]
@@ -380,6 +473,11 @@ class Model:
         return tuple(self._beams)
 
     @property
+    def shells(self) -> tuple[ShellGroup, ...]:
+        """Shell element groups (solvers that do not assemble shells must refuse a model with any)."""
+        return tuple(self._shells)
+
+    @property
     def masses(self) -> tuple[ConcentratedMass, ...]:
         return tuple(self._masses)
 
@@ -403,6 +501,11 @@ class Model:
     def n_beams(self) -> int:
         return sum(len(g.ids) for g in self.beams)
 
+    @property
+    def n_shells(self) -> int:
+        return sum(len(g.ids) for g in self._shells)
+
     def __repr__(self) -> str:
-        return (f"Model('{self.name}': {self.n_nodes} nodes, {self.n_beams} beams, {len(self.masses)} masses, "
+        return (f"Model('{self.name}': {self.n_nodes} nodes, {self.n_beams} beams, "
+                + (f"{self.n_shells} shells, " if self._shells else "") + f"{len(self.masses)} masses, "
                 f"{len(self.springs)} springs, {len(self.rigid_links)} rigid links)")

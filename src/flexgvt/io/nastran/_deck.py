@@ -91,7 +91,8 @@ class Parts:
     materials: MAT1 id -> Material; beams: beam group name -> BeamSource; element_ids: Nastran
     element id -> flexgvt element id; mass_sources / spring_sources / rigid_sources /
     interpolation_sources: the card behind each model entry, in model order; end_nodes: (card,
-    element id, end) -> added node; end_links: EndLinks waiting for the rigid family.
+    element id, end) -> added node; end_links: EndLinks waiting for the rigid family; shells: shell
+    group name -> ShellSource; options: deck settings kept for the solver (PARAM,K6ROT).
     """
 
     materials: dict[int, Material] = field(default_factory=dict)
@@ -103,6 +104,8 @@ class Parts:
     interpolation_sources: tuple[int, ...] = ()
     end_nodes: dict[tuple[str, int, str], int] = field(default_factory=dict)
     end_links: tuple[EndLink, ...] = ()
+    shells: dict = field(default_factory=dict)
+    options: dict = field(default_factory=dict)
 
     def merged(self, other: Parts) -> Parts:
         """These parts followed by ``other``'s."""

@@ -19,7 +19,7 @@ from ._deck import Findings, Parts, load_deck
 from ._elements import BeamSource
 from ._registry import FAMILIES, NEEDS_MATERIAL, NEEDS_PROPERTY, READ_CARDS
 from ._subcases import read_subcases
-from ._unsupported import list_other_cards
+from ._unsupported import list_other_cards, unsupported_hints
 
 
 @dataclass
@@ -39,7 +39,9 @@ class BdfDeck:
     not given);
     methods: configuration -> its EigenMethod (EIGRL/EIGR: ND, window, normalisation) or None;
     subcases: configuration -> subcase id; unsupported: card (feature) -> ids that were not read;
-    notes: things read with an approximation or ignored on purpose.
+    notes: things read with an approximation or ignored on purpose; shells: shell group name ->
+    ShellSource (element card, property card and id, Nastran element ids; element_ids maps shell
+    element ids too); options: deck settings kept for the solver (PARAM,K6ROT).
     """
 
     path: Path
@@ -63,6 +65,8 @@ class BdfDeck:
     subcases: dict[str, int] = field(default_factory=dict)
     unsupported: dict[str, list] = field(default_factory=dict)
     notes: list[str] = field(default_factory=list)
+    shells: dict = field(default_factory=dict)
+    options: dict = field(default_factory=dict)
 
     def __repr__(self) -> str:
         return (f"BdfDeck('{self.path.name}': {self.model!r}, configurations={list(self.configurations)}, "
@@ -88,7 +92,7 @@ def _read(path: Path, units: Units, mass: str | None, rotary_inertia: bool,
                    end_nodes=parts.end_nodes, interpolation_sources=list(parts.interpolation_sources),
                    constraint_sources=list(cases.constraint_sources), materials=parts.materials,
                    n_modes=cases.n_modes, methods=cases.methods, subcases=cases.subcases,
-                   unsupported=log.unsupported, notes=log.notes)
+                   unsupported=log.unsupported, notes=log.notes, shells=parts.shells, options=parts.options)
 
 
 def read_bdf(path: str | Path, *, units: str | Units = "SI", unsupported: str = "error", mass: str | None = None,
@@ -123,7 +127,7 @@ def read_bdf(path: str | Path, *, units: str | Units = "SI", unsupported: str = 
         listing = "; ".join(f"{card}: {', '.join(map(str, ids[:8]))}{', ...' if len(ids) > 8 else ''}"
                             for card, ids in sorted(deck.unsupported.items()))
         message = (f"{path}: {sum(len(v) for v in deck.unsupported.values())} card(s) have no flexgvt counterpart "
-                   f"and were not read: {listing}")
+                   f"and were not read: {listing}{unsupported_hints(deck.unsupported)}")
         if unsupported == "error":
             raise UnsupportedCardsError(message + ". Remove or replace them, or call read_bdf(..., "
                                         "unsupported='warn') to read the rest", deck.unsupported)

@@ -133,7 +133,7 @@ class _Subcases:
         bdf = self.deck.bdf
         cases = self._subcases()
         self.read_constraints(cases)
-        connected = {int(n) for g in self.model.beams for n in g.nodes.ravel()}
+        connected = {int(n) for g in (*self.model.beams, *self.model.shells) for n in g.nodes.ravel()}
         connected |= {t[0] for con in self.model.constraints for t in con.terms}
         connected |= {n for sp in self.model.springs for n in (sp.node_a, sp.node_b) if n is not None}
         connected |= {n for link in self.model.rigid_links for n in (link.independent, *link.dependents)}
@@ -141,7 +141,12 @@ class _Subcases:
         self.autospc = sorted(set(bdf.nodes) - connected)
         # Nodes joined only by rods have no rotational stiffness or inertia: their rotations are fixed.
         rod_nodes = {int(n) for g in self.model.beams if isinstance(g.section, RodSection) for n in g.nodes.ravel()}
+        # a membrane (PSHELL without MID2) has no bending stiffness at its nodes either
+        rod_nodes |= {int(n) for g in self.model.shells if getattr(g.property, "bending", True) is None
+                      for n in g.nodes.ravel()}
+        bending_shells = [g for g in self.model.shells if getattr(g.property, "bending", True) is not None]
         bending = {int(n) for g in self.model.beams if not isinstance(g.section, RodSection) for n in g.nodes.ravel()}
+        bending |= {int(n) for g in bending_shells for n in g.nodes.ravel()}
         bending |= {n for sp in self.model.springs for n in (sp.node_a, sp.node_b) if n is not None}
         bending |= {link.independent for link in self.model.rigid_links}
         bending |= {n for link in self.model.rigid_links if "4" in link.components for n in link.dependents}

@@ -28,6 +28,25 @@ NON_STRUCTURAL = {"AERO", "AEROS", "CAERO1", "CAERO2", "CAERO3", "CAERO4", "CAER
 DMIG_SELECTORS = ("K2GG", "M2GG", "B2GG", "K42GG", "K2PP", "M2PP", "B2PP")
 # Static (Guyan) reduction sets: flexgvt solves the full model (named in a note).
 REDUCTION_CARDS = {"ASET", "ASET1", "OMIT", "OMIT1"}
+# Element types flexgvt does not have, with what to use instead (named in read_bdf's one error).
+ELEMENT_HINTS = {
+    "CQUAD8": "8-node quads: remesh with CQUAD4", "CTRIA6": "6-node triangles: remesh with CTRIA3",
+    "CQUAD": "remesh with CQUAD4", "CQUADX": "axisymmetric: model the full shell with CQUAD4",
+    "CTRIAX": "axisymmetric: model the full shell with CTRIA3", "CTRIAX6": "axisymmetric: model with CTRIA3",
+    "CSHEAR": "shear panels: replace with CQUAD4 on a membrane PSHELL (MID1 only)",
+    "CHEXA": "solids: replace with shells (CQUAD4/CTRIA3) or beams", "CPENTA": "solids: replace with shells or beams",
+    "CTETRA": "solids: replace with shells or beams", "CPYRAM": "solids: replace with shells or beams",
+    "CTUBE": "use CROD/PROD with the tube's A and J", "PLOAD2": "plate pressure is not yet a load in flexgvt",
+    "PLOAD4": "plate pressure is not yet a load in flexgvt",
+}
+
+
+def unsupported_hints(names) -> str:
+    """'; CQUAD8: 8-node quads: remesh with CQUAD4 ...' for the unsupported names that have a hint."""
+    found = [f"{n}: {ELEMENT_HINTS[n]}" for n in sorted(names) if n in ELEMENT_HINTS]
+    return (" (" + "; ".join(found) + ")") if found else ""
+
+
 def _natural(x):
     s = str(x)
     return (0, int(s)) if s.isdigit() else (1, s)

@@ -1,6 +1,6 @@
 """Write flexgvt models as Nastran bulk data: into a copy of the user's deck, or as a compact deck.
 
-Both writers go family by family (_write_beams, _write_masses, _write_springs, _write_rigid,
+Both writers go family by family (_write_beams, _write_plates, _write_masses, _write_springs, _write_rigid,
 _write_cases), in the order the reader reads them.
 """
 
@@ -24,6 +24,7 @@ from ._write_beams import update_beams, write_beams
 from ._write_cases import write_configurations
 from ._write_common import Numbering
 from ._write_masses import update_masses, write_masses
+from ._write_plates import add_as_ctria3, update_plates, write_plates
 from ._write_rigid import check_rigid, write_rigid
 from ._write_springs import update_springs, write_springs
 
@@ -42,16 +43,24 @@ def _copy_deck(bdf):
     """A copy of a pyNastran deck to write into: the deck object and the card groups the template
     writer edits or adds to are deep copies; every other card group (loads, aero, monitor points,
     plot elements...) is shared, untouched. pyNastran cannot deep-copy some cards (PLOTEL, TLOAD2
-    with an integer phase, MONPNT1 with a long label: the glider deck fmondsp.dat has them all)."""
+    with an integer phase, MONPNT1 with a long label: the glider deck fmondsp.dat has them all;
+    CTRIAR, whose written TFLAG its reader rejects: copied as CTRIA3, see _write_plates)."""
     other = {name: value for name, value in vars(bdf).items()
              if isinstance(value, (dict, list)) and name not in _EDITED}
+    elements = dict(bdf.elements)
+    triar = {eid: e for eid, e in elements.items() if e.type == "CTRIAR"}
     for name in other:
         setattr(bdf, name, {})
+    for eid in triar:
+        del bdf.elements[eid]
     try:
         new = copy.deepcopy(bdf)
     finally:
         for name, value in other.items():
             setattr(bdf, name, value)
+        bdf.elements.clear()
+        bdf.elements.update(elements)
+    add_as_ctria3(new, triar)
     for name, value in other.items():
         setattr(new, name, copy.copy(value))
     return new
@@ -75,6 +84,7 @@ def _write_into_template(model: Model, path: Path, deck: BdfDeck, size: int) -> 
     update_masses(bdf, model, deck, notes)
     update_springs(bdf, model, deck, next_pid)
     check_rigid(model, deck)
+    update_plates(bdf, model, deck, notes)
     _quiet_write(bdf, path, size)
     return notes
 
@@ -93,7 +103,9 @@ def _write_compact(model: Model, path: Path, configurations: Iterable[Configurat
         bdf.add_grid(int(nid), [float(v) for v in x])
     xyz = dict(zip(node_ids.tolist(), model.xyz))
     eid_used = write_beams(bdf, model, u, xyz, notes)
+    eid_used |= {int(e) for g in model.shells for e in g.ids}
     ids = Numbering(eid=max(eid_used | {0}) + 1, pid=len(model.beams) + 1)
+    write_plates(bdf, model, u, ids)
     write_masses(bdf, model, u, ids)
     write_springs(bdf, model, u, xyz, ids)
     write_rigid(bdf, model, u, ids)
@@ -114,7 +126,10 @@ def write_bdf(model: Model, path: str | Path, template: BdfDeck | None = None, *
     spring/damper values. A MAT1 or spring property shared by groups that now differ is split
     into copies with new ids; a PBARL/PBEAML whose values no longer fit its shape becomes an
     equivalent PBAR/PBEAM. The deck's units and PARAM,WTMASS are kept.
-    Without template: a compact deck (GRID, CBAR + PBAR/PBARL + MAT1, CONM2, CELAS2/CDAMP2 or
+    Shells: changed PSHELL/PCOMP/PCOMPG and material values go into their cards (a property shared by
+    groups that now differ is split), THETA, ZOFFS and corner thicknesses into the elements.
+    Without template: a compact deck (GRID, CBAR + PBAR/PBARL + MAT1, CQUAD4/CTRIA3 + PSHELL/PCOMP/
+    PCOMPG + MAT1/MAT2/MAT8, CONM2, CELAS2/CDAMP2 or
     CBUSH, RBE2, RBE3, MPC) in ``units``, with one SUBCASE per entry of ``configurations`` (SPC1, GRAV,
     FORCE/MOMENT, PLOAD1 combined by LOAD) and an EIGRL for ``n_modes``.
     size: 16 (large field, default: 12 significant digits, so updated values survive) or 8 (small field).
