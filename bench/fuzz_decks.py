@@ -30,7 +30,7 @@ DATA = ROOT / "tests" / "data" / "bdf"
 SOURCES = ["all_cards.bdf", "rods.bdf", "pynastran/sdof_crod.bdf", "pynastran/pt145.bdf", "pynastran/ha144/ha144ds.bdf",
            "pynastran/ha144/ha144da.bdf", "pynastran/strut_wing/buckled.bdf", "pynastran/fmondsp.dat",
            "pynastran/euler_column_linear_buckling.bdf", "beam_modes/beam_modes.dat", "beam_modes/cbar_cbeam.blk",
-           "pynastran/cantilever_2014.1.bdf"]
+           "pynastran/cantilever_2014.1.bdf", "plates.bdf", "pynastran/goland/goland_final_test.bdf"]
 SMALL_SOURCES = SOURCES[:7] + ["beam_modes/beam_modes.dat", "beam_modes/cbar_cbeam.blk"]
 INCLUDES = {"beam_modes/beam_modes.dat": ["beam_modes/cbar_cbeam.blk"]}  # written beside the mutated deck
 VALUES = ["0", "0.", "-1", "-1.", "1e20", "1.e20", "1e300", "-1e300", "1.+300", "1e308", "1e-300", "nan", "inf",
