@@ -34,7 +34,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import ModelError
-from ._shell_elements import DRILL_FACTOR, shell_matrices
+from ._shell_elements import DRILL_FACTOR, shell_geometric, shell_matrices
 from .rotations import cross, jl_inv, jl_inv_derivative_T, logm_so3
 
 
@@ -42,12 +42,17 @@ from .rotations import cross, jl_inv, jl_inv_derivative_T, logm_so3
 class CorotationalShells:
     """Per-element constants of n corotational shells with p corners: X (n, p, 3) reference corners
     [m], E0 (n, 3, 3) the corotated frame there, Xl (n, p, 3) the corners about their centroid in E0,
-    K (n, 6p, 6p) the linear stiffness in E0 (element DOFs [u, v, w, rx, ry, rz] per corner)."""
+    K (n, 6p, 6p) the linear stiffness in E0 (element DOFs [u, v, w, rx, ry, rz] per corner);
+    with the initial-stress term: GN (n, 3, 6p) the element's mean membrane resultants [Nx, Ny, Nxy]
+    (kernel axes) as a linear function of d, KS (n, 3, 6p, 6p) the initial-stress matrices of unit
+    Nx, Ny, Nxy in E0 (shell_geometric); None without."""
 
     X: np.ndarray
     E0: np.ndarray
     Xl: np.ndarray
     K: np.ndarray
+    GN: np.ndarray | None = None
+    KS: np.ndarray | None = None
 
 
 @dataclass(frozen=True)
@@ -139,9 +144,12 @@ def _frames(x):
 
 
 def corotational_setup(X: np.ndarray, C: np.ndarray, drill_factor: float = DRILL_FACTOR,
-                       ids: np.ndarray | None = None) -> CorotationalShells:
+                       ids: np.ndarray | None = None, initial_stress: bool = False) -> CorotationalShells:
     """Constants of corotational quads (X (n, 4, 3)) or triangles (X (n, 3, 3)) [m] with sections
-    C (n, 8, 8) (see shell_matrices): the linear local stiffness turned into the corotated frame."""
+    C (n, 8, 8) (see shell_matrices): the linear local stiffness turned into the corotated frame.
+    initial_stress: add the local energy 1/2 N(d) . (d^T K_sigma d) (the membrane resultants acting on
+    the element's own deformational slopes; the frame's rigid rotation is not in d, so nothing is
+    counted twice), which plate buckling within coarse meshes needs."""
     X = np.ascontiguousarray(X, dtype=float)
     lin = shell_matrices(X, C, drill_factor=drill_factor, ids=ids, local=True)
     fr = _Frame(X)
@@ -156,7 +164,54 @@ def corotational_setup(X: np.ndarray, C: np.ndarray, drill_factor: float = DRILL
         Tb[:, 3 * b:3 * b + 3, 3 * b:3 * b + 3] = Tr
     K = Tb @ lin.K @ np.transpose(Tb, (0, 2, 1))
     Xl = np.einsum("nji,npj->npi", E0, X - X.mean(axis=1, keepdims=True))
-    return CorotationalShells(X, E0, Xl, K)
+    if not initial_stress:
+        return CorotationalShells(X, E0, Xl, K)
+    TbT = np.transpose(Tb, (0, 2, 1))
+    GN = np.einsum("nij,njk,nkl->nil", np.ascontiguousarray(C)[:, :3, :3], _mean_strain(lin.coords), TbT)
+    Tg = np.zeros_like(Tb)
+    for b in range(2 * p):
+        Tg[:, 3 * b:3 * b + 3, 3 * b:3 * b + 3] = np.transpose(E0, (0, 2, 1))
+    KS = np.empty((len(X), 3, 6 * p, 6 * p))
+    for j in range(3):
+        unit = np.zeros((len(X), 3))
+        unit[:, j] = 1.0
+        KS[:, j] = Tg @ shell_geometric(X, unit) @ np.transpose(Tg, (0, 2, 1))
+    return CorotationalShells(X, E0, Xl, K, GN, KS)
+
+
+def _mean_strain(coords):
+    """(n, 3, 6p): the mean membrane strains [ex, ey, gxy] over the element, (1/A) int grad(u) dA =
+    (1/A) sum over the sides of the mean side displacement times the outward normal (exact for
+    fields linear along the sides), from the corner translations in the kernel frame."""
+    xl = coords[..., :2]
+    n, p = xl.shape[:2]
+    nxt = np.roll(np.arange(p), -1)
+    dx = xl[:, nxt, 0] - xl[:, :, 0]
+    dy = xl[:, nxt, 1] - xl[:, :, 1]
+    area = 0.5 * np.sum(xl[:, :, 0] * xl[:, nxt, 1] - xl[:, nxt, 0] * xl[:, :, 1], axis=1)
+    # int du/dx, du/dy per corner: each side i -> i+1 gives half its (dy, -dx) to both of its corners
+    gx = 0.5 * (dy + np.roll(dy, 1, axis=1)) / area[:, None]
+    gy = -0.5 * (dx + np.roll(dx, 1, axis=1)) / area[:, None]
+    B = np.zeros((n, 3, 6 * p))
+    B[:, 0, 0::6] = gx
+    B[:, 1, 1::6] = gy
+    B[:, 2, 0::6] = gy
+    B[:, 2, 1::6] = gx
+    return B
+
+
+def _local(data, d):
+    """Local forces and local tangent (n, 6p), (n, 6p, 6p) at deformations d."""
+    fl = np.einsum("nij,nj->ni", data.K, d)
+    if data.KS is None:
+        return fl, data.K
+    N = np.einsum("nij,nj->ni", data.GN, d)
+    Kd = np.einsum("njab,nb->nja", data.KS, d)  # K_j d
+    q = np.einsum("na,nja->nj", d, Kd)  # d^T K_j d
+    fl = fl + np.einsum("nj,nja->na", N, Kd) + 0.5 * np.einsum("nj,nja->na", q, data.GN)
+    Kt = (data.K + np.einsum("nj,njab->nab", N, data.KS) + np.einsum("nja,njb->nab", Kd, data.GN)
+          + np.einsum("nja,njb->nab", data.GN, Kd))
+    return fl, Kt
 
 
 def corotational_terms(data: CorotationalShells, x: np.ndarray, R: np.ndarray, tangent: bool = True,
@@ -177,7 +232,7 @@ def corotational_terms(data: CorotationalShells, x: np.ndarray, R: np.ndarray, t
     theta = logm_so3(Rd)
     H, c, e = jl_inv(theta)
     d = np.concatenate([u, theta], axis=-1).reshape(n, 6 * p)
-    fl = np.einsum("nij,nj->ni", data.K, d)
+    fl, Kt = _local(data, d)
     flu = fl.reshape(n, p, 6)[..., :3]
     flm = fl.reshape(n, p, 6)[..., 3:]
     nm = np.einsum("npji,npj->npi", H, flm)  # H^T f_l,m
@@ -189,11 +244,11 @@ def corotational_terms(data: CorotationalShells, x: np.ndarray, R: np.ndarray, t
     forces = np.concatenate([fx, M], axis=-1).reshape(n, 6 * p)
     K = None
     if tangent:
-        K = _tangent(data, fr, r, Rd, theta, H, c, e, flu, flm, nm, N, M, V, w_n, w_a, q1, q2)
+        K = _tangent(Kt, fr, r, Rd, theta, H, c, e, flu, flm, nm, N, M, V, w_n, w_a, q1, q2)
     return CorotationalTerms(forces, K, E, d, fl)
 
 
-def _tangent(data, fr, r, Rd, theta, H, c, e, flu, flm, nm, N, M, V, w_n, w_a, q1, q2):
+def _tangent(Kt, fr, r, Rd, theta, H, c, e, flu, flm, nm, N, M, V, w_n, w_a, q1, q2):
     """Forward derivative of the forces along the 6 p unit directions at once (axis 1 = direction)."""
     n, p = r.shape[:2]
     k = 6 * p
@@ -216,7 +271,7 @@ def _tangent(data, fr, r, Rd, theta, H, c, e, flu, flm, nm, N, M, V, w_n, w_a, q
     axial = np.einsum("nji,nkpj->nkpi", E0, om - wr[:, :, None])
     dth = np.einsum("npij,nkpj->nkpi", H, axial)
     ddv = np.concatenate([du, dth], axis=-1).reshape(n, k, k)
-    dfl = np.einsum("nij,nkj->nki", data.K, ddv).reshape(n, k, p, 6)
+    dfl = np.einsum("nij,nkj->nki", Kt, ddv).reshape(n, k, p, 6)
     dflu, dflm = dfl[..., :3], dfl[..., 3:]
     dH = jl_inv_derivative_T(theta, c, e, np.transpose(dth, (0, 2, 1, 3)), flm)
     dnm = np.einsum("npji,nkpj->nkpi", H, dflm) + np.transpose(dH, (0, 2, 1, 3))
