@@ -139,10 +139,6 @@ class _Frame:
         return _scatter(g1, g2, self.p), (w_n, w_a, q1, q2)
 
 
-def _frames(x):
-    return _Frame(x).E
-
-
 def corotational_setup(X: np.ndarray, C: np.ndarray, drill_factor: float = DRILL_FACTOR,
                        ids: np.ndarray | None = None, initial_stress: bool = False) -> CorotationalShells:
     """Constants of corotational quads (X (n, 4, 3)) or triangles (X (n, 3, 3)) [m] with sections
@@ -222,6 +218,9 @@ def corotational_terms(data: CorotationalShells, x: np.ndarray, R: np.ndarray, t
     x = np.asarray(x, dtype=float)
     R = np.asarray(R, dtype=float)
     n, p = x.shape[:2]
+    if x.shape != data.X.shape or R.shape != x.shape + (3,):
+        raise ModelError(f"corotational shells: positions {x.shape} and rotations {R.shape} for elements "
+                         f"set up with corners {data.X.shape}; expected (n, p, 3) and (n, p, 3, 3)")
     fr = _Frame(x)
     E = fr.E
     xc = x.mean(axis=1, keepdims=True)
@@ -244,11 +243,11 @@ def corotational_terms(data: CorotationalShells, x: np.ndarray, R: np.ndarray, t
     forces = np.concatenate([fx, M], axis=-1).reshape(n, 6 * p)
     K = None
     if tangent:
-        K = _tangent(Kt, fr, r, Rd, theta, H, c, e, flu, flm, nm, N, M, V, w_n, w_a, q1, q2)
+        K = _tangent(Kt, fr, r, theta, H, c, e, flu, flm, nm, N, M, V, w_n, w_a, q1, q2)
     return CorotationalTerms(forces, K, E, d, fl)
 
 
-def _tangent(Kt, fr, r, Rd, theta, H, c, e, flu, flm, nm, N, M, V, w_n, w_a, q1, q2):
+def _tangent(Kt, fr, r, theta, H, c, e, flu, flm, nm, N, M, V, w_n, w_a, q1, q2):
     """Forward derivative of the forces along the 6 p unit directions at once (axis 1 = direction)."""
     n, p = r.shape[:2]
     k = 6 * p
@@ -266,17 +265,20 @@ def _tangent(Kt, fr, r, Rd, theta, H, c, e, flu, flm, nm, N, M, V, w_n, w_a, q1,
     dE = np.stack([de1, de2, de3], axis=-1)
     dln, dla = _dot(e3, dn)[..., None], _dot(e1, da)[..., None]
     dr = dx - dx.mean(axis=2, keepdims=True)
-    E0 = fr.E
-    du = np.einsum("nkji,npj->nkpi", dE, r) + np.einsum("nji,nkpj->nkpi", E0, dr)
-    axial = np.einsum("nji,nkpj->nkpi", E0, om - wr[:, :, None])
+    E = fr.E
+    # d(d) = H P T dp: the frame's rigid motion taken out (P), the spins mapped to rotation vectors (H)
+    du = np.einsum("nkji,npj->nkpi", dE, r) + np.einsum("nji,nkpj->nkpi", E, dr)
+    axial = np.einsum("nji,nkpj->nkpi", E, om - wr[:, :, None])
     dth = np.einsum("npij,nkpj->nkpi", H, axial)
     ddv = np.concatenate([du, dth], axis=-1).reshape(n, k, k)
-    dfl = np.einsum("nij,nkj->nki", Kt, ddv).reshape(n, k, p, 6)
+    dfl = np.einsum("nij,nkj->nki", Kt, ddv).reshape(n, k, p, 6)  # material part (K_l H P T dp)
     dflu, dflm = dfl[..., :3], dfl[..., 3:]
+    # moment correction (Felippa-Haugen's K_M): the change of H^T at fixed local moments
     dH = jl_inv_derivative_T(theta, c, e, np.transpose(dth, (0, 2, 1, 3)), flm)
     dnm = np.einsum("npji,nkpj->nkpi", H, dflm) + np.transpose(dH, (0, 2, 1, 3))
-    dN = np.einsum("nkij,npj->nkpi", dE, flu) + np.einsum("nij,nkpj->nkpi", E0, dflu)
-    dM = np.einsum("nkij,npj->nkpi", dE, nm) + np.einsum("nij,nkpj->nkpi", E0, dnm)
+    # the local forces turning with the frame (K_GR), then the change of G^T V and of the lever arms (K_GP)
+    dN = np.einsum("nkij,npj->nkpi", dE, flu) + np.einsum("nij,nkpj->nkpi", E, dflu)
+    dM = np.einsum("nkij,npj->nkpi", dE, nm) + np.einsum("nij,nkpj->nkpi", E, dnm)
     dV = np.sum(cross(dr, A(N)) + cross(A(r), dN) + dM, axis=2)
     Wn, Wa = A(w_n), A(w_a)
     dwn = (cross(dV, e3) + cross(A(V), de3)) / ln - Wn * dln / ln
