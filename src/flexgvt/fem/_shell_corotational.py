@@ -24,16 +24,20 @@ The tangent is the forward derivative of these expressions, by hand (as the beam
 material part T^T P^T H^T K_l H P T, the moment-correction part from dH (Felippa-Haugen's K_M), the
 rotation of N and M with the frame (K_GR) and the change of G and of the lever arms (K_GP).
 
-First version in NumPy, vectorised over elements and over the 6 p directions; no numba yet.
+corotational_terms runs the compiled kernel (_shell_cr_kernel, per element, numba threads over
+chunks); corotational_terms_numpy is the same in NumPy, vectorised over elements and directions,
+kept as the readable reference the kernel is tested against.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
 
+import numba
 import numpy as np
 
 from ..errors import ModelError
+from ._shell_cr_kernel import _CHUNK, cr_chunk, cr_kernel
 from ._shell_elements import DRILL_FACTOR, shell_geometric, shell_matrices
 from .rotations import cross, jl_inv, jl_inv_derivative_T, logm_so3
 
@@ -161,7 +165,7 @@ def corotational_setup(X: np.ndarray, C: np.ndarray, drill_factor: float = DRILL
     K = Tb @ lin.K @ np.transpose(Tb, (0, 2, 1))
     Xl = np.einsum("nji,npj->npi", E0, X - X.mean(axis=1, keepdims=True))
     if not initial_stress:
-        return CorotationalShells(X, E0, Xl, K)
+        return CorotationalShells(X, *(np.ascontiguousarray(a) for a in (E0, Xl, K)))
     TbT = np.transpose(Tb, (0, 2, 1))
     GN = np.einsum("nij,njk,nkl->nil", np.ascontiguousarray(C)[:, :3, :3], _mean_strain(lin.coords), TbT)
     Tg = np.zeros_like(Tb)
@@ -172,7 +176,7 @@ def corotational_setup(X: np.ndarray, C: np.ndarray, drill_factor: float = DRILL
         unit = np.zeros((len(X), 3))
         unit[:, j] = 1.0
         KS[:, j] = Tg @ shell_geometric(X, unit) @ np.transpose(Tg, (0, 2, 1))
-    return CorotationalShells(X, E0, Xl, K, GN, KS)
+    return CorotationalShells(X, *(np.ascontiguousarray(a) for a in (E0, Xl, K, GN, KS)))
 
 
 def _mean_strain(coords):
@@ -214,13 +218,43 @@ def corotational_terms(data: CorotationalShells, x: np.ndarray, R: np.ndarray, t
                        R0: np.ndarray | None = None) -> CorotationalTerms:
     """Internal forces and (if tangent) the exact consistent tangent of the elements at corner
     positions x (n, p, 3) [m] and total node rotations R (n, p, 3, 3) (R0: the rotations at the
-    reference state, default identity), in the solver's variables [dx, spatial spin] per corner."""
-    x = np.asarray(x, dtype=float)
+    reference state, default identity), in the solver's variables [dx, spatial spin] per corner.
+    The compiled kernel (_shell_cr_kernel); corotational_terms_numpy is the same in NumPy."""
+    x = np.ascontiguousarray(x, dtype=float)
     R = np.asarray(R, dtype=float)
+    _check(data, x, R)
+    Rr = np.ascontiguousarray(R if R0 is None else R @ np.transpose(np.asarray(R0, dtype=float), (0, 1, 3, 2)))
     n, p = x.shape[:2]
+    k = 6 * p
+    forces = np.empty((n, k))
+    K = np.empty((n, k, k)) if tangent else np.empty((0, k, k))
+    frames = np.empty((n, 3, 3))
+    d = np.empty((n, k))
+    fl = np.empty((n, k))
+    GN = data.GN if data.GN is not None else np.empty((0, 3, k))
+    KS = data.KS if data.KS is not None else np.empty((0, 3, k, k))
+    args = (data.Xl, data.E0, data.K, GN, KS, x, Rr, bool(tangent), forces, K, frames, d, fl)
+    if n < 2 * _CHUNK:
+        cr_chunk(*args, 0, n)
+    else:
+        cr_kernel(*args, numba.get_num_threads())
+    return CorotationalTerms(forces, K if tangent else None, frames, d, fl)
+
+
+def _check(data, x, R):
     if x.shape != data.X.shape or R.shape != x.shape + (3,):
         raise ModelError(f"corotational shells: positions {x.shape} and rotations {R.shape} for elements "
                          f"set up with corners {data.X.shape}; expected (n, p, 3) and (n, p, 3, 3)")
+
+
+def corotational_terms_numpy(data: CorotationalShells, x: np.ndarray, R: np.ndarray, tangent: bool = True,
+                             R0: np.ndarray | None = None) -> CorotationalTerms:
+    """corotational_terms in NumPy, vectorised over elements and directions: the readable reference
+    of the compiled kernel (same results to round-off, about 20 times slower)."""
+    x = np.asarray(x, dtype=float)
+    R = np.asarray(R, dtype=float)
+    n, p = x.shape[:2]
+    _check(data, x, R)
     fr = _Frame(x)
     E = fr.E
     xc = x.mean(axis=1, keepdims=True)
