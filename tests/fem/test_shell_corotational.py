@@ -284,3 +284,49 @@ def test_plate_buckling_from_the_tangent(tri):
         assert abs(k16 / 4 - 1) < 0.01
         assert 3 < (k8 - 4) / (k16 - 4) < 5.5
         assert abs((k16 + (k16 - k8) / 3) / 4 - 1) < 0.002
+
+
+def elastica_tip(alpha):
+    """Tip (1 - x/L, z/L) of the inextensible cantilever elastica under a dead tip force with
+    P L^2 / EI = alpha (theta'' = -alpha cos theta, theta(0) = 0, theta'(1) = 0), by shooting."""
+    from scipy.integrate import solve_ivp
+    from scipy.optimize import brentq
+
+    def end(k0):
+        return solve_ivp(lambda s, y: [y[1], -alpha * np.cos(y[0]), np.cos(y[0]), np.sin(y[0])], (0, 1),
+                         [0, k0, 0, 0], rtol=1e-12, atol=1e-12).y[:, -1]
+
+    y = end(brentq(lambda k: end(k)[1], 0.0, alpha))
+    return 1 - y[2], y[3]
+
+
+@pytest.mark.parametrize("tri", [False, True], ids=["quads", "triangles"])
+def test_strip_under_end_shear_against_elastica(tri):
+    """Cantilever strip (L 10, b 1, t 0.1, E 1.2e6, nu 0; Sze, Liu & Lo 2004's first case) under a
+    dead tip force up to P L^2 / EI = 4 in 10 steps, 16 x 1 quads or 32 triangles: the tip against
+    the elastica (at alpha = 4: u/L = 0.32894, w/L = 0.66996). Measured at alpha = 2 and 4: quads
+    -0.15 / -0.04 % and -0.10 / -0.02 % (u, w), triangles -0.004 / +0.05 % and +0.01 / +0.07 %."""
+    L, b, t, E = 10.0, 1.0, 0.1, 1.2e6
+    nx = 16
+    s = np.linspace(0, L, nx + 1)
+    xyz = np.concatenate([np.c_[s, 0 * s, 0 * s], np.c_[s, b + 0 * s, 0 * s]])
+    i = np.arange(nx)
+    j = i + nx + 1
+    quads = np.c_[i, i + 1, j + 1, j]
+    conn = np.vstack([quads[:, [0, 1, 2]], quads[:, [0, 2, 3]]]) if tri else quads
+    sec = pshell(t, mat1(E, nu=0.0), mat1(E, nu=0.0))
+    C, _ = section_arrays([sec], np.zeros(len(conn), int))
+    data = corotational_setup(xyz[conn], C)
+    P = 4 * E * b * t**3 / 12 / L**2
+    loads = np.zeros((len(xyz), 6))
+    loads[[nx, 2 * nx + 1], 2] = P / 2
+    fixed = np.concatenate([np.arange(6), 6 * (nx + 1) + np.arange(6)])
+    steps = np.linspace(0, 1, 11)[1:]
+    path = newton_path(xyz, conn, data, fixed, loads, steps)
+    for k in (4, 9):
+        x, _ = path[k]
+        tip = 0.5 * (x[nx] + x[2 * nx + 1])
+        u_ref, w_ref = elastica_tip(4 * steps[k])
+        assert abs((L - tip[0]) / L / u_ref - 1) < 0.003
+        assert abs(tip[2] / L / w_ref - 1) < 0.003
+    assert abs(elastica_tip(1e-3)[1] / (1e-3 / 3) - 1) < 1e-5  # the reference's small-load limit, P L^3 / 3EI
