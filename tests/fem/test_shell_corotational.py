@@ -6,7 +6,8 @@ import numpy as np
 import pytest
 
 from flexgvt.errors import ModelError
-from flexgvt.fem._shell_corotational import corotational_setup, corotational_terms, corotational_terms_numpy
+from flexgvt.fem._shell_corotational import (CorotationalTerms, corotational_setup, corotational_terms,
+                                             corotational_terms_numpy)
 from flexgvt.fem._shell_elements import shell_matrices
 from flexgvt.fem._shell_section import mat1, pshell, section_arrays
 from flexgvt.fem.rotations import expm_so3, spin
@@ -139,6 +140,37 @@ def test_compiled_kernel_equals_numpy_reference(X, initial_stress):
                 assert u is None
                 continue
             assert np.abs(u - v).max() <= 1e-13 * np.abs(v).max(), name
+
+
+@pytest.mark.parametrize("X", [QUAD, TRI], ids=["quad", "triangle"])
+@pytest.mark.parametrize("initial_stress", [False, True])
+def test_reference_stresses_in_the_tangent(X, initial_stress):
+    """reference: another state's local forces and deformations in the stress-dependent parts. The
+    element's own give its tangent; the tangent is affine in the reference (the material part plus
+    parts linear in f_l and d); the forces stay the state's; compiled = NumPy."""
+    Xs = np.stack([X, X * [1.2, 0.9, 1.0]])
+    C, _ = section_arrays([AL], np.zeros(2, int))
+    data = corotational_setup(Xs, C, initial_stress=initial_stress)
+    x, R = strained_state(Xs, 8)
+    xb, Rb = strained_state(Xs, 9, strain=0.05)
+    own = corotational_terms(data, x, R)
+    other = corotational_terms(data, xb, Rb)
+
+    def ref(a):
+        return CorotationalTerms(other.forces, None, other.frames, a * other.d, a * other.f_local)
+
+    scale = np.abs(own.tangent).max()
+    same = corotational_terms(data, x, R, reference=own)
+    assert np.abs(same.tangent - own.tangent).max() < 1e-14 * scale
+    K = [corotational_terms(data, x, R, reference=ref(a)).tangent for a in (0.0, 0.5, 1.0)]
+    assert np.abs(K[1] - 0.5 * (K[0] + K[2])).max() < 1e-12 * scale
+    assert np.abs(K[2] - own.tangent).max() > 1e-4 * scale  # the reference matters
+    t = corotational_terms(data, x, R, reference=ref(1.0))
+    assert np.array_equal(t.forces, own.forces)
+    t_np = corotational_terms_numpy(data, x, R, reference=ref(1.0))
+    assert np.abs(t_np.tangent - t.tangent).max() < 1e-13 * scale
+    with pytest.raises(ModelError, match="reference"):
+        corotational_terms(corotational_setup(Xs[:1], C[:1]), x[:1], R[:1], reference=own)
 
 
 def test_wrong_shapes_raise():

@@ -215,11 +215,14 @@ def _local(data, d):
 
 
 def corotational_terms(data: CorotationalShells, x: np.ndarray, R: np.ndarray, tangent: bool = True,
-                       R0: np.ndarray | None = None) -> CorotationalTerms:
+                       R0: np.ndarray | None = None, reference: CorotationalTerms | None = None) -> CorotationalTerms:
     """Internal forces and (if tangent) the exact consistent tangent of the elements at corner
     positions x (n, p, 3) [m] and total node rotations R (n, p, 3, 3) (R0: the rotations at the
     reference state, default identity), in the solver's variables [dx, spatial spin] per corner.
-    The compiled kernel (_shell_cr_kernel); corotational_terms_numpy is the same in NumPy."""
+    reference: the terms of another state whose local forces (and deformations, for the initial
+    stress) the stress-dependent parts of the tangent use instead of the element's own (the beam's
+    reference_forces); the forces stay this state's. The compiled kernel (_shell_cr_kernel);
+    corotational_terms_numpy is the same in NumPy."""
     x = np.ascontiguousarray(x, dtype=float)
     R = np.asarray(R, dtype=float)
     _check(data, x, R)
@@ -233,12 +236,22 @@ def corotational_terms(data: CorotationalShells, x: np.ndarray, R: np.ndarray, t
     fl = np.empty((n, k))
     GN = data.GN if data.GN is not None else np.empty((0, 3, k))
     KS = data.KS if data.KS is not None else np.empty((0, 3, k, k))
-    args = (data.Xl, data.E0, data.K, GN, KS, x, Rr, bool(tangent), forces, K, frames, d, fl)
+    ref_fl, ref_d = _reference(reference, n, k, tangent)
+    args = (data.Xl, data.E0, data.K, GN, KS, x, Rr, bool(tangent), ref_fl, ref_d, forces, K, frames, d, fl)
     if n < 2 * _CHUNK:
         cr_chunk(*args, 0, n)
     else:
         cr_kernel(*args, numba.get_num_threads())
     return CorotationalTerms(forces, K if tangent else None, frames, d, fl)
+
+
+def _reference(reference, n, k, tangent):
+    if reference is None or not tangent:
+        return np.empty((0, k)), np.empty((0, k))
+    if reference.f_local.shape != (n, k) or reference.d.shape != (n, k):
+        raise ModelError(f"corotational shells: reference terms of shape {reference.f_local.shape} for {n} "
+                         f"elements with {k} DOFs each; pass the terms of the same elements")
+    return np.ascontiguousarray(reference.f_local, dtype=float), np.ascontiguousarray(reference.d, dtype=float)
 
 
 def _check(data, x, R):
@@ -248,7 +261,8 @@ def _check(data, x, R):
 
 
 def corotational_terms_numpy(data: CorotationalShells, x: np.ndarray, R: np.ndarray, tangent: bool = True,
-                             R0: np.ndarray | None = None) -> CorotationalTerms:
+                             R0: np.ndarray | None = None,
+                             reference: CorotationalTerms | None = None) -> CorotationalTerms:
     """corotational_terms in NumPy, vectorised over elements and directions: the readable reference
     of the compiled kernel (same results to round-off, about 20 times slower)."""
     x = np.asarray(x, dtype=float)
@@ -266,19 +280,31 @@ def corotational_terms_numpy(data: CorotationalShells, x: np.ndarray, R: np.ndar
     H, c, e = jl_inv(theta)
     d = np.concatenate([u, theta], axis=-1).reshape(n, 6 * p)
     fl, Kt = _local(data, d)
-    flu = fl.reshape(n, p, 6)[..., :3]
-    flm = fl.reshape(n, p, 6)[..., 3:]
-    nm = np.einsum("npji,npj->npi", H, flm)  # H^T f_l,m
-    N = np.einsum("nij,npj->npi", E, flu)
-    M = np.einsum("nij,npj->npi", E, nm)
-    V = np.sum(cross(r, N), axis=1) + np.sum(M, axis=1)
-    g, (w_n, w_a, q1, q2) = fr.grad(V)
+    st = _stress(fr, r, H, fl)
+    flu, flm, nm, N, M, V, g, (w_n, w_a, q1, q2) = st
     fx = N - N.mean(axis=1, keepdims=True) - g
     forces = np.concatenate([fx, M], axis=-1).reshape(n, 6 * p)
     K = None
     if tangent:
+        ref_fl, ref_d = _reference(reference, n, 6 * p, tangent)
+        if len(ref_fl):
+            Kt = _local(data, ref_d)[1]
+            flu, flm, nm, N, M, V, g, (w_n, w_a, q1, q2) = _stress(fr, r, H, ref_fl)
         K = _tangent(Kt, fr, r, theta, H, c, e, flu, flm, nm, N, M, V, w_n, w_a, q1, q2)
     return CorotationalTerms(forces, K, E, d, fl)
+
+
+def _stress(fr, r, H, fl):
+    """The global corner forces N and moments M of local forces fl, V and G^T V."""
+    n, p = r.shape[:2]
+    flu = fl.reshape(n, p, 6)[..., :3]
+    flm = fl.reshape(n, p, 6)[..., 3:]
+    nm = np.einsum("npji,npj->npi", H, flm)  # H^T f_l,m
+    N = np.einsum("nij,npj->npi", fr.E, flu)
+    M = np.einsum("nij,npj->npi", fr.E, nm)
+    V = np.sum(cross(r, N), axis=1) + np.sum(M, axis=1)
+    g, ws = fr.grad(V)
+    return flu, flm, nm, N, M, V, g, ws
 
 
 def _tangent(Kt, fr, r, theta, H, c, e, flu, flm, nm, N, M, V, w_n, w_a, q1, q2):

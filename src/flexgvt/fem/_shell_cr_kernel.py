@@ -98,10 +98,86 @@ def _incidence(p, a):
 
 
 @njit(**_FAST)
-def cr_chunk(Xl, E0, Kl, GN, KS, x, Rr, tangent, forces, K_out, frames, d_out, fl_out, start, stop):
+def _local(el, Kl, GN, KS, d, fl, Kt, Nj, Kd, tangent):
+    """fl = K d (+ the initial-stress force) and, if tangent, the local tangent Kt at deformations d."""
+    k = d.shape[0]
+    for i in range(k):
+        acc = 0.0
+        for j in range(k):
+            acc += Kl[el, i, j] * d[j]
+        fl[i] = acc
+    if tangent:
+        for i in range(k):
+            for j in range(k):
+                Kt[i, j] = Kl[el, i, j]
+    if KS.shape[0] == 0:
+        return
+    for m in range(3):
+        acc = 0.0
+        for j in range(k):
+            acc += GN[el, m, j] * d[j]
+        Nj[m] = acc
+        qq = 0.0
+        for i in range(k):
+            acc = 0.0
+            for j in range(k):
+                acc += KS[el, m, i, j] * d[j]
+            Kd[m, i] = acc
+            qq += d[i] * acc
+        for i in range(k):
+            fl[i] += Nj[m] * Kd[m, i] + 0.5 * qq * GN[el, m, i]
+    if tangent:
+        for i in range(k):
+            for j in range(k):
+                acc = 0.0
+                for m in range(3):
+                    acc += Nj[m] * KS[el, m, i, j] + Kd[m, i] * GN[el, m, j] + GN[el, m, i] * Kd[m, j]
+                Kt[i, j] += acc
+
+
+@njit(**_FAST)
+def _stress(fl, th, cs, rs, e1, e2, e3, nms, Ns, Ms):
+    """Global corner forces N, moments M (and H^T f_l,m) of local forces fl; V and mean(N)."""
+    p = th.shape[0]
+    V = (0.0, 0.0, 0.0)
+    mN = (0.0, 0.0, 0.0)
+    for a in range(p):
+        flu = (fl[6 * a], fl[6 * a + 1], fl[6 * a + 2])
+        nm = _jinv(_get(th, a), cs[a], (fl[6 * a + 3], fl[6 * a + 4], fl[6 * a + 5]), 1.0)
+        _put(nms, a, nm)
+        Na = _mv(e1, e2, e3, flu)
+        Ma = _mv(e1, e2, e3, nm)
+        _put(Ns, a, Na)
+        _put(Ms, a, Ma)
+        V = _ad(V, _ad(_cr(_get(rs, a), Na), Ma))
+        mN = _ad(mN, _sc(1.0 / p, Na))
+    return V, mN
+
+
+@njit(**_FAST)
+def _frame_grad(V, e1, e2, e3, ln, la, d1, d2, u1, u2, l1, l2, p):
+    """G^T V on d1 and d2 (g1, g2) and the intermediate vectors of its derivative."""
+    wn = _sc(1.0 / ln, _cr(V, e3))
+    Ve3 = _dt(V, e3)
+    wa = _sc(Ve3 / la, e2)
+    g1 = _cr(d2, wn)
+    g2 = _cr(wn, d1)
+    q1 = q2 = wa
+    if p == 4:
+        q1 = _sc(1.0 / l1, _sb(wa, _sc(_dt(u1, wa), u1)))
+        q2 = _sc(1.0 / l2, _sb(wa, _sc(_dt(u2, wa), u2)))
+        g1, g2 = _ad(g1, q1), _sb(g2, q2)
+    else:
+        g1 = _ad(g1, wa)
+    return wn, Ve3, wa, q1, q2, g1, g2
+
+
+@njit(**_FAST)
+def cr_chunk(Xl, E0, Kl, GN, KS, x, Rr, tangent, ref_fl, ref_d, forces, K_out, frames, d_out, fl_out, start,
+             stop):
     p = x.shape[1]
     k = 6 * p
-    use_s = KS.shape[0] > 0
+    has_ref = ref_fl.shape[0] > 0
     xs = np.empty((p, 3))
     rs = np.empty((p, 3))
     th = np.empty((p, 3))
@@ -122,7 +198,6 @@ def cr_chunk(Xl, E0, Kl, GN, KS, x, Rr, tangent, forces, K_out, frames, d_out, f
     dfl = np.empty(k)
     Nj = np.empty(3)
     Kd = np.empty((3, k))
-    qj = np.empty(3)
     for el in range(start, stop):
         for a in range(p):
             for i in range(3):
@@ -168,67 +243,12 @@ def cr_chunk(Xl, E0, Kl, GN, KS, x, Rr, tangent, forces, K_out, frames, d_out, f
                 th[a, i] = tv[i]
                 d[6 * a + 3 + i] = tv[i]
             cs[a], es[a] = _coeffs(_dt(_get(th, a), _get(th, a)))
-        # local forces and local tangent
-        for i in range(k):
-            acc = 0.0
-            for j in range(k):
-                acc += Kl[el, i, j] * d[j]
-            fl[i] = acc
-        if tangent:
-            for i in range(k):
-                for j in range(k):
-                    Kt[i, j] = Kl[el, i, j]
-        if use_s:
-            for m in range(3):
-                acc = 0.0
-                for j in range(k):
-                    acc += GN[el, m, j] * d[j]
-                Nj[m] = acc
-                qq = 0.0
-                for i in range(k):
-                    acc = 0.0
-                    for j in range(k):
-                        acc += KS[el, m, i, j] * d[j]
-                    Kd[m, i] = acc
-                    qq += d[i] * acc
-                qj[m] = qq
-            for i in range(k):
-                for m in range(3):
-                    fl[i] += Nj[m] * Kd[m, i] + 0.5 * qj[m] * GN[el, m, i]
-            if tangent:
-                for i in range(k):
-                    for j in range(k):
-                        acc = 0.0
-                        for m in range(3):
-                            acc += Nj[m] * KS[el, m, i, j] + Kd[m, i] * GN[el, m, j] + GN[el, m, i] * Kd[m, j]
-                        Kt[i, j] += acc
+        _local(el, Kl, GN, KS, d, fl, Kt, Nj, Kd, tangent and not has_ref)
         for i in range(k):
             d_out[el, i] = d[i]
             fl_out[el, i] = fl[i]
-        V = (0.0, 0.0, 0.0)
-        mN = (0.0, 0.0, 0.0)
-        for a in range(p):
-            flu = (fl[6 * a], fl[6 * a + 1], fl[6 * a + 2])
-            nm = _jinv(_get(th, a), cs[a], (fl[6 * a + 3], fl[6 * a + 4], fl[6 * a + 5]), 1.0)
-            _put(nms, a, nm)
-            Na = _mv(e1, e2, e3, flu)
-            Ma = _mv(e1, e2, e3, nm)
-            _put(Ns, a, Na)
-            _put(Ms, a, Ma)
-            V = _ad(V, _ad(_cr(_get(rs, a), Na), Ma))
-            mN = _ad(mN, _sc(1.0 / p, Na))
-        wn = _sc(1.0 / ln, _cr(V, e3))
-        Ve3 = _dt(V, e3)
-        wa = _sc(Ve3 / la, e2)
-        g1 = _cr(d2, wn)
-        g2 = _cr(wn, d1)
-        q1 = q2 = wa
-        if p == 4:
-            q1 = _sc(1.0 / l1, _sb(wa, _sc(_dt(u1, wa), u1)))
-            q2 = _sc(1.0 / l2, _sb(wa, _sc(_dt(u2, wa), u2)))
-            g1, g2 = _ad(g1, q1), _sb(g2, q2)
-        else:
-            g1 = _ad(g1, wa)
+        V, mN = _stress(fl, th, cs, rs, e1, e2, e3, nms, Ns, Ms)
+        wn, Ve3, wa, q1, q2, g1, g2 = _frame_grad(V, e1, e2, e3, ln, la, d1, d2, u1, u2, l1, l2, p)
         for a in range(p):
             s1, s2 = _incidence(p, a)
             ga = _ad(_sc(s1, g1), _sc(s2, g2))
@@ -239,6 +259,13 @@ def cr_chunk(Xl, E0, Kl, GN, KS, x, Rr, tangent, forces, K_out, frames, d_out, f
                 forces[el, 6 * a + 3 + i] = Ma[i]
         if not tangent:
             continue
+        if has_ref:  # the stress-dependent parts from another state's local forces and deformations
+            for i in range(k):
+                fl[i] = ref_fl[el, i]
+                d[i] = ref_d[el, i]
+            _local(el, Kl, GN, KS, d, dfl, Kt, Nj, Kd, True)
+            V, mN = _stress(fl, th, cs, rs, e1, e2, e3, nms, Ns, Ms)
+            wn, Ve3, wa, q1, q2, g1, g2 = _frame_grad(V, e1, e2, e3, ln, la, d1, d2, u1, u2, l1, l2, p)
         for col in range(k):
             na, cj = col // 6, col % 6
             ev = (1.0 if cj == 0 else 0.0, 1.0 if cj == 1 else 0.0, 1.0 if cj == 2 else 0.0)
@@ -308,9 +335,10 @@ def cr_chunk(Xl, E0, Kl, GN, KS, x, Rr, tangent, forces, K_out, frames, d_out, f
 
 
 @njit(cache=True, parallel=True)
-def cr_kernel(Xl, E0, Kl, GN, KS, x, Rr, tangent, forces, K_out, frames, d_out, fl_out, threads):  # pragma: no cover
+def cr_kernel(Xl, E0, Kl, GN, KS, x, Rr, tangent, ref_fl, ref_d, forces, K_out, frames, d_out, fl_out,
+              threads):  # pragma: no cover
     n = x.shape[0]
     chunks = (n + _CHUNK - 1) // _CHUNK
     for c in prange(chunks):
-        cr_chunk(Xl, E0, Kl, GN, KS, x, Rr, tangent, forces, K_out, frames, d_out, fl_out, c * _CHUNK,
-                 min(n, (c + 1) * _CHUNK))
+        cr_chunk(Xl, E0, Kl, GN, KS, x, Rr, tangent, ref_fl, ref_d, forces, K_out, frames, d_out, fl_out,
+                 c * _CHUNK, min(n, (c + 1) * _CHUNK))
