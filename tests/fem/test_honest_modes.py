@@ -104,3 +104,12 @@ def test_solve_prints_the_cautions_once_with_every_bracket_shown(tmp_path):
     assert any("mm-t-s" in c for c in saved["cautions"])
     out = CliRunner().invoke(app, ["solve", str(deck), "--units", "mm-t-s"], env={"COLUMNS": "400"})
     assert out.exit_code == 0 and "warning" not in out.output
+
+
+def test_the_built_in_cases_look_like_si():
+    # The HALE wing's stiffness-defined beam has an equivalent density of 0.75 kg/m^3: not a unit slip.
+    for name in ("cantilever_strip", "strip_366", "hale_wing", "xhale"):
+        case = getattr(fg.cases, name)()
+        for config in case.configurations.values():
+            state, said = _quiet(fg.solve_static, case.model, config)
+            assert not any("unit system" in c for c in state.cautions), (name, config.name, said)

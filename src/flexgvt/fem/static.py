@@ -703,14 +703,16 @@ def check_state(state: State, settings: StaticSettings) -> State:
 def unit_system_caution(model: Model, size: float) -> str:
     """Why the model's values look like another unit system read as SI (mm-t-s or in-lbf-s values
     taken as m-kg-s: a 2 m beam read from an mm deck is 2 km long and sags by hundreds of metres
-    under 1 g), or '' when they look like SI: a structure over 1 km across, a density below 1 kg/m^3
-    or a Young's modulus below 1 MPa (no structural material has them)."""
+    under 1 g), or '' when they look like SI: a structure over 1 km across, a density below
+    0.01 kg/m^3 (t/mm^3 and lbf s^2/in^4 values are 1e-9 and 1e-4; a stiffness-defined beam's
+    equivalent density, 0.75 kg/m^3 for the HALE wing, stays above) or a Young's modulus below
+    1 MPa (no structural material has them)."""
     seen = []
     if size > 1000.0:
         seen.append(f"it is {size:.4g} m across")
     for g in model.beams:
         mat = g.material
-        if 0 < mat.rho < 1.0 or 0 < mat.E < 1e6:
+        if 0 < mat.rho < 1e-2 or 0 < mat.E < 1e6:
             seen.append(f"material '{mat.name}' has E = {mat.E:.4g} Pa and rho = {mat.rho:.4g} kg/m^3")
             break
     if not seen:
