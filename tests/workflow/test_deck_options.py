@@ -88,16 +88,17 @@ def test_template_units_suggestions_load(tmp_path):
 
 
 def test_unsupported_cards_from_a_project(tmp_path):
-    cquad = "GRID,3,,1000.,1000.,0.\nGRID,4,,0.,1000.,0.\nCQUAD4,60,2,1,2,3,4\nPSHELL,2,1,1.\n"
-    with pytest.raises(ProjectError, match=r"model\.bdf: .*CQUAD4: 60.*unsupported = \"warn\" under "
+    # A shear panel: a card flexgvt does not read (plates it reads since the plate cards came in).
+    shear_panel = "GRID,3,,1000.,1000.,0.\nGRID,4,,0.,1000.,0.\nCSHEAR,60,2,1,2,3,4\nPSHEAR,2,1,1.\n"
+    with pytest.raises(ProjectError, match=r"model\.bdf: .*CSHEAR: 60.*unsupported = \"warn\" under "
                                            r"\[model\.options\].*--allow-unsupported") as err:
-        _load(tmp_path, 'units = "mm-t-s"', cquad)
+        _load(tmp_path, 'units = "mm-t-s"', shear_panel)
     assert "read_bdf" not in str(err.value)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        project = _load(tmp_path, 'units = "mm-t-s"\n[model.options]\nunsupported = "warn"', cquad)
+        project = _load(tmp_path, 'units = "mm-t-s"\n[model.options]\nunsupported = "warn"', shear_panel)
     assert project.model.n_beams == 1 and np.isclose(project.model.xyz[1, 0], 1.0)
-    assert any(issubclass(w.category, FlexGVTWarning) and "CQUAD4" in str(w.message) and "model.bdf" in
+    assert any(issubclass(w.category, FlexGVTWarning) and "CSHEAR" in str(w.message) and "model.bdf" in
                str(w.message) for w in caught)
 
 
