@@ -1,7 +1,6 @@
 """The same state gives the same modes, bit for bit: ARPACK starts from a fixed vector in both the
 real and the complex (damped) eigensolvers. With ARPACK's random start, the highest damped roots of
-the strip on its damped cords moved by ~3e-9 from one call to the next, which an optimiser with
-a nearly flat objective turned into a different path (the strip example's updated variables)."""
+the strip on its damped cords moved by ~3e-9 from one call to the next."""
 
 import numpy as np
 
