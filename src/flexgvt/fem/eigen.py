@@ -305,12 +305,14 @@ def rigid_count(system, x: np.ndarray, T, K, M) -> int:
     return int(np.sum(np.abs(lam) <= bound))
 
 
-def modal_frequencies_hz(lam: np.ndarray, K: sp.spmatrix, M: sp.spmatrix, system, x: np.ndarray, T=None) -> np.ndarray:
+def modal_frequencies_hz(lam: np.ndarray, K: sp.spmatrix, M: sp.spmatrix, system, x: np.ndarray, T=None,
+                         n_rigid: int | None = None) -> np.ndarray:
     """Frequencies [Hz] of the eigenvalues lam [rad^2/s^2] of the reduced K, M of ``system`` at node
     positions x [m] (T: its link transformation or None), as solve_modes reports them: rigid-body
     eigenvalues, zero only to about eps * lambda_max (see _rigid_safe_shift), become exactly 0, at
-    most as many as the structure has rigid-body modes (rigid_count); negative: unstable."""
+    most as many as the structure has rigid-body modes (rigid_count, or ``n_rigid`` when the caller
+    has counted them already); negative: unstable."""
     if system.clamped:
         return _frequency_hz(lam, 0.0, None)
     return _frequency_hz(lam, 100 * np.finfo(float).eps * _lambda_max_bound(K, np.abs(M.diagonal())),
-                         rigid_count(system, x, T, K, M))
+                         rigid_count(system, x, T, K, M) if n_rigid is None else n_rigid)

@@ -153,7 +153,7 @@ def solve_modes(state: State, n_modes: int = 15, *, damped: bool | None = None, 
         modes = Modes(freq, zeta, wd, real, system.cm.node_ids, complex_shapes=cshapes, eigenvalues=s, state=state)
     else:
         lam, phi = real_modes(K, M, n_modes, shift, clamped, system.cholmod_cache, use_cholmod=cholmod)
-        f = modal_frequencies_hz(lam, K, M, system, x, T)
+        f = modal_frequencies_hz(lam, K, M, system, x, T, n_rigid=n_rigid)  # counted once, above
         if not clamped:
             phi = _align_rigid_modes(phi, f == 0, system, x, T, M)
         shapes = system.expand(phi, T).T.reshape(len(lam), n, 6)
