@@ -214,14 +214,9 @@ def newton_path(xyz, conn, data, fixed, loads, steps, tol=1e-9, max_iter=25):
     return out
 
 
-@pytest.mark.parametrize("tri", [False, True], ids=["quads", "triangles"])
-def test_strip_rolled_up_by_end_moment(tri):
-    """Cantilever strip (L 10, b 1, t 0.1, E 1.2e6, nu 0; Sze, Liu & Lo 2004) under an end moment
-    M = k 2 pi EI / L: the tip at L sin(theta)/theta, L (1 - cos theta)/theta with theta = M L / EI,
-    up to the full circle (tip back at the root). Measured with 20 x 1 quads: tip error 1.2e-3 L at
-    theta = pi (chords of the circle: (pi/20)^2 / 24 ~ 1e-3)."""
-    L, b, t, E = 10.0, 1.0, 0.1, 1.2e6
-    nx = 20
+def _strip(L, b, t, E, nx, tri):
+    """A cantilever strip of nx x 1 quads (or 2 nx triangles) along x, width b along y: its nodes,
+    connectivity and corotational data (PSHELL of thickness t, E, nu 0)."""
     s = np.linspace(0, L, nx + 1)
     xyz = np.concatenate([np.c_[s, 0 * s, 0 * s], np.c_[s, b + 0 * s, 0 * s]])
     i = np.arange(nx)
@@ -230,7 +225,18 @@ def test_strip_rolled_up_by_end_moment(tri):
     conn = np.vstack([quads[:, [0, 1, 2]], quads[:, [0, 2, 3]]]) if tri else quads
     sec = pshell(t, mat1(E, nu=0.0), mat1(E, nu=0.0))
     C, _ = section_arrays([sec], np.zeros(len(conn), int))
-    data = corotational_setup(xyz[conn], C)
+    return xyz, conn, corotational_setup(xyz[conn], C)
+
+
+@pytest.mark.parametrize("tri", [False, True], ids=["quads", "triangles"])
+def test_strip_rolled_up_by_end_moment(tri):
+    """Cantilever strip (L 10, b 1, t 0.1, E 1.2e6, nu 0; Sze, Liu & Lo 2004) under an end moment
+    M = k 2 pi EI / L: the tip at L sin(theta)/theta, L (1 - cos theta)/theta with theta = M L / EI,
+    up to the full circle (tip back at the root). Measured with 20 x 1 quads: tip error 1.2e-3 L at
+    theta = pi (chords of the circle: (pi/20)^2 / 24 ~ 1e-3)."""
+    L, b, t, E = 10.0, 1.0, 0.1, 1.2e6
+    nx = 20
+    xyz, conn, data = _strip(L, b, t, E, nx, tri)
     EI = E * b * t**3 / 12
     M = 2 * np.pi * EI / L
     loads = np.zeros((len(xyz), 6))
@@ -340,15 +346,7 @@ def test_strip_under_end_shear_against_elastica(tri):
     -0.15 / -0.04 % and -0.10 / -0.02 % (u, w), triangles -0.004 / +0.05 % and +0.01 / +0.07 %."""
     L, b, t, E = 10.0, 1.0, 0.1, 1.2e6
     nx = 16
-    s = np.linspace(0, L, nx + 1)
-    xyz = np.concatenate([np.c_[s, 0 * s, 0 * s], np.c_[s, b + 0 * s, 0 * s]])
-    i = np.arange(nx)
-    j = i + nx + 1
-    quads = np.c_[i, i + 1, j + 1, j]
-    conn = np.vstack([quads[:, [0, 1, 2]], quads[:, [0, 2, 3]]]) if tri else quads
-    sec = pshell(t, mat1(E, nu=0.0), mat1(E, nu=0.0))
-    C, _ = section_arrays([sec], np.zeros(len(conn), int))
-    data = corotational_setup(xyz[conn], C)
+    xyz, conn, data = _strip(L, b, t, E, nx, tri)
     P = 4 * E * b * t**3 / 12 / L**2
     loads = np.zeros((len(xyz), 6))
     loads[[nx, 2 * nx + 1], 2] = P / 2
