@@ -43,6 +43,10 @@ class EMAError(FlexGVTError, ValueError):
     """Experimental modal analysis could not proceed with the given data or settings."""
 
 
+class UpdatingError(FlexGVTError, ValueError):
+    """Model updating cannot start on the given data (too few measured modes pair with the model)."""
+
+
 class ReportError(FlexGVTError, ValueError):
     """Report content is inconsistent (array shapes, missing labels) or cannot be written."""
 

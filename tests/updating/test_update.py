@@ -64,7 +64,8 @@ def test_multi_start_picks_the_best_run_and_reports_each():
 
 def test_variables_the_data_cannot_see_are_reported():
     """Unloaded frequencies scale with E/rho of the whole strip: E and rho together are not
-    identifiable; a region's thickness is."""
+    identifiable; a region's thickness is. rho (the later of the two) is held at its initial value,
+    which makes E identifiable."""
     case, initial, cfgs, variables, data, target, truth = _strip_problem(n_elements=30, names=("unloaded",),
                                                                          n_modes=6, attributes=("E",))
     v = [up.beam("E", "*", "E"), up.beam("rho", "*", "rho"), up.beam("t2", "region2", "thickness")]
@@ -73,8 +74,11 @@ def test_variables_the_data_cannot_see_are_reported():
     assert ident["rank"] == 2
     assert ident["condition_number"] > 1e8
     row = {r["name"]: r for r in result.variables}
-    assert not row["E"]["identifiable"] and not row["rho"]["identifiable"]
+    assert not row["rho"]["identifiable"] and row["rho"]["fixed"] and "together with 'E'" in row["rho"]["reason"]
+    assert row["rho"]["final"] == row["rho"]["initial"] and result.x[1] == 1.0
+    assert row["E"]["identifiable"] and not row["E"]["fixed"] and row["E"]["reason"] == ""
     assert row["t2"]["identifiable"] and np.isfinite(row["t2"]["std_normalised"])
+    assert ident["unidentifiable"] == ["rho"] and len(result.stages) == 2
 
 
 def test_a_measured_mode_the_model_lacks_stays_unpaired_and_is_reported():

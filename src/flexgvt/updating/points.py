@@ -47,6 +47,7 @@ class ConfigurationPoint:
     M: sp.csc_matrix | None = None
     tangent: sp.csc_matrix | None = None  # full tangent at the equilibrium
     block: "Block | None" = None  # this configuration's residuals, constraints and their Jacobians
+    seen: np.ndarray | None = None  # (n_analysed,) the sensors see the mode (None: not judged)
     _labels: tuple[str, ...] | None = None
 
     @property
@@ -60,7 +61,7 @@ class ConfigurationPoint:
         """What a remote evaluation sends back (no state, no matrices)."""
         return {"name": self.name, "eigenvalues": self.eigenvalues, "frequencies_hz": self.frequencies_hz,
                 "paired": self.paired, "mac": self.mac, "mac_matrix": self.mac_matrix, "static": self.static,
-                "labels": self.labels, "block": self.block}
+                "labels": self.labels, "block": self.block, "seen": self.seen}
 
     def summary(self) -> dict:
         """Deprecated: to_dict() (summary() is the one-line text of a result elsewhere)."""
@@ -71,7 +72,7 @@ class ConfigurationPoint:
     def from_dict(cls, d: dict) -> "ConfigurationPoint":
         """The point a remote evaluation sent back (to_dict)."""
         return cls(d["name"], None, d["eigenvalues"], d["frequencies_hz"], None, d["paired"], d["mac"],
-                   d["mac_matrix"], None, d["static"], block=d["block"], _labels=d["labels"])
+                   d["mac_matrix"], None, d["static"], block=d["block"], seen=d.get("seen"), _labels=d["labels"])
 
     @classmethod
     def from_summary(cls, d: dict) -> "ConfigurationPoint":

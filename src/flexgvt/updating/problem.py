@@ -15,6 +15,7 @@ import time
 
 import numpy as np
 
+from ..correlation import sensors_see
 from ..errors import ConvergenceError, ModelError, SingularModelError
 from ..fem import solve_static
 from ..fem.eigen import modal_frequencies_hz, real_modes
@@ -194,15 +195,21 @@ class UpdatingProblem:
         shapes_s = seen = None
         if meas.shapes is not None:
             S = sensors.matrix(state.node_ids, state, follow=self.follow_sensors)
-            shapes_s = np.asarray(S @ system.expand(phi, T)).T
+            full = system.expand(phi, T)
+            shapes_s = np.asarray(S @ full).T
+            seen = sensors_see(shapes_s, np.asarray(full).T)
         elif meas.observed_by is not None:
             S = meas.observed_by.matrix(state.node_ids, state, follow=self.follow_sensors)
             amp = np.linalg.norm(np.asarray(S @ system.expand(phi, T)), axis=0)
             best = amp[f > 0].max(initial=0.0)
             seen = amp >= meas.visibility * best if best > 0 else None
-        paired, mac, macm = self.pairing.pair(name, meas, f, phi, shapes_s, M, seen)
         static = np.array([state.displacements[state.node(node), int(c) - 1] for (node, c) in meas.static])
-        return ConfigurationPoint(name, state, lam, f, phi, paired, mac, macm, shapes_s, static, K, M, tangent)
+        point = ConfigurationPoint(name, state, lam, f, phi, np.full(len(meas.frequencies_hz), -1),
+                                   np.full(len(meas.frequencies_hz), np.nan), None, shapes_s, static, K, M, tangent,
+                                   seen=seen)
+        point.paired, point.mac, point.mac_matrix = self.pairing.pair(name, meas, f, phi, shapes_s, M, seen,
+                                                                      labels=lambda: point.labels)
+        return point
 
     @serial_blas  # small dense products between kernel calls: a second BLAS thread only waits
     def _assemble(self, x, points: dict[str, ConfigurationPoint], gradient: bool) -> Point:

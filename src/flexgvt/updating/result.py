@@ -21,7 +21,10 @@ class UpdateResult:
     normalised design point; variables: design-variable table; tables: {configuration: rows of
     measured, initial, updated, errors, MAC}; mac: {configuration: (initial, updated) MAC
     matrices (measured x analytical) or None}; history: one row per accepted iterate;
-    identifiability: sensitivity rank, condition number, unseen variables, standard deviations."""
+    identifiability: sensitivity rank, condition number, unseen variables, standard deviations;
+    unpaired: {"initial" / "updated": {configuration: reasons (flexgvt.correlation.Unpaired as
+    dicts) of the measured modes left unpaired}}; warnings: what the run warned about; stages: one
+    row per solve when unconstrained variables were held and the problem solved again."""
 
     model: Model
     configurations: dict[str, Configuration]
@@ -40,6 +43,9 @@ class UpdateResult:
     solves: int
     gradients: int
     starts: list[dict] = field(default_factory=list)
+    unpaired: dict = field(default_factory=dict)
+    warnings: list[str] = field(default_factory=list)
+    stages: list[dict] = field(default_factory=list)
 
     def summary(self) -> str:
         lines = [f"updating ({self.method}): objective {self.initial.objective:.4g} -> {self.final.objective:.4g} in "
@@ -49,6 +55,16 @@ class UpdateResult:
             e0 = [abs(r["initial_error_percent"]) for r in rows if r["updated_hz"] is not None]
             e1 = [abs(r["updated_error_percent"]) for r in rows if r["updated_hz"] is not None]
             lines.append(f"  {name}: max |error| {max(e0, default=0):.3f} % -> {max(e1, default=0):.3f} %")
+            for r in rows:
+                if r.get("unpaired_reason"):
+                    lines.append(f"    measured mode {r['mode']} unpaired: {r['unpaired_reason']}")
+        for title, group in (("held at their initial value, the data do not constrain them",
+                              [r for r in self.variables if r.get("fixed")]),
+                             ("not identifiable, left free (unidentifiable='free')",
+                              [r for r in self.variables if not r.get("fixed") and not r.get("identifiable", True)])):
+            if group:
+                lines.append(f"  {len(group)} variable(s) {title}:")
+                lines += [f"    {r['name']}: {r['reason']}" for r in group]
         return "\n".join(lines)
 
     def to_dict(self) -> dict:
@@ -62,7 +78,8 @@ class UpdateResult:
                 "identifiability": {k: (v.tolist() if isinstance(v, np.ndarray) else v)
                                     for k, v in self.identifiability.items()},
                 "history": [{k: v for k, v in row.items() if k != "residuals"} for row in self.history],
-                "starts": self.starts})
+                "starts": self.starts, "unpaired": self.unpaired, "warnings": self.warnings,
+                "stages": self.stages})
 
     def as_dict(self) -> dict:
         """Deprecated: to_dict()."""
@@ -85,12 +102,16 @@ def jsonable(value):
     return value
 
 
-def configuration_tables(problem: UpdatingProblem, initial: Point, final: Point) -> dict[str, list[dict]]:
+def configuration_tables(problem: UpdatingProblem, initial: Point, final: Point, pairing=None) -> dict[str, list[dict]]:
+    """{configuration: one row per measured mode}: measured, initial and updated frequencies and
+    errors, MAC, and the reason a mode is unpaired at the updated point (``pairing``: the
+    problem's PairingPolicy, which explains it)."""
     out = {}
     for cfg in problem.configurations:
         meas = problem.measured[cfg.name]
         a, b = initial.configurations[cfg.name], final.configurations[cfg.name]
         labels_b = b.labels
+        why = {u.mode - 1: u.text for u in (pairing.explain(meas, b) if pairing is not None else ())}
         rows = []
         for i, fm in enumerate(meas.frequencies_hz):
             ia, ib = a.paired[i], b.paired[i]
@@ -106,40 +127,99 @@ def configuration_tables(problem: UpdatingProblem, initial: Point, final: Point)
                 "updated_error_percent": None if f1 is None else 100 * (f1 - fm) / fm,
                 "initial_mac": None if np.isnan(a.mac[i]) else float(a.mac[i]),
                 "updated_mac": None if np.isnan(b.mac[i]) else float(b.mac[i]),
-                "paired": bool(ib >= 0)})
+                "paired": bool(ib >= 0), "unpaired_reason": why.get(i)})
         out[cfg.name] = rows
     return out
 
 
-def identifiability(problem: UpdatingProblem, point: Point) -> dict:
-    """Rank and condition of the (weighted, normalised) sensitivity matrix, the variables the data
-    cannot see, and the covariance of the variables: sigma^2 (J^T J)^+ with sigma from the
-    measured frequency standard deviations where given, else from the residual (s^2 = |r|^2 /
-    (m - n))."""
+def identifiability(problem: UpdatingProblem, point: Point, max_relative_std: float = 0.5) -> dict:
+    """Rank and condition of the (weighted, normalised) sensitivity matrix, the directions the data
+    cannot see, and which variables the data constrain (judge): sigma from the measured frequency
+    standard deviations where given, else from the residual (s^2 = |r|^2 / (m - n))."""
     J = point.jacobian
     names = problem.par.names
     m, n = J.shape
     u, s, vt = np.linalg.svd(J, full_matrices=False)
     rank = int(np.sum(s > RANK_TOLERANCE * max(s.max(initial=0.0), 1e-300)))
     cond = float(s[0] / s[-1]) if len(s) and s[-1] > 0 else float("inf")
-    unseen, combinations = [], []
+    combinations = []
     if rank < n:
-        # Directions of the design space the data do not see: a variable taking part in one
-        # (more than 10 % of its weight) cannot be told apart from the others in it.
-        null = vt[rank:]
-        share = np.sum(null**2, axis=0)
-        unseen = [names[k] for k in np.flatnonzero(share > 0.1)]
+        # Directions of the design space the data do not see (components above 0.1 listed).
         combinations = [{names[k]: float(c) for k in np.flatnonzero(np.abs(row) > 0.1) for c in [row[k]]}
-                        for row in null]
+                        for row in vt[rank:]]
     sigma2, source = _residual_variance(problem, point, m, n)
     s_inv = np.where(s > RANK_TOLERANCE * max(s.max(initial=0.0), 1e-300), 1 / np.where(s > 0, s, 1), 0.0)
-    cov = (vt.T * s_inv**2) @ vt * sigma2
-    std = np.sqrt(np.clip(np.diag(cov), 0, None))
-    std = np.where(np.isin(names, unseen), np.inf, std)
+    verdict = judge(J, sigma2, names, max_relative_std, [b.variable.shifts for b in problem.par.bindings])
     return {"rank": rank, "n_variables": n, "n_residuals": m, "condition_number": cond,
-            "singular_values": s, "unidentifiable": unseen, "unseen_combinations": combinations,
-            "std_normalised": std, "covariance": cov,
-            "sigma_source": source}
+            "singular_values": s, "unidentifiable": [names[k] for k in np.flatnonzero(~verdict["identifiable"])],
+            "unseen_combinations": combinations, "std_normalised": verdict["std"],
+            "identifiable": verdict["identifiable"], "reasons": verdict["reasons"],
+            "covariance": (vt.T * s_inv**2) @ vt * sigma2,
+            "max_relative_std": max_relative_std, "sigma_source": source}
+
+
+def _spread(J: np.ndarray, sigma2: float) -> tuple[np.ndarray, np.ndarray, int]:
+    """(std, share of each variable in the unseen directions, rank) of the columns of J."""
+    u, s, vt = np.linalg.svd(J, full_matrices=False)
+    tol = RANK_TOLERANCE * max(s.max(initial=0.0), 1e-300)
+    rank = int(np.sum(s > tol))
+    s_inv = np.where(s > tol, 1 / np.where(s > 0, s, 1), 0.0)
+    std = np.sqrt(np.clip(np.diag((vt.T * s_inv**2) @ vt * sigma2), 0, None))
+    share = np.sum(vt[rank:] ** 2, axis=0) if rank < J.shape[1] else np.zeros(J.shape[1])
+    return std, share, rank
+
+
+def judge(J: np.ndarray, sigma2: float, names, max_relative_std: float, shifts=None) -> dict:
+    """Which variables the data constrain, by backward elimination on the sensitivity matrix J
+    (weighted residuals per normalised variable, x = 1 initial):
+
+    1. no sensitivity: a column whose norm is below 1e-6 of the largest (changing the variable
+       changes no residual);
+    2. seen only together with others: while the kept columns are rank-deficient (singular values
+       below 1e-6 of the largest), the variable with the largest share in the unseen directions
+       goes (ties: the later in the list), and the others of its combination may then be found;
+    3. not constrained: while the largest standard deviation sqrt(sigma^2 (J^T J)^-1)_kk of the
+       kept variables exceeds ``max_relative_std`` (a fraction of the initial value; of the scale
+       for offsets), that variable goes.
+
+    The kept set is full rank with every std within the limit. Returns identifiable (n,) bool, std
+    (n,): the kept variables' with the others held, each removed one's when it went (inf when
+    unseen), reasons (n,) str ('' when identifiable)."""
+    n = J.shape[1]
+    shifts = [False] * n if shifts is None else list(shifts)
+    col = np.linalg.norm(J, axis=0)
+    top = col.max(initial=0.0)
+    keep = np.ones(n, bool)
+    std = np.full(n, np.inf)
+    reasons = [""] * n
+    for k in np.flatnonzero(col <= RANK_TOLERANCE * top):
+        keep[k] = False
+        reasons[k] = (f"no sensitivity: changing it changes no residual (|dr/dx| {col[k]:.1e} against {top:.2g} for "
+                      f"'{names[int(np.argmax(col))]}')" if top > 0 else "no sensitivity: no residual depends on it")
+    while keep.any():
+        S = np.flatnonzero(keep)
+        s_std, share, rank = _spread(J[:, S], sigma2)
+        if rank < len(S):
+            w = max(range(len(S)), key=lambda t: (round(share[t], 9), S[t]))
+            _, _, vt = np.linalg.svd(J[:, S], full_matrices=False)
+            row = vt[rank:][np.argmax(np.abs(vt[rank:, w]))]
+            partners = [names[S[t]] for t in np.argsort(-np.abs(row)) if t != w and abs(row[t]) > 0.1][:4]
+            k = int(S[w])
+            keep[k] = False
+            reasons[k] = (f"seen only together with {', '.join(repr(p) for p in partners) or 'others'}: the data fix "
+                          "a combination of them, not each")
+            continue
+        w = int(np.argmax(s_std))
+        if s_std[w] <= max_relative_std:
+            std[S] = s_std
+            break
+        k = int(S[w])
+        keep[k] = False
+        std[k] = s_std[w]
+        of = " of its scale" if shifts[k] else ""
+        reasons[k] = (f"std +-{100 * s_std[w]:.0f} %{of}: the data do not constrain it (limit "
+                      f"+-{100 * max_relative_std:.0f} %)")
+    return {"identifiable": keep, "std": std, "reasons": reasons}
 
 
 def _residual_variance(problem: UpdatingProblem, point: Point, m: int, n: int) -> tuple[float, str]:
@@ -157,6 +237,9 @@ def _residual_variance(problem: UpdatingProblem, point: Point, m: int, n: int) -
 
 
 def variable_table(problem: UpdatingProblem, x: np.ndarray, ident: dict) -> list[dict]:
+    """One row per design variable: initial and final physical values, change and standard
+    deviation in % (of the initial value; of the scale for offsets at 0), whether the data
+    constrain it and, when not, why."""
     rows = []
     for k, (b, xi) in enumerate(zip(problem.par.bindings, x)):
         v = b.variable
@@ -164,11 +247,14 @@ def variable_table(problem: UpdatingProblem, x: np.ndarray, ident: dict) -> list
         p1 = float(np.mean(problem.par.physical(b, xi)))
         std_n = float(ident["std_normalised"][k])
         scale = v.scale if v.shifts else p0
+        std = std_n * abs(scale) if np.isfinite(std_n) else None
+        rel = None if std is None else (100 * std / abs(p0) if p0 else 100 * std_n)
         rows.append({"name": v.name, "kind": v.kind, "attribute": v.attribute,
                      "targets": [str(t) for t in b.indices], "initial": p0, "final": p1,
                      "x": float(xi), "change_percent": 100 * (p1 - p0) / p0 if p0 else None,
                      "lower": float(v.bounds[0]), "upper": float(v.bounds[1]),
                      "at_bound": bool(np.isclose(xi, v.bounds[0], atol=1e-6) or np.isclose(xi, v.bounds[1], atol=1e-6)),
-                     "std_normalised": std_n, "std": std_n * abs(scale) if np.isfinite(std_n) else None,
-                     "identifiable": v.name not in ident["unidentifiable"]})
+                     "std_normalised": std_n, "std": std, "std_percent": rel,
+                     "identifiable": bool(ident["identifiable"][k]), "fixed": False,
+                     "reason": ident["reasons"][k]})
     return rows

@@ -3,11 +3,13 @@
 from __future__ import annotations
 
 import time
+import warnings
+from dataclasses import replace
 from typing import Callable, Sequence
 
 import numpy as np
 
-from ..errors import ModelError, SolverError
+from ..errors import FlexGVTWarning, ModelError, SolverError, UpdatingError
 from ..fem import StaticSettings
 from ..model import Configuration, Model
 from .optimise import as_reference, minimise, reference_arrays, starting_points
@@ -25,7 +27,10 @@ def update(model: Model, configurations: Sequence[Configuration], measured: Sequ
            objective: Objective | None = None, method: str = OptimiserSettings.method,
            starts: int = OptimiserSettings.starts, seed: int = OptimiserSettings.seed,
            max_iterations: int = OptimiserSettings.max_iterations, tolerance: float = OptimiserSettings.tolerance,
-           n_modes: int | None = OptimiserSettings.n_modes, static_settings: StaticSettings | None = None,
+           n_modes: int | None = OptimiserSettings.n_modes,
+           min_paired_fraction: float = OptimiserSettings.min_paired_fraction,
+           unidentifiable: str = OptimiserSettings.unidentifiable,
+           max_relative_std: float = OptimiserSettings.max_relative_std, static_settings: StaticSettings | None = None,
            store: ResultsStore | None = None,
            progress: Callable[[dict], None] | None = None, processes: int | None = None,
            scheduler: str | None = None, callback: Callable[[dict], None] | None = None) -> UpdateResult:
@@ -48,12 +53,22 @@ def update(model: Model, configurations: Sequence[Configuration], measured: Sequ
     default, which is faster for models of up to a few thousand elements (docs/benchmarks.md).
     The input model is not changed: the result holds an updated copy. The optimiser's defaults and
     limits are flexgvt.updating.OptimiserSettings'.
+
+    Measured modes that do not pair are reported with their reason (FlexGVTWarning,
+    UpdateResult.unpaired, the tables' unpaired_reason); fewer than ``min_paired_fraction`` of a
+    configuration's measured modes paired with the initial model's raises UpdatingError naming
+    them. Variables the data do not constrain (flexgvt.updating.result.judge, with
+    ``max_relative_std``) are held at their initial value and the problem is solved again without
+    them (``unidentifiable='fix'``, up to three times), or only flagged (``'free'``); each row of
+    UpdateResult.variables says whether its variable is identifiable and, if not, why.
     """
     from .parallel import attach_workers, client_for
     if callback is not None:
         renamed("update(callback=...)", "update(progress=...)")
         progress = progress or callback
-    OptimiserSettings(method, starts, seed, max_iterations, tolerance, n_modes)  # checks each value
+    OptimiserSettings(method=method, starts=starts, seed=seed, max_iterations=max_iterations, tolerance=tolerance,
+                      n_modes=n_modes, min_paired_fraction=min_paired_fraction, unidentifiable=unidentifiable,
+                      max_relative_std=max_relative_std)  # checks each value
     t0 = time.perf_counter()
     problem = UpdatingProblem(model, configurations, measured, variables, mass_target, objective, n_modes,
                               static_settings)
@@ -61,16 +76,132 @@ def update(model: Model, configurations: Sequence[Configuration], measured: Sequ
     if outside:
         raise ModelError(f"updating: the initial point (x = 1) lies outside the bounds of {outside}; widen the "
                          "bounds to include the initial model or change the initial model")
+    settings = dict(method=method, starts=starts, seed=seed, max_iterations=max_iterations, tolerance=tolerance,
+                    store=store, progress=progress, max_relative_std=max_relative_std)
     with client_for(processes, scheduler) as client:
         if client is not None and starts <= 1:
             attach_workers(problem, client)
-        result = _run(problem, model, method, starts, seed, max_iterations, tolerance, store, progress, client)
+        first = _run(problem, model, client=client, min_paired_fraction=min_paired_fraction, **settings)
+        stages, held = [(problem, first)], {}
+        while unidentifiable == "fix" and len(stages) <= MAX_RESOLVES:
+            last_problem, last = stages[-1]
+            ident = last.identifiability
+            out = [k for k, ok in enumerate(ident["identifiable"]) if not ok]
+            if not out:
+                break
+            for k in out:
+                held[last_problem.par.names[k]] = last.variables[k]
+            free = [v for v in problem.par.variables if v.name not in held]
+            warnings.warn(f"updating: {len(out)} variable(s) the data do not constrain are held at their initial "
+                          f"value ({', '.join(last_problem.par.names[k] + ': ' + ident['reasons'][k] for k in out)}); "
+                          f"solving again with the other {len(free)} (unidentifiable='free' leaves them free)",
+                          FlexGVTWarning, stacklevel=2)
+            if not free:
+                break
+            again = UpdatingProblem(model, configurations, measured, free, mass_target, objective, n_modes,
+                                    static_settings)
+            if client is not None and starts <= 1:
+                attach_workers(again, client)
+            stages.append((again, _run(again, model, client=client, min_paired_fraction=0.0, **settings)))
+        result = _merge(problem, model, stages, held) if held else first
+    _warn_unpaired(result)
     result.seconds = time.perf_counter() - t0
     return result
 
 
-def _run(problem, model, method, starts, seed, max_iterations, tolerance, store, progress, client) -> UpdateResult:
+MAX_RESOLVES = 3  # solves again without the variables found unconstrained, at most this often
+
+
+def _unpaired(problem: UpdatingProblem, point) -> dict[str, list[dict]]:
+    """{configuration: the reasons (Unpaired.to_dict) of its measured modes left unpaired at point}."""
+    return {name: [u.to_dict() for u in problem.pairing.explain(problem.measured[name], c)]
+            for name, c in point.configurations.items() if np.any(c.paired < 0)}
+
+
+def _check_pairing(problem: UpdatingProblem, initial, min_paired_fraction: float) -> None:
+    """UpdatingError when fewer than min_paired_fraction of a configuration's measured modes pair."""
+    bad = []
+    for name, rows in _unpaired(problem, initial).items():
+        n = len(problem.measured[name].frequencies_hz)
+        if n - len(rows) < min_paired_fraction * n:
+            lines = "\n".join(f"    mode {r['mode']}{' (' + r['label'] + ')' if r['label'] else ''} at "
+                               f"{r['measured_hz']:.4g} Hz: {r['text']}" for r in rows)
+            bad.append(f"  configuration '{name}': {n - len(rows)} of {n} measured modes pair\n{lines}")
+    if bad:
+        raise UpdatingError(
+            "updating: fewer than {:.0%} of the measured modes pair with the initial model's, so the answer "
+            "would rest on a few modes:\n{}\nMend the cause (the test points' mapping to FE nodes, the labels, "
+            "n_modes, mac_floor or max_frequency_ratio), or update on the modes that do pair: "
+            "update(..., min_paired_fraction=0) or, in a project file, [optimiser] min_paired_fraction = 0"
+            .format(min_paired_fraction, "\n".join(bad)))
+
+
+def _warn_unpaired(result: UpdateResult) -> None:
+    """One FlexGVTWarning listing the measured modes left unpaired (at the initial model, and at the
+    updated one where that differs); the same lines go to result.warnings."""
+    for when, label in (("initial", "the initial model"), ("updated", "the updated model")):
+        table = result.unpaired.get(when, {})
+        if not table or (when == "updated" and table == result.unpaired.get("initial")):
+            continue
+        lines = [f"  configuration '{name}', mode {r['mode']}{' (' + r['label'] + ')' if r['label'] else ''} at "
+                 f"{r['measured_hz']:.4g} Hz: {r['text']}" for name, rows in table.items() for r in rows]
+        text = (f"updating: {len(lines)} measured mode(s) do not pair with {label}'s and are left out of the "
+                "objective:\n" + "\n".join(lines))
+        result.warnings.append(text)
+        warnings.warn(text, FlexGVTWarning, stacklevel=3)
+
+
+def _merge(problem: UpdatingProblem, model: Model, stages: list, held: dict[str, dict]) -> UpdateResult:
+    """The result over every variable: the last stage's answer for the free ones, the initial value
+    for those held (their rows say why), the first stage's rank and singular values."""
+    last_problem, last = stages[-1]
+    first = stages[0][1]
+    names = problem.par.names
+    if len(held) == len(names):  # nothing left to update: the initial model, evaluated
+        updated = model.copy(f"{model.name} (updated)")
+        configs = problem.par.apply(updated, problem.x0)
+        base = replace(first, model=updated, configurations=configs, x=problem.x0.copy(), final=first.initial,
+                       tables=configuration_tables(problem, first.initial, first.initial),
+                       mac={n: None if m is None else (m[0], m[0]) for n, m in first.mac.items()},
+                       history=first.history[:1], message="every variable held: nothing left to update")
+        free_index = {}
+    else:
+        base = last
+        free_index = {n: k for k, n in enumerate(last_problem.par.names)}
+    rows, x, std, ok, why = [], np.ones(len(names)), [], [], []
+    for k, name in enumerate(names):
+        if name in held:
+            r = dict(held[name])
+            r.update(final=r["initial"], x=1.0, change_percent=0.0 if r["initial"] else None, at_bound=False,
+                     identifiable=False, fixed=True)
+        else:
+            r = dict(base.variables[free_index[name]])
+            x[k] = base.x[free_index[name]]
+        rows.append(r)
+        std.append(r["std_normalised"])
+        ok.append(r["identifiable"])
+        why.append(r["reason"])
+    ident = dict(first.identifiability)
+    ident.update(std_normalised=np.array(std, float), identifiable=np.array(ok, bool), reasons=why,
+                 unidentifiable=[n for n, o in zip(names, ok) if not o], held=list(held),
+                 final={k: base.identifiability.get(k) for k in ("rank", "n_variables", "condition_number")})
+    history = [{**h, "x": [h["x"][free_index[n]] if n in free_index else 1.0 for n in names]}
+               for h in base.history] if free_index else base.history
+    stage_rows = [{"variables": list(p.par.names), "objective": {"initial": r.initial.objective,
+                                                                 "final": r.final.objective},
+                   "iterations": len(r.history) - 1, "message": str(r.message), "solves": r.solves}
+                  for p, r in stages]
+    return replace(base, x=x, variables=rows, identifiability=ident, history=history,
+                   solves=sum(r.solves for _, r in stages), gradients=sum(r.gradients for _, r in stages),
+                   stages=stage_rows, warnings=[],
+                   unpaired=last.unpaired if base is last else {"initial": first.unpaired.get("initial", {}),
+                                                                 "updated": first.unpaired.get("initial", {})})
+
+
+def _run(problem, model, *, method, starts, seed, max_iterations, tolerance, store, progress, client,
+         min_paired_fraction, max_relative_std) -> UpdateResult:
     initial = problem.evaluate(problem.x0, gradient=True)
+    _check_pairing(problem, initial, min_paired_fraction)
     # Every start pairs the measured modes against the initial point's pairing, and the answer is
     # evaluated with the winning run's own: runs that explored elsewhere do not relabel it.
     reference = problem.reference_of(initial)
@@ -130,7 +261,7 @@ def _run(problem, model, method, starts, seed, max_iterations, tolerance, store,
                           + best["failures"][0][1])
     problem.set_pairing_reference(best.get("reference") or reference)
     final = problem.evaluate(best["x"], gradient=True)
-    ident = identifiability(problem, final)
+    ident = identifiability(problem, final, max_relative_std)
     updated = model.copy(f"{model.name} (updated)")
     configs = problem.par.apply(updated, final.x)
     mac = {}
@@ -139,13 +270,14 @@ def _run(problem, model, method, starts, seed, max_iterations, tolerance, store,
         mac[name] = None if p.mac_matrix is None else (a.mac_matrix, p.mac_matrix)
     return UpdateResult(
         model=updated, configurations=configs, x=final.x.copy(), variables=variable_table(problem, final.x, ident),
-        tables=configuration_tables(problem, initial, final), mac=mac, history=best["history"],
+        tables=configuration_tables(problem, initial, final, problem.pairing), mac=mac, history=best["history"],
         identifiability=ident, initial=initial, final=final, method=best["method"], message=best["message"],
         success=best["success"], seconds=0.0, solves=problem.n_solves,
         gradients=problem.n_gradients,
         starts=[{"run": k, "x0": r["x0"], "objective": r["objective"], "message": r["message"],
                  "evaluations": r["evaluations"], "failures": len(r["failures"]), "resumed": r["resumed"]}
-                for k, r in enumerate(runs)])
+                for k, r in enumerate(runs)],
+        unpaired={"initial": _unpaired(problem, initial), "updated": _unpaired(problem, final)})
 
 
 def _unsolved_start(start, x0, method: str, exc: Exception) -> dict:

@@ -16,6 +16,7 @@ from typing import Any
 
 from ..errors import ModelError
 
+UNIDENTIFIABLE = ("fix", "free")
 METHODS = ("least_squares", "lm", "dogbox", "trf", "slsqp", "trust-constr", "nelder-mead")
 
 
@@ -74,6 +75,16 @@ class OptimiserSettings:
     tolerance: float = setting(1e-10, "convergence tolerance on the cost, the step and the gradient (SciPy's "
                                "ftol, xtol, gtol)", gt=0)
     n_modes: int | None = setting(None, "modes analysed per configuration (default: the measured ones + 6)", ge=1)
+    min_paired_fraction: float = setting(0.5, "refuse to start (UpdatingError) when fewer than this fraction of a "
+                                         "configuration's measured modes pair with the initial model's; 0: never "
+                                         "refuse (the unpaired modes are still reported)", ge=0, le=1)
+    unidentifiable: str = setting("fix", "variables the data do not constrain (no sensitivity, seen only together "
+                                  "with others, or a relative standard deviation above max_relative_std): 'fix' "
+                                  "keeps them at their initial value and solves again without them; 'free' "
+                                  "leaves them free and only flags them", choices=UNIDENTIFIABLE)
+    max_relative_std: float = setting(0.5, "a variable whose standard deviation exceeds this fraction of its "
+                                      "initial value (of its scale for offsets) is not identifiable (0.5: the "
+                                      "+-2 sigma band spans zero to twice the value)", gt=0)
 
     def __post_init__(self) -> None:
         check_settings(self, "optimiser settings")
