@@ -6,6 +6,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
+import scipy.linalg
 
 from ..model import Configuration, Model
 from .problem import Point, UpdatingProblem
@@ -139,16 +140,13 @@ def identifiability(problem: UpdatingProblem, point: Point, max_relative_std: fl
     J = point.jacobian
     names = problem.par.names
     m, n = J.shape
-    u, s, vt = np.linalg.svd(J, full_matrices=False)
-    rank = int(np.sum(s > RANK_TOLERANCE * max(s.max(initial=0.0), 1e-300)))
-    cond = float(s[0] / s[-1]) if len(s) and s[-1] > 0 else float("inf")
-    combinations = []
-    if rank < n:
-        # Directions of the design space the data do not see (components above 0.1 listed).
-        combinations = [{names[k]: float(c) for k in np.flatnonzero(np.abs(row) > 0.1) for c in [row[k]]}
-                        for row in vt[rank:]]
+    s, vt, null, rank = _null(J)
+    cond = float(s[0] / s[-1]) if len(s) and s[-1] > 0 and len(s) == n else float("inf")
+    # Directions of the design space the data do not see (components above 0.1 listed).
+    combinations = [{names[k]: float(row[k]) for k in np.flatnonzero(np.abs(row) > 0.1)} for row in null]
     sigma2, source = _residual_variance(problem, point, m, n)
-    s_inv = np.where(s > RANK_TOLERANCE * max(s.max(initial=0.0), 1e-300), 1 / np.where(s > 0, s, 1), 0.0)
+    s_inv = np.zeros(n)
+    s_inv[:rank] = 1 / s[:rank]
     verdict = judge(J, sigma2, names, max_relative_std, [b.variable.shifts for b in problem.par.bindings])
     return {"rank": rank, "n_variables": n, "n_residuals": m, "condition_number": cond,
             "singular_values": s, "unidentifiable": [names[k] for k in np.flatnonzero(~verdict["identifiable"])],
@@ -158,67 +156,76 @@ def identifiability(problem: UpdatingProblem, point: Point, max_relative_std: fl
             "max_relative_std": max_relative_std, "sigma_source": source}
 
 
-def _spread(J: np.ndarray, sigma2: float) -> tuple[np.ndarray, np.ndarray, int]:
-    """(std, share of each variable in the unseen directions, rank) of the columns of J."""
-    u, s, vt = np.linalg.svd(J, full_matrices=False)
-    tol = RANK_TOLERANCE * max(s.max(initial=0.0), 1e-300)
-    rank = int(np.sum(s > tol))
-    s_inv = np.where(s > tol, 1 / np.where(s > 0, s, 1), 0.0)
-    std = np.sqrt(np.clip(np.diag((vt.T * s_inv**2) @ vt * sigma2), 0, None))
-    share = np.sum(vt[rank:] ** 2, axis=0) if rank < J.shape[1] else np.zeros(J.shape[1])
-    return std, share, rank
+def _null(J: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, int]:
+    """(singular values, V^T (n, n: the unseen directions too when there are fewer rows than
+    columns), the rows of V^T the data do not see, rank) of J."""
+    _, s, vt = np.linalg.svd(J, full_matrices=True)
+    rank = int(np.sum(s > RANK_TOLERANCE * max(s.max(initial=0.0), 1e-300)))
+    return s, vt, vt[rank:], rank
+
+
+def _spread(J: np.ndarray, sigma2: float) -> np.ndarray:
+    """The standard deviations sqrt(sigma^2 diag (J^T J)^+) of full-rank columns J."""
+    s, vt, _, rank = _null(J)
+    s_inv = np.zeros(J.shape[1])
+    s_inv[:rank] = 1 / s[:rank]
+    return np.sqrt(np.clip(np.diag((vt.T * s_inv**2) @ vt * sigma2), 0, None))
 
 
 def judge(J: np.ndarray, sigma2: float, names, max_relative_std: float, shifts=None) -> dict:
-    """Which variables the data constrain, by backward elimination on the sensitivity matrix J
-    (weighted residuals per normalised variable, x = 1 initial):
+    """Which variables the data constrain, from the sensitivity matrix J (weighted residuals per
+    normalised variable, x = 1 initial), in three steps:
 
     1. no sensitivity: a column whose norm is below 1e-6 of the largest (changing the variable
        changes no residual);
-    2. seen only together with others: while the kept columns are rank-deficient (singular values
-       below 1e-6 of the largest), the variable with the largest share in the unseen directions
-       goes (ties: the later in the list), and the others of its combination may then be found;
-    3. not constrained: while the largest standard deviation sqrt(sigma^2 (J^T J)^-1)_kk of the
+    2. seen only together with others: QR with column pivoting (subset selection) keeps, one by
+       one, the column with the most sensitivity not already explained by those kept, while that
+       is above 1e-6 of the first's (ties: the earlier variable); a column left out is a
+       combination of kept ones;
+    3. not constrained: when the largest standard deviation sqrt(sigma^2 (J^T J)^-1)_kk of the
        kept variables exceeds ``max_relative_std`` (a fraction of the initial value; of the scale
-       for offsets), that variable goes.
+       for offsets), that variable goes and step 2 is made again without it.
 
-    The kept set is full rank with every std within the limit. Returns identifiable (n,) bool, std
-    (n,): the kept variables' with the others held, each removed one's when it went (inf when
-    unseen), reasons (n,) str ('' when identifiable)."""
+    Returns identifiable (n,) bool, std (n,): the kept variables' with the others held, a removed
+    one's when it went (inf for steps 1-2), reasons (n,) str ('' when identifiable)."""
     n = J.shape[1]
     shifts = [False] * n if shifts is None else list(shifts)
     col = np.linalg.norm(J, axis=0)
     top = col.max(initial=0.0)
-    keep = np.ones(n, bool)
     std = np.full(n, np.inf)
     reasons = [""] * n
-    for k in np.flatnonzero(col <= RANK_TOLERANCE * top):
-        keep[k] = False
+    sensitive = col > RANK_TOLERANCE * top
+    for k in np.flatnonzero(~sensitive):
         reasons[k] = (f"no sensitivity: changing it changes no residual (|dr/dx| {col[k]:.1e} against {top:.2g} for "
                       f"'{names[int(np.argmax(col))]}')" if top > 0 else "no sensitivity: no residual depends on it")
-    while keep.any():
-        S = np.flatnonzero(keep)
-        s_std, share, rank = _spread(J[:, S], sigma2)
-        if rank < len(S):
-            w = max(range(len(S)), key=lambda t: (round(share[t], 9), S[t]))
-            _, _, vt = np.linalg.svd(J[:, S], full_matrices=False)
-            row = vt[rank:][np.argmax(np.abs(vt[rank:, w]))]
-            partners = [names[S[t]] for t in np.argsort(-np.abs(row)) if t != w and abs(row[t]) > 0.1][:4]
-            k = int(S[w])
-            keep[k] = False
-            reasons[k] = (f"seen only together with {', '.join(repr(p) for p in partners) or 'others'}: the data fix "
-                          "a combination of them, not each")
-            continue
+    loose = np.zeros(n, bool)  # left out in step 3
+    while True:
+        S = np.flatnonzero(sensitive & ~loose)
+        keep = np.zeros(n, bool)
+        if not len(S):
+            break
+        _, R, piv = scipy.linalg.qr(J[:, S], mode="economic", pivoting=True)
+        d = np.abs(np.diag(R))
+        rank = int(np.sum(d > RANK_TOLERANCE * d[0]))
+        keep[S[piv[:rank]]] = True
+        K = np.flatnonzero(keep)
+        s_std = _spread(J[:, K], sigma2)
         w = int(np.argmax(s_std))
         if s_std[w] <= max_relative_std:
-            std[S] = s_std
+            std[K] = s_std
             break
-        k = int(S[w])
-        keep[k] = False
+        k = int(K[w])
+        loose[k] = True
         std[k] = s_std[w]
         of = " of its scale" if shifts[k] else ""
         reasons[k] = (f"std +-{100 * s_std[w]:.0f} %{of}: the data do not constrain it (limit "
                       f"+-{100 * max_relative_std:.0f} %)")
+    kept = np.flatnonzero(keep)
+    for k in np.flatnonzero(sensitive & ~loose & ~keep):
+        c = np.linalg.lstsq(J[:, kept], J[:, k], rcond=None)[0] * col[kept]
+        partners = [names[kept[t]] for t in np.argsort(-np.abs(c)) if abs(c[t]) > 0.1 * np.abs(c).max()][:4]
+        reasons[k] = (f"seen only together with {', '.join(repr(p) for p in partners)}: its effect on the data "
+                      "is a combination of theirs")
     return {"identifiable": keep, "std": std, "reasons": reasons}
 
 

@@ -82,7 +82,7 @@ def update(model: Model, configurations: Sequence[Configuration], measured: Sequ
         if client is not None and starts <= 1:
             attach_workers(problem, client)
         first = _run(problem, model, client=client, min_paired_fraction=min_paired_fraction, **settings)
-        stages, held = [(problem, first)], {}
+        stages, held, notes = [(problem, first)], {}, []
         while unidentifiable == "fix" and len(stages) <= MAX_RESOLVES:
             last_problem, last = stages[-1]
             ident = last.identifiability
@@ -92,10 +92,11 @@ def update(model: Model, configurations: Sequence[Configuration], measured: Sequ
             for k in out:
                 held[last_problem.par.names[k]] = last.variables[k]
             free = [v for v in problem.par.variables if v.name not in held]
-            warnings.warn(f"updating: {len(out)} variable(s) the data do not constrain are held at their initial "
-                          f"value ({', '.join(last_problem.par.names[k] + ': ' + ident['reasons'][k] for k in out)}); "
-                          f"solving again with the other {len(free)} (unidentifiable='free' leaves them free)",
-                          FlexGVTWarning, stacklevel=2)
+            lines = "".join(f"\n  {last_problem.par.names[k]}: {ident['reasons'][k]}" for k in out)
+            notes.append(f"updating: {len(out)} variable(s) the data do not constrain are held at their initial "
+                         f"value, and the problem is solved again with the other {len(free)} "
+                         f"(unidentifiable='free' leaves them free):{lines}")
+            warnings.warn(notes[-1], FlexGVTWarning, stacklevel=2)
             if not free:
                 break
             again = UpdatingProblem(model, configurations, measured, free, mass_target, objective, n_modes,
@@ -104,6 +105,12 @@ def update(model: Model, configurations: Sequence[Configuration], measured: Sequ
                 attach_workers(again, client)
             stages.append((again, _run(again, model, client=client, min_paired_fraction=0.0, **settings)))
         result = _merge(problem, model, stages, held) if held else first
+    loose = [r["name"] for r in result.variables if not r["identifiable"] and not r.get("fixed")]
+    if loose and unidentifiable == "fix":
+        notes.append(f"updating: {loose} are still not identifiable after {MAX_RESOLVES} solves without the "
+                     "variables found unconstrained; they are left free and flagged (see their rows' reasons)")
+        warnings.warn(notes[-1], FlexGVTWarning, stacklevel=2)
+    result.warnings = notes
     _warn_unpaired(result)
     result.seconds = time.perf_counter() - t0
     return result

@@ -47,9 +47,10 @@ def update_model(project: Project, identified: dict[str, Identified], store: Res
 
 def check(project: Project, model: Model, identified: dict[str, Identified], n_modes: int | None = None) -> dict:
     """Configurations with role 'check' (not updated on): measured against ``model``'s modes, paired by
-    MAC (or frequency without shapes). Returns {name: rows}."""
+    MAC (or frequency without shapes, within the measured mode's family when labelled). Returns
+    {name: rows}; an unpaired mode's row says why (unpaired_reason)."""
     from ..fem import solve_modes, solve_static
-    from ..correlation import pair
+    from ..correlation import pair, pair_by_frequency
     out = {}
     for spec in project.spec.configurations:
         if spec.role != "check" or spec.name not in identified:
@@ -61,16 +62,20 @@ def check(project: Project, model: Model, identified: dict[str, Identified], n_m
         if meas.shapes is not None:
             m = measured(meas, project)
             p = pair(meas, modes, m.sensors, mac_floor=project.spec.objective.mac_floor,
-                     max_frequency_ratio=project.spec.objective.max_frequency_ratio)
-            got = {int(i): (int(j), float(v)) for i, j, v in zip(p.measured, p.analytical, p.mac)}
-        else:
-            got = _pair_by_frequency(meas.frequencies_hz, modes.frequencies_hz)
+                     max_frequency_ratio=project.spec.objective.max_frequency_ratio, configuration=spec.name)
+        else:  # by frequency, among the FE modes of each measured mode's family when its label names one
+            p = pair_by_frequency(meas.frequencies_hz, modes.frequencies_hz, measured_labels=meas.labels,
+                                  analytical_labels=modes.labels, configuration=spec.name,
+                                  max_frequency_ratio=project.spec.objective.max_frequency_ratio)
+        got = {int(i): (int(j), None if np.isnan(v) else float(v)) for i, j, v in zip(p.measured, p.analytical, p.mac)}
+        why = {u.mode - 1: u.text for u in p.reasons}
         for i, f in enumerate(meas.frequencies_hz):
             j, mac = got.get(i, (None, None))
             fa = None if j is None else float(modes.frequencies_hz[j])
             rows.append({"mode": i + 1, "label": meas.labels[i] if i < len(meas.labels) else "",
                          "measured_hz": float(f), "analytical_hz": fa,
-                         "error_percent": None if fa is None else 100 * (fa - f) / f, "mac": mac})
+                         "error_percent": None if fa is None else 100 * (fa - f) / f, "mac": mac,
+                         "unpaired_reason": why.get(i)})
         out[spec.name] = rows
     return out
 
