@@ -136,10 +136,11 @@ def _check_pairing(problem: UpdatingProblem, initial, min_paired_fraction: float
             bad.append(f"  configuration '{name}': {n - len(rows)} of {n} measured modes pair\n{lines}")
     if bad:
         raise UpdatingError(
-            "updating: fewer than {:.0%} of the measured modes pair with the initial model's, so the answer "
-            "would rest on a few modes:\n{}\nMend the cause (the test points' mapping to FE nodes, the labels, "
-            "n_modes, mac_floor or max_frequency_ratio), or update on the modes that do pair: "
-            "update(..., min_paired_fraction=0) or, in a project file, [optimiser] min_paired_fraction = 0"
+            "updating: fewer than {:.0%} (min_paired_fraction) of a configuration's measured modes pair with the "
+            "initial model's:\n{}\nMend the cause (the test points' mapping to FE nodes, the labels, n_modes, "
+            "mac_floor or max_frequency_ratio), or update on the modes that do pair by lowering "
+            "min_paired_fraction: update(..., min_paired_fraction=0), or in a project file "
+            "[optimiser] min_paired_fraction = 0"
             .format(min_paired_fraction, "\n".join(bad)))
 
 
