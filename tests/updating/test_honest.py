@@ -126,3 +126,24 @@ def test_an_unidentifiable_variable_stays_at_its_initial_value_and_the_others_re
     free = up.update(initial, [cfg], data, variables, unidentifiable="free", max_iterations=20)
     flags = {r["name"]: (r["identifiable"], r["fixed"]) for r in free.variables}
     assert flags["G"] == (False, False) and flags["E1"] == (True, False) and not free.stages
+
+
+def test_judge_steps_on_a_made_up_sensitivity_matrix():
+    """No sensitivity, two columns the data see only together (the later one goes), a column with
+    a 1e4 times smaller effect (std far above 50 % at sigma 1e-3), and an unknown sigma."""
+    from flexgvt.updating.result import judge
+    rng = np.random.default_rng(3)
+    J = rng.normal(size=(8, 5))
+    J[:, 0] = 0.0
+    J[:, 2] = J[:, 1]
+    J[:, 4] *= 1e-4
+    names = ["zero", "a", "a_twin", "b", "weak"]
+    v = judge(J, 1e-6, names, 0.5)
+    assert v["identifiable"].tolist() == [False, True, False, True, False]
+    assert v["reasons"][0].startswith("no sensitivity")
+    assert v["reasons"][2].startswith("seen only together with 'a'")
+    assert v["reasons"][4].startswith("std +-") and v["std"][4] > 0.5
+    assert np.all(v["std"][[1, 3]] <= 0.5) and np.isinf(v["std"][[0, 2]]).all()
+    unknown = judge(J, float("nan"), names, 0.5)  # no redundancy, no measured scatter: steps 1-2 only
+    assert unknown["identifiable"].tolist() == [False, True, False, True, True]
+    assert np.isnan(unknown["std"][[1, 3, 4]]).all()

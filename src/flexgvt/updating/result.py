@@ -59,6 +59,9 @@ class UpdateResult:
             for r in rows:
                 if r.get("unpaired_reason"):
                     lines.append(f"    measured mode {r['mode']} unpaired: {r['unpaired_reason']}")
+        if str(self.identifiability.get("sigma_source", "")).startswith("none"):
+            lines.append("  standard deviations unknown: no more residuals than variables and no measured standard "
+                         "deviations (give frequency_std_hz, or fewer variables)")
         for title, group in (("held at their initial value, the data do not constrain them",
                               [r for r in self.variables if r.get("fixed")]),
                              ("not identifiable, left free (unidentifiable='free')",
@@ -186,8 +189,10 @@ def judge(J: np.ndarray, sigma2: float, names, max_relative_std: float, shifts=N
        kept variables exceeds ``max_relative_std`` (a fraction of the initial value; of the scale
        for offsets), that variable goes and step 2 is made again without it.
 
-    Returns identifiable (n,) bool, std (n,): the kept variables' with the others held, a removed
-    one's when it went (inf for steps 1-2), reasons (n,) str ('' when identifiable)."""
+    sigma2 NaN (no redundancy and no measured standard deviations): the stds are unknown (NaN) and
+    step 3 is left out. Returns identifiable (n,) bool, std (n,): the kept variables' with the
+    others held, a removed one's when it went (inf for steps 1-2), reasons (n,) str ('' when
+    identifiable)."""
     n = J.shape[1]
     shifts = [False] * n if shifts is None else list(shifts)
     col = np.linalg.norm(J, axis=0)
@@ -210,8 +215,8 @@ def judge(J: np.ndarray, sigma2: float, names, max_relative_std: float, shifts=N
         keep[S[piv[:rank]]] = True
         K = np.flatnonzero(keep)
         s_std = _spread(J[:, K], sigma2)
-        w = int(np.argmax(s_std))
-        if s_std[w] <= max_relative_std:
+        w = int(np.argmax(s_std)) if np.all(np.isfinite(s_std)) else 0
+        if not np.isfinite(s_std[w]) or s_std[w] <= max_relative_std:  # unknown sigma: steps 1-2 only
             std[K] = s_std
             break
         k = int(K[w])
@@ -240,7 +245,7 @@ def _residual_variance(problem: UpdatingProblem, point: Point, m: int, n: int) -
         return float(np.median((problem.objective.frequency * weights * rel) ** 2)), "measured standard deviations"
     if m > n:
         return float(point.residuals @ point.residuals / (m - n)), "residual (m - n degrees of freedom)"
-    return 0.0, "none (no redundancy and no measured standard deviations)"
+    return float("nan"), "none (no redundancy and no measured standard deviations): standard deviations unknown"
 
 
 def variable_table(problem: UpdatingProblem, x: np.ndarray, ident: dict) -> list[dict]:

@@ -192,6 +192,7 @@ def _merge(problem: UpdatingProblem, model: Model, stages: list, held: dict[str,
     ident = dict(first.identifiability)
     ident.update(std_normalised=np.array(std, float), identifiable=np.array(ok, bool), reasons=why,
                  unidentifiable=[n for n, o in zip(names, ok) if not o], held=list(held),
+                 sigma_source=base.identifiability.get("sigma_source"),
                  final={k: base.identifiability.get(k) for k in ("rank", "n_variables", "condition_number")})
     history = [{**h, "x": [h["x"][free_index[n]] if n in free_index else 1.0 for n in names]}
                for h in base.history] if free_index else base.history
