@@ -123,7 +123,8 @@ def explain_unpaired(i: int, fm: np.ndarray, fa: np.ndarray, paired: np.ndarray,
         best = cand[np.argmax(macm[i, cand])]
         if macm[i, best] < mac_floor:
             return out("mac_below_floor", f"best MAC {macm[i, best]:.2f} with {name(best)}, below the floor "
-                       f"{mac_floor:g}: a mode the model lacks, or test points mapped to the wrong FE nodes", best)
+                       f"{mac_floor:g}: a mode the model lacks, a poorly identified shape, or test points mapped to "
+                       "the wrong FE nodes", best)
         k = taken.get(int(best))
         return out("taken", f"its best match {name(best)} (MAC {macm[i, best]:.2f}) is paired with measured mode "
                    f"{k + 1 if k is not None else '?'}, and no other FE mode{ratio} reaches the MAC floor "
