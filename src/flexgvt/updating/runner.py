@@ -103,7 +103,11 @@ def update(model: Model, configurations: Sequence[Configuration], measured: Sequ
                                     static_settings)
             if client is not None and starts <= 1:
                 attach_workers(again, client)
-            stages.append((again, _run(again, model, client=client, min_paired_fraction=0.0, **settings)))
+            # From the last answer (the held variables back at 1): the free ones keep what the data
+            # gave them. Not stored: its start depends on the last solve, which the store's key does not.
+            start = np.array([last.x[last_problem.par.names.index(v.name)] for v in free])
+            stages.append((again, _run(again, model, client=client, min_paired_fraction=0.0,
+                                       **{**settings, "store": None}, start=start)))
         result = _merge(problem, model, stages, held) if held else first
     loose = [r["name"] for r in result.variables if not r["identifiable"] and not r.get("fixed")]
     if loose and unidentifiable == "fix":
@@ -208,7 +212,7 @@ def _merge(problem: UpdatingProblem, model: Model, stages: list, held: dict[str,
 
 
 def _run(problem, model, *, method, starts, seed, max_iterations, tolerance, store, progress, client,
-         min_paired_fraction, max_relative_std) -> UpdateResult:
+         min_paired_fraction, max_relative_std, start=None) -> UpdateResult:
     initial = problem.evaluate(problem.x0, gradient=True)
     _check_pairing(problem, initial, min_paired_fraction)
     # Every start pairs the measured modes against the initial point's pairing, and the answer is
@@ -217,7 +221,10 @@ def _run(problem, model, *, method, starts, seed, max_iterations, tolerance, sto
     if store is not None:
         store.bind(fingerprint(problem, method))
     runs = []
-    for run, x0 in enumerate(starting_points(problem, max(1, starts), seed)):
+    points = starting_points(problem, max(1, starts), seed)
+    if start is not None:
+        points[0] = start
+    for run, x0 in enumerate(points):
         done = store.finished(run) if store is not None else None
         if done is not None:  # finished before: its answer, evaluated from where the run evaluated it
             ref = reference if done["reference"] is None else as_reference(problem, unpack(done["reference"]))
