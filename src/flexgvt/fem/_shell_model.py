@@ -29,12 +29,13 @@ INITIAL_STRESS = {4: True, 3: False}  # per corner count: see docs/shells.md, "I
 class ShellArrays:
     """All shells of one corner count p (4 quads, 3 triangles): nodes (n, p) storage indices,
     C (n, 8, 8) sections in kernel axes, mass (n, 3) [m0, m1, m2] per area, lumped (n,),
-    element_ids (n,), group_names (n,), groups (n,) the group's position in Model.shells, and the
-    corotational constants (with the element masses in the reference frame)."""
+    element_ids (n,), group_names (n,), groups (n,) the group's position in Model.shells, thickness
+    (n,) [m], and the corotational constants (with the element masses in the reference frame)."""
 
     nodes: np.ndarray
     C: np.ndarray
     mass: np.ndarray
+    thickness: np.ndarray
     lumped: np.ndarray
     element_ids: np.ndarray
     group_names: np.ndarray
@@ -104,8 +105,9 @@ def _rotation8(angle: np.ndarray) -> np.ndarray:
     return out
 
 
-def group_sections(group: ShellGroup, X: np.ndarray, where: str) -> tuple[np.ndarray, np.ndarray]:
-    """C (n, 8, 8) in kernel axes and mass (n, 3) of a shell group's elements with corners X."""
+def group_sections(group: ShellGroup, X: np.ndarray, where: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """C (n, 8, 8) in kernel axes, mass (n, 3) and thickness (n,) [m] of a shell group's elements
+    with corners X."""
     n = len(group.ids)
     laminate = isinstance(group.property, Laminate)
     if group.corner_thickness is not None and not laminate:
@@ -118,6 +120,7 @@ def group_sections(group: ShellGroup, X: np.ndarray, where: str) -> tuple[np.nda
     inverse = np.asarray(inverse).reshape(-1)
     C = np.zeros((len(uniq), 8, 8))
     mass = np.zeros((len(uniq), 3))
+    thickness = np.zeros(len(uniq))
     for k, (tk, zk) in enumerate(uniq):
         sec = property_section(group.property, None if tk < 0 else float(tk), where)
         if zk:
@@ -125,7 +128,8 @@ def group_sections(group: ShellGroup, X: np.ndarray, where: str) -> tuple[np.nda
         C[k, :3, :3], C[k, :3, 3:6], C[k, 3:6, :3], C[k, 3:6, 3:6] = sec.A, sec.B, sec.B.T, sec.D
         C[k, 6:, 6:] = sec.S
         mass[k] = sec.m0, sec.m1, sec.m2
-    C, mass = C[inverse], mass[inverse]
+        thickness[k] = sec.thickness
+    C, mass, thickness = C[inverse], mass[inverse], thickness[inverse]
     if group.material_axis is not None:
         frames = kernel_frames(X)
         axis = np.asarray(group.material_axis, float)
@@ -135,7 +139,7 @@ def group_sections(group: ShellGroup, X: np.ndarray, where: str) -> tuple[np.nda
     if np.any(angle):
         T = _rotation8(angle)
         C = np.einsum("nji,njk,nkl->nil", T, C, T)
-    return np.ascontiguousarray(C), np.ascontiguousarray(mass)
+    return np.ascontiguousarray(C), np.ascontiguousarray(mass), thickness
 
 
 def compile_shells(model, xyz: np.ndarray) -> tuple[ShellArrays, ...]:
@@ -144,17 +148,17 @@ def compile_shells(model, xyz: np.ndarray) -> tuple[ShellArrays, ...]:
     for g, group in enumerate(model.shells):
         where = f"shell group '{group.name}'"
         idx = model.index_of(group.nodes.reshape(-1), where).reshape(group.nodes.shape)
-        C, mass = group_sections(group, xyz[idx], where)
+        C, mass, thickness = group_sections(group, xyz[idx], where)
         n = len(idx)
-        parts[idx.shape[1]].append((idx, C, mass, np.full(n, group.mass == "lumped"), np.asarray(group.ids, int),
-                                    np.full(n, group.name, dtype=object), np.full(n, g)))
+        parts[idx.shape[1]].append((idx, C, mass, thickness, np.full(n, group.mass == "lumped"),
+                                    np.asarray(group.ids, int), np.full(n, group.name, dtype=object), np.full(n, g)))
     out = []
     for p in (4, 3):
         if not parts[p]:
             continue
-        nodes, C, mass, lumped, ids, names, groups = (np.concatenate(a) for a in zip(*parts[p]))
+        nodes, C, mass, thickness, lumped, ids, names, groups = (np.concatenate(a) for a in zip(*parts[p]))
         nodes = np.ascontiguousarray(nodes, dtype=np.int64)
         data = corotational_setup(xyz[nodes], C, ids=ids, initial_stress=INITIAL_STRESS[p], mass=mass,
                                   lumped=lumped)
-        out.append(ShellArrays(nodes, C, mass, lumped, ids, names, groups, data))
+        out.append(ShellArrays(nodes, C, mass, thickness, lumped, ids, names, groups, data))
     return tuple(out)

@@ -15,6 +15,7 @@ from __future__ import annotations
 import copy
 import threading
 import weakref
+from collections.abc import Mapping
 from dataclasses import dataclass
 from functools import cached_property
 
@@ -74,15 +75,24 @@ _COMPILED: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 _COMPILED_LOCK = threading.Lock()
 
 
-def compile_model(model: Model) -> CompiledModel:
-    """Compile the model's arrays, cached in fem (weakly keyed by the model) against its revision."""
+def compile_model(model: Model, imperfection: Mapping[int, tuple] | None = None) -> CompiledModel:
+    """Compile the model's arrays, cached in fem (weakly keyed by the model) against its revision.
+    imperfection: {node id: (dx, dy, dz)} offsets of the stress-free geometry [m] (a configuration's
+    imperfect article), compiled and cached beside the perfect one."""
+    key = None
+    if imperfection:
+        key = tuple(sorted((int(k), tuple(map(float, v))) for k, v in imperfection.items()))
     with _COMPILED_LOCK:
         cached = _COMPILED.get(model)
-    if cached is not None and cached[0] == model.revision:
-        return cached[1]
+    if cached is not None and cached[0] == model.revision and key in cached[1]:
+        return cached[1][key]
     if model.n_nodes == 0:
         raise ModelError(f"model '{model.name}' has no nodes; add nodes and elements first")
     xyz = model.xyz
+    if key is not None:
+        xyz = xyz.copy()
+        nodes = model.index_of([k for k, _ in key], "configuration imperfection")
+        xyz[nodes] += np.array([v for _, v in key])
     check_coordinates(model.node_ids, xyz, f"model '{model.name}'")
     nodes, E0, L0, stiff, rhoA, rhoI, lumped, eids, names, arch = [], [], [], [], [], [], [], [], [], []
     lumped_axial = []
@@ -149,7 +159,11 @@ def compile_model(model: Model) -> CompiledModel:
                              cat(names, (0,)), _masses(model, model.masses), Springs.of(model, model.springs), links,
                              link_dofs, interp, mpc_dep, tuple(mpc_terms), compile_shells(model, xyz))
     with _COMPILED_LOCK:
-        _COMPILED[model] = (model.revision, compiled)
+        entry = _COMPILED.get(model)
+        if entry is None or entry[0] != model.revision:
+            entry = (model.revision, {})
+            _COMPILED[model] = entry
+        entry[1][key] = compiled
     return compiled
 
 
@@ -271,7 +285,7 @@ class System:
         the DOF numbering and the sparsity pattern built on them are left alone."""
         self.model = model
         self.config = config
-        self.cm = cm = compile_model(model)
+        self.cm = cm = compile_model(model, config.imperfection)
         self._revision = model.revision
         n = len(cm.xyz)
         self.n_nodes = n

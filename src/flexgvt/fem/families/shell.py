@@ -103,6 +103,11 @@ class ShellFamily:
         mass = np.bincount(a.nodes.reshape(-1), weights=diag.reshape(-1), minlength=len(x))[used]
         return np.maximum(energy, 0.0)[:, None] * section_fractions(np.asarray(shapes)[:, used], x[used], mass)
 
+    def thickness_at(self, nodes: np.ndarray) -> float | None:
+        """The thinnest shell touching ``nodes`` (storage indices) [m], None when none does."""
+        on = np.isin(self.arrays.nodes, nodes).any(axis=1)
+        return float(self.arrays.thickness[on].min()) if np.any(on) else None
+
     def check_values(self, where: str, node_ids: np.ndarray) -> None:
         a = self.arrays
         bad = _bad(a.C) | _bad(a.mass)
