@@ -30,7 +30,8 @@ class ShellArrays:
     """All shells of one corner count p (4 quads, 3 triangles): nodes (n, p) storage indices,
     C (n, 8, 8) sections in kernel axes, mass (n, 3) [m0, m1, m2] per area, lumped (n,),
     element_ids (n,), group_names (n,), groups (n,) the group's position in Model.shells, thickness
-    (n,) [m], and the corotational constants (with the element masses in the reference frame)."""
+    (n,) [m], the corotational constants (with the element masses in the reference frame) and
+    shell_groups (the model's ShellGroup of each position in Model.shells, for derivatives)."""
 
     nodes: np.ndarray
     C: np.ndarray
@@ -41,6 +42,7 @@ class ShellArrays:
     group_names: np.ndarray
     groups: np.ndarray
     corotational: CorotationalShells
+    shell_groups: tuple = ()
 
     @property
     def p(self) -> int:
@@ -160,5 +162,5 @@ def compile_shells(model, xyz: np.ndarray) -> tuple[ShellArrays, ...]:
         nodes = np.ascontiguousarray(nodes, dtype=np.int64)
         data = corotational_setup(xyz[nodes], C, ids=ids, initial_stress=INITIAL_STRESS[p], mass=mass,
                                   lumped=lumped)
-        out.append(ShellArrays(nodes, C, mass, thickness, lumped, ids, names, groups, data))
+        out.append(ShellArrays(nodes, C, mass, thickness, lumped, ids, names, groups, data, tuple(model.shells)))
     return tuple(out)

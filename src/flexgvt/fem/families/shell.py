@@ -4,15 +4,15 @@ count: "shell4" (quads) and "shell3" (triangles)."""
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import ClassVar
 
 import numpy as np
 
 from ...errors import ModelError
 from ...model import Configuration
-from .._shell_corotational import CorotationalTerms, corotated_frames, corotational_terms
-from .._shell_model import ShellArrays
+from .._shell_corotational import CorotationalTerms, corotated_frames, corotational_setup, corotational_terms
+from .._shell_model import ShellArrays, group_sections
 from ..checks import _REMEDY, _bad, _ids
 from ..labels import section_fractions
 from .base import Derivative, ElementTerms, zero_blocks
@@ -37,7 +37,7 @@ class ShellFamily:
 
     structural: ClassVar[bool] = True
     translation_invariant: ClassVar[bool] = False
-    value_fields: ClassVar[tuple[str, ...]] = ()
+    value_fields: ClassVar[tuple[str, ...]] = ("shells",)
     has_damping: ClassVar[bool] = False
 
     @staticmethod
@@ -136,4 +136,51 @@ class ShellFamily:
         return f"shell {kind}(s) {_ids(a.element_ids[on])} (group(s) {', '.join(sorted(set(a.group_names[on])))})"
 
     def derivative(self, field, item, x, R, lam, gravity, cache) -> Derivative:
-        raise ModelError(f"shell family: no value field '{field}'")
+        """item = {group position in Model.shells: [(property, weight), ...]}: a difference rule in a
+        property value. The element terms are linear in the element constants (the local stiffness,
+        the initial-stress resultants' map, the masses), so their change is the same corotational
+        evaluation with sum weight * constants(property); the constants of each property come from
+        the kernels (the triangle's ANDES scale depends on the section's Poisson ratio, so the
+        kernels are not linear in the section), once per change (kept in ``cache``)."""
+        a = self.arrays
+        groups = np.array(sorted(int(g) for g in item), int)
+        rows = np.flatnonzero(np.isin(a.groups, groups))
+        if not len(rows):
+            return Derivative(rows)
+        key = ("shell", self.name)
+        data = cache.get(key)
+        if data is None:
+            base = a.corotational
+            K, M = np.zeros((len(rows),) + base.K.shape[1:]), np.zeros((len(rows),) + base.K.shape[1:])
+            GN = None if base.GN is None else np.zeros((len(rows),) + base.GN.shape[1:])
+            X = base.X[rows]
+            for g in groups:
+                on = a.groups[rows] == g
+                if not np.any(on):  # a group of the other corner count
+                    continue
+                group = a.shell_groups[g]
+                where = f"shell group '{group.name}'"
+                for prop, weight in item[g]:
+                    C, m, _ = group_sections(replace(group, property=prop), X[on], where)
+                    one = corotational_setup(X[on], C, ids=a.element_ids[rows][on], initial_stress=GN is not None,
+                                             mass=m, lumped=a.lumped[rows][on])
+                    K[on] += weight * one.K
+                    M[on] += weight * one.M
+                    if GN is not None:
+                        GN[on] += weight * one.GN
+            data = cache[key] = replace(base, X=X, E0=base.E0[rows], Xl=base.Xl[rows], K=K, GN=GN,
+                                        KS=None if base.KS is None else base.KS[rows], M=M)
+        nodes = a.nodes[rows]
+        forces = tangent = None
+        if np.any(data.K):
+            t = corotational_terms(data, x[nodes], R[nodes], True)
+            forces, tangent = t.forces, t.tangent
+        mass = applied = None
+        if np.any(data.M):
+            mass = _blockdiag(corotated_frames(x[nodes]), self.p) @ data.M @ np.transpose(
+                _blockdiag(corotated_frames(x[nodes]), self.p), (0, 2, 1))
+            if np.any(gravity):
+                B0 = _blockdiag(data.E0, self.p)
+                g = np.tile(np.r_[gravity, 0.0, 0.0, 0.0], self.p)
+                applied = lam * (B0 @ data.M @ np.transpose(B0, (0, 2, 1)) @ g)
+        return Derivative(rows, forces, applied, tangent, mass)
