@@ -32,8 +32,8 @@ SKIN_NSM = 7.85  # [kg/m^2] per skin: the skins' density times 1.344 (the origin
 
 # The unseen combined case: out-of-plane and in-plane inertial loads with a nose-up tip torque,
 # sized so that the tip deflects about 3.6 % of the span (less than at 2.5 g).
-COMBINED_GRAVITY = (0.35, 0.0, 0.55)  # [g] along x (in-plane) and z (out-of-plane, up)
-COMBINED_TIP_TORQUE = 4000.0  # [N m] about +y at the tip rib, as a couple on the spars' tip nodes
+COMBINED_GRAVITY = (0.49, 0.0, 0.77)  # [g] along x (in-plane) and z (out-of-plane, up)
+COMBINED_TIP_TORQUE = 5600.0  # [N m] about +y at the tip rib, as a couple on the spars' tip nodes
 
 
 def _divisions(length: float, size: float, least: int) -> int:
@@ -47,7 +47,7 @@ def wingbox(element_size: float = 0.1, rib_pitch: float = 0.5, carried_mass: boo
     ``element_size`` [m] (at least 4 across the chord and 2 through the depth; the span spacing
     divides the rib pitch). Configurations: unloaded, minus_1g (self-weight, the box hanging as a
     wing at rest), plus_2_5g (a 2.5 g pull-up: inertial loads upward at 2.5 g) and combined (the
-    unseen case: 0.55 g up and 0.35 g aft with a 4 kN m nose-up tip torque; tip deflection about
+    unseen case: 0.77 g up and 0.49 g aft with a 5.6 kN m nose-up tip torque; tip deflection about
     3.6 % of the span). mass: 'lumped' or 'consistent' shell mass."""
     if element_size <= 0 or rib_pitch <= 0:
         raise ModelError("wingbox: element_size and rib_pitch must be positive [m]")

@@ -19,6 +19,7 @@ import scipy.sparse.linalg as spla
 from .eigen import DEFAULT_SHIFT, _rigid_safe_shift, modal_frequencies_hz, real_modes, rigid_count
 
 BUCKLING_MODES = ("ignore", "warn", "stop", "continue")
+_SAMPLES = 6  # increments checked along a path that ends stable (a bifurcation passed on the way)
 _ROUND_OFF = 1e-9  # a relative eigenvalue this close to zero counts as zero (rigid body, neutral)
 
 
@@ -30,7 +31,8 @@ class Instability:
     path: a skin wrinkling under compression);
     eigenvalue: the lowest at the state that was found unstable [rad^2/s^2]; shape (n_nodes, 6):
     the buckling shape at the stable side of the bracket (largest translation 1); where: the
-    elements it moves most."""
+    elements it moves most; recovered: the path went on to a stable equilibrium (the solver left
+    the unstable fundamental path for a stable, post-buckled one by itself)."""
 
     load_factor: float
     kind: str
@@ -38,6 +40,7 @@ class Instability:
     shape: np.ndarray
     where: str
     bracket: tuple[float, float]
+    recovered: bool = False
 
     def describe(self) -> str:
         return (f"{self.kind} at load factor {self.load_factor:.4g} (between {self.bracket[0]:.4g} and "
@@ -100,10 +103,12 @@ def _where(system, shape: np.ndarray) -> str:
 
 def locate(system, trail: list, resolve: Callable[[float, int], tuple], refinements: int = 3) -> Instability | None:
     """The first loss of stability along a load path. trail: the converged equilibria (load factor,
-    x, R) in load order, the last one unstable; resolve(lam, k): the equilibrium (x, R) at load factor
+    x, R) in load order; resolve(lam, k): the equilibrium (x, R) at load factor
     lam from trail[k] (a stable one below lam). Bisects the trail for the first unstable
-    equilibrium, then refines the crossing by secants on the lowest eigenvalue. None when every
-    equilibrium of the trail is stable after all."""
+    equilibrium, then refines the crossing by a linear buckling analysis between the bracketing
+    equilibria. When the last equilibrium is stable, _SAMPLES increments evenly along the path are
+    checked (a path that passed a bifurcation and went on along a stable branch). None when no
+    checked equilibrium is unstable."""
     values: dict[int, tuple[float, np.ndarray]] = {}
     counts: dict[int, int] = {}
 
@@ -120,8 +125,13 @@ def locate(system, trail: list, resolve: Callable[[float, int], tuple], refineme
         return counts[k] > 0
 
     hi = len(trail) - 1
-    if not unstable(hi):
-        return None
+    recovered = False
+    if not unstable(hi):  # stable at the end: a path through a bifurcation onto a stable branch?
+        samples = np.unique(np.linspace(0, hi, min(hi + 1, _SAMPLES + 2)).round().astype(int))[1:-1]
+        found = [int(k) for k in samples if unstable(int(k))]
+        if not found:
+            return None
+        hi, recovered = found[0], True
     if unstable(0):  # unstable from the start (unloaded): nothing to locate
         val, shape = lowest(0)
         return Instability(trail[0][0], "bifurcation", val, _unit(shape), _where(system, shape),
@@ -154,11 +164,11 @@ def locate(system, trail: list, resolve: Callable[[float, int], tuple], refineme
         critical, shape = again, again_shape
         if moved <= 1e-6 * max(critical, 1e-12):  # exact for a tangent linear in the load (a flat plate)
             break
-    value = lowest_eigenvalue(system, trail[-1][1], trail[-1][2], trail[-1][0])[0]
+    value = lowest_eigenvalue(system, trail[hi][1], trail[hi][2], trail[hi][0])[0]
     # Load control went on past it to unstable equilibria: a bifurcation (at a limit point the
     # load cannot grow, and the ramp stops with a ConvergenceError instead).
     return Instability(float(critical), "bifurcation", float(value), _unit(shape), _where(system, shape),
-                       (float(a[0]), float(b[0])))
+                       (float(a[0]), float(b[0])), recovered)
 
 
 def _linearised(system, a: tuple, b: tuple) -> tuple[float | None, np.ndarray | None]:

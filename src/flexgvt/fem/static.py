@@ -400,6 +400,15 @@ def _stability(state: State, trail: _Trail, settings: StaticSettings, load_facto
     if event is None:
         return state
     name = state.configuration.name
+    if event.recovered:  # the solver left the unstable path by itself: the final state is stable
+        note = (f"configuration '{name}': the load path passed a {event.describe()}; the final equilibrium is on "
+                "a stable (post-buckled) branch, reached without a chosen imperfection: which branch round-off "
+                "picked is not controlled (StaticSettings(buckling='stop') stops before it)")
+        if settings.buckling == "stop":
+            event = dataclasses.replace(event, recovered=False)
+        else:
+            warnings.warn(note, FlexGVTWarning, stacklevel=4)
+            return dataclasses.replace(state, instability=event, cautions=state.cautions + (note,))
     if settings.buckling == "stop":
         k = max(i for i, t in enumerate(trail) if t[0] <= event.bracket[0] + 1e-12)
         lam, x, R = trail[k]
