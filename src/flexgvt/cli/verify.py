@@ -16,11 +16,13 @@ from ..errors import FlexGVTError
 
 def register(app: typer.Typer, console: Console) -> None:
     @app.command()
-    def verify(case: str = typer.Argument("cantilever", help="cantilever (docs/method.md section 5 case 3)"),
+    def verify(case: str = typer.Argument("cantilever", help="cantilever or wingbox (docs/method.md section 5 "
+                                          "cases 3 and 4)"),
                seed: int = typer.Option(1, help="seed of the +-5 % mistuning"),
                method: str = typer.Option("least_squares", help="least_squares, trf, lm, slsqp, trust-constr or "
                                           "nelder-mead"),
                modes: int = typer.Option(8, help="measured modes per configuration"),
+               element_size: float = typer.Option(0.2, help="the wingbox's mesh size [m]"),
                out: Optional[Path] = typer.Option(None, help="folder for verification.json and the MAC figure"),
                json_path: Optional[Path] = typer.Option(None, "--json", help="write the figures as JSON")):
         """Mistune a reference model (seeded), update it against its own surrogate data in three load
@@ -28,7 +30,7 @@ def register(app: typer.Typer, console: Console) -> None:
         from ..updating import verify as run
 
         try:
-            result = run(case, seed=seed, n_modes=modes, method=method)
+            result = run(case, seed=seed, n_modes=modes, method=method, element_size=element_size)
         except FlexGVTError as exc:
             console.print(f"[bold red]error:[/] {exc}")
             raise typer.Exit(code=2) from None

@@ -16,6 +16,7 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
+from ..errors import SolverError
 from .eigen import DEFAULT_SHIFT, _rigid_safe_shift, modal_frequencies_hz, real_modes, rigid_count
 
 BUCKLING_MODES = ("ignore", "warn", "stop", "continue")
@@ -150,7 +151,10 @@ def locate(system, trail: list, resolve: Callable[[float, int], tuple], refineme
     for _ in range(refinements):
         if (b[0] - a[0]) < 1e-3 * max(b[0], 1e-12):
             break
-        x, R = resolve(critical, lo)
+        try:
+            x, R = resolve(critical, lo)
+        except SolverError:  # no equilibrium found there: keep the estimate of the bracket
+            break
         c = (critical, x, R)
         neg = negative_eigenvalues(system, x, R, critical)
         if neg > 0 or (neg < 0 and lowest_eigenvalue(system, x, R, critical)[0] < 0):

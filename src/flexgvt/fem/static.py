@@ -400,7 +400,7 @@ def _stability(state: State, trail: _Trail, settings: StaticSettings, load_facto
     if event is None:
         return state
     name = state.configuration.name
-    if event.recovered:  # the solver left the unstable path by itself: the final state is stable
+    if event.recovered and settings.buckling != "continue":  # left the unstable path by itself: stable
         note = (f"configuration '{name}': the load path passed a {event.describe()}; the final equilibrium is on "
                 "a stable (post-buckled) branch, reached without a chosen imperfection: which branch round-off "
                 "picked is not controlled (StaticSettings(buckling='stop') stops before it)")
