@@ -228,9 +228,10 @@ def design_variables(rows: list[dict]):
         ax.annotate(f"\u03c3 {d['std'][k]:.3g} %", (k, top), (0, 3), textcoords="offset points", ha="center",
                     va="bottom", fontsize=6.5, rotation=90, color="#222222")
     for k, st in enumerate(d["status"]):
-        if st == "not identifiable":
-            ax.annotate("not identifiable", (k, 0), (0, 4), textcoords="offset points", ha="center",
-                        va="bottom", fontsize=6.5, rotation=90, color="#666666")
+        if st == "not identifiable":  # written on the side of the axis the bar does not take
+            up = np.nan_to_num(d["change"][k]) > 0
+            ax.annotate("not identifiable", (k, 0), (0, -4 if up else 4), textcoords="offset points", ha="center",
+                        va="top" if up else "bottom", fontsize=6.5, rotation=90, color="#666666")
     ax.set_ylim(-lim, lim)
     ax.set_xticks(x, d["names"], rotation=35, ha="right", fontsize=7.5)
     ax.axhline(0, color="#444", lw=0.8)
@@ -291,33 +292,42 @@ def comac(rows: list[dict], name: str):
     return fig
 
 
-def frf_comparison(comp: FRFComparison, name: str):
-    """Measured (solid) against synthesised (dashed) FRF magnitudes of one reference, and its MIF."""
-    has_mif = comp.mif_measured is not None
-    fig = _figure((9, 6.2 if has_mif else 4.2))
-    axes = fig.subplots(2 if has_mif else 1, 1, sharex=True, squeeze=False,
-                        gridspec_kw=dict(height_ratios=(2, 1)) if has_mif else None)[:, 0]
-    f = comp.frequencies_hz
+def frf_comparison(comps: list[FRFComparison], name: str):
+    """Per reference (one column each): measured (solid) against synthesised (dashed) FRF magnitudes,
+    and the MIF below; the identified modes as dotted lines."""
+    if not comps:
+        return None
+    has_mif = any(c.mif_measured is not None for c in comps)
+    n = len(comps)
+    fig = _figure((min(6.5 * n, 16.0), 6.2 if has_mif else 4.2))
+    axes = fig.subplots(2 if has_mif else 1, n, sharex=True, squeeze=False,
+                        gridspec_kw=dict(height_ratios=(2, 1)) if has_mif else None)
     colours = [BLUE, RED, "#2ca02c", PURPLE, ORANGE]
-    for k, lab in enumerate(comp.labels):
-        c = colours[k % len(colours)]
-        axes[0].semilogy(f, np.abs(comp.measured[:, k]), color=c, lw=1, label=f"{lab} measured")
-        axes[0].semilogy(f, np.abs(comp.synthesised[:, k]), color=c, lw=1, ls="--", label=f"{lab} synthesised")
-    axes[0].set_ylabel("|H|")
-    axes[0].legend(fontsize=7, ncol=2)
-    axes[0].set_title(f"{name}: reference {comp.reference}, measured and synthesised FRFs", fontsize=10)
+    for col, comp in enumerate(comps):
+        f = comp.frequencies_hz
+        top = axes[0, col]
+        for k, lab in enumerate(comp.labels):
+            c = colours[k % len(colours)]
+            top.semilogy(f, np.abs(comp.measured[:, k]), color=c, lw=1, label=f"{lab} measured")
+            top.semilogy(f, np.abs(comp.synthesised[:, k]), color=c, lw=1, ls="--", label="synthesised")
+        top.set_title(f"reference {comp.reference}", fontsize=10)
+        top.legend(fontsize=6.5, ncol=2)
+        if has_mif and comp.mif_measured is not None:
+            low = axes[1, col]
+            low.plot(f, comp.mif_measured, color="#333333", lw=1, label="measured")
+            if comp.mif_synthesised is not None:
+                low.plot(f, comp.mif_synthesised, color="#333333", lw=1, ls="--", label="synthesised")
+            low.set_ylim(-0.02, 1.02)
+            low.legend(fontsize=7)
+        for ax in axes[:, col]:
+            for fm in comp.modes_hz:
+                ax.axvline(fm, color=GREY, lw=0.6, ls=":")
+            ax.grid(alpha=0.3)
+        axes[-1, col].set_xlabel("frequency [Hz]")
+    axes[0, 0].set_ylabel("|H|")
     if has_mif:
-        axes[1].plot(f, comp.mif_measured, color="#333333", lw=1, label="measured")
-        if comp.mif_synthesised is not None:
-            axes[1].plot(f, comp.mif_synthesised, color="#333333", lw=1, ls="--", label="synthesised")
-        axes[1].set_ylim(-0.02, 1.02)
-        axes[1].set_ylabel("MIF")
-        axes[1].legend(fontsize=7)
-    for ax in axes:
-        for fm in comp.modes_hz:
-            ax.axvline(fm, color=GREY, lw=0.6, ls=":")
-        ax.grid(alpha=0.3)
-    axes[-1].set_xlabel("frequency [Hz]")
+        axes[1, 0].set_ylabel("MIF")
+    fig.suptitle(f"{name}: measured (solid) and synthesised (dashed) FRFs, MIF below")
     return fig
 
 

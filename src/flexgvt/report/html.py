@@ -12,7 +12,7 @@ Layout written to out_dir:
                                               table (damping, unpaired modes and why), animated modes;
                                               design variables, history, frequency vs load,
                                               prediction, notes
-    figures/<config>_deformed.png, <config>_stabilisation.png, <config>_frf_<k>.png,
+    figures/<config>_deformed.png, <config>_stabilisation.png, <config>_frfs.png,
             <config>_auto_mac.png, <config>_mac.png, <config>_comac.png,
             <config>_frequency_errors.png, design_variables.png, history.png, frequency_vs_load.png
     tables/<config>_setup_<table>.csv, <config>_test_modes.csv, <config>_frf_fit_<reference>.csv,
@@ -56,10 +56,12 @@ tr:nth-child(even) td { background: #f8f9fb; }
 table.summary th { text-align: left; }
 .plot { margin: 6px 0 14px; min-height: 200px; }
 .note { font-size: 12px; color: #555; }
+details { margin: 6px 0 12px; font-size: 13px; }
+summary { cursor: pointer; color: #1f5fbf; }
 """
 
-_UNITS = (("_hz", " [Hz]"), ("_percent", " [%]"), ("_deg", " [deg]"), ("_m", " [m]"), ("_kg", " [kg]"),
-          ("_n_per_m", " [N/m]"), ("_ns_per_m", " [N s/m]"))
+_UNITS = (("_hz", " [Hz]"), ("_percent", " [%]"), ("_deg", " [deg]"), ("_ns_per_m", " [N s/m]"),
+          ("_n_per_m", " [N/m]"), ("_kg", " [kg]"), ("_m", " [m]"))  # longest suffix first
 _SIGNED = ("error", "change", "shift")  # percentages shown with their sign
 
 
@@ -86,7 +88,8 @@ def _is_number(value: Any) -> bool:
 
 def format_value(key: str, value: Any) -> str:
     """A table cell as text: None/NaN as an en dash, frequencies to 4 decimals below 100 Hz,
-    percentages to 2 decimals (errors, changes and shifts signed), MAC-like measures (mac, comac,
+    standard deviations to 2 significant digits, percentages to 2 decimals (errors, changes and
+    shifts signed), MAC-like measures (mac, comac,
     mpc, frac) to 3 decimals, angles (*_deg) to 0.1, other floats to 4 significant digits."""
     if value is None:
         return "\u2013"
@@ -102,6 +105,8 @@ def format_value(key: str, value: Any) -> str:
     if not math.isfinite(v):
         return "\u2013" if math.isnan(v) else str(v)
     k = key.lower()
+    if "_std" in k or k.startswith("std"):  # a standard deviation: 2 significant digits
+        return f"{v:.2g}"
     if k.endswith("_hz"):
         return f"{v:.4f}" if abs(v) < 100 else f"{v:.2f}"
     if k.endswith("percent"):
@@ -186,8 +191,12 @@ def _csv(rows: list[dict], path: Path) -> Path:
     return write_csv(round_rows(rows), path)
 
 
-def _table(page: _Page, rows: list[dict], tabs_dir, name: str, written: list[Path]) -> None:
-    page.add(table_html(rows))
+def _table(page: _Page, rows: list[dict], tabs_dir, name: str, written: list[Path], fold: str = "") -> None:
+    """A table (folded under ``fold`` when it has more than 12 rows) and its CSV."""
+    if fold and len(rows) > 12:
+        page.add(f"<details><summary>{_esc(fold)} ({len(rows)} rows)</summary>{table_html(rows)}</details>")
+    else:
+        page.add(table_html(rows))
     if tabs_dir is not None and rows:
         written.append(_csv(rows, tabs_dir / f"{name}.csv"))
 
@@ -200,7 +209,7 @@ def _configuration(page: _Page, sec: ConfigurationSection, slug: str, figs_dir, 
     for title, rows in sec.setup.items():
         if rows:
             page.add(f"<h3>Test set-up: {_esc(title)}</h3>")
-            _table(page, rows, tabs_dir, f"{slug}_setup_{_slug(title, set())}", written)
+            _table(page, rows, tabs_dir, f"{slug}_setup_{_slug(title, set())}", written, fold=f"show the {title}")
     page.add("<h3>Static deformed shape</h3>")
     page.figure(interactive.deformed_shape(sec))
     _save_png(figures.deformed_shape, (sec,), figs_dir, f"{slug}_deformed", written)
@@ -220,9 +229,9 @@ def _configuration(page: _Page, sec: ConfigurationSection, slug: str, figs_dir, 
                  "no residual terms), and the mode indicator function (MIF, dips at the modes the reference "
                  "excites). FRAC: the correlation of a synthesised FRF with the measured one (1 = same shape "
                  "over the band).</p>")
-        for k, comp in enumerate(sec.frfs):
+        _save_png(figures.frf_comparison, (sec.frfs, sec.name), figs_dir, f"{slug}_frfs", written)
+        for comp in sec.frfs:
             page.figure(interactive.frf_comparison(comp, sec.name))
-            _save_png(figures.frf_comparison, (comp, sec.name), figs_dir, f"{slug}_frf_{k + 1}", written)
             if comp.fit:
                 _table(page, comp.fit, tabs_dir, f"{slug}_frf_fit_{_slug(comp.reference, set())}", written)
     if sec.auto_mac is not None:
@@ -244,6 +253,10 @@ def _configuration(page: _Page, sec: ConfigurationSection, slug: str, figs_dir, 
             written.append(_csv(sec.comac, tabs_dir / f"{slug}_comac.csv"))
     if sec.frequency_table:
         page.add("<h3>Frequencies and damping</h3>")
+        if any("model_damping_percent" in r for r in sec.frequency_table):
+            page.add("<p class=\"note\">model damping: the damping ratio of the paired mode of the updated model "
+                     "from the dampers it carries (suspension cords, springs); the model has no structural "
+                     "damping, so this is the suspension's share of the measured damping.</p>")
         title = f"{sec.name}: frequency errors before and after updating"
         page.figure(interactive.frequency_errors(sec.frequency_table, title))
         _save_png(figures.frequency_errors, (sec.frequency_table, title), figs_dir, f"{slug}_frequency_errors",

@@ -301,8 +301,9 @@ def design_variables(rows: list[dict]):
             hovertemplate="%{customdata[0]}: %{y:.2f} % (\u03c3 %{customdata[1]})<extra>" + st + "</extra>"))
     notes = [dict(x=k, y=change[k] + float(d["shown"][k]), text=f"\u03c3 {d['std'][k]:.3g} %", showarrow=False,
                   yshift=6, textangle=-90, yanchor="bottom", font=dict(size=10)) for k in np.flatnonzero(d["clipped"])]
-    notes += [dict(x=k, y=0, text="not identifiable", showarrow=False, yshift=6, textangle=-90, yanchor="bottom",
-                   font=dict(size=10, color="#666666")) for k in x if d["status"][k] == "not identifiable"]
+    notes += [dict(x=k, y=0, text="not identifiable", showarrow=False, yshift=-6 if change[k] > 0 else 6,
+                   textangle=-90, yanchor="top" if change[k] > 0 else "bottom", font=dict(size=10, color="#666666"))
+              for k in x if d["status"][k] == "not identifiable"]
     fig = go.Figure(traces)
     lim = d["limit"]
     _layout(fig, "Design-variable changes (± one standard deviation; clipped bars annotated with \u03c3)", 480,
