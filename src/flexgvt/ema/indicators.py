@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import numpy as np
 
-from .polymax import lsfd
 
 
 def cmif(H: np.ndarray) -> np.ndarray:
@@ -81,16 +80,28 @@ def frac(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return num / np.where(den > 0, den, 1.0)
 
 
-def resynthesize(frequencies_hz, H: np.ndarray, modal_frequencies_hz, damping_ratio) -> np.ndarray:
+def resynthesize(frequencies_hz, H: np.ndarray, modal_frequencies_hz, damping_ratio,
+                 residuals: bool = True) -> np.ndarray:
     """FRFs (n_freq, n_out, n_in) synthesised from identified modes (frequencies [Hz], damping ratios)
-    with their residues fitted to the measured H by least squares (flexgvt.ema.lsfd, residual terms in
-    the fit) and summed without residual terms: what the identified modes alone explain of H."""
+    with their residues fitted to the measured H by least squares (one problem, every FRF a right-hand
+    side, as flexgvt.ema.lsfd), and with ``residuals`` a lower (-R/w^2: the modes below the band) and an
+    upper (constant: those above) residual term per FRF, as a test system's synthesis. Lines at 0 Hz
+    are left at 0."""
+    f = np.asarray(frequencies_hz, float)
+    H = np.asarray(H)
     wn = 2 * np.pi * np.asarray(modal_frequencies_hz, float)
     z = np.asarray(damping_ratio, float)
     s = -z * wn + 1j * wn * np.sqrt(np.clip(1 - z**2, 0.0, None))
-    fitted = lsfd(frequencies_hz, H, s)
-    f = np.asarray(frequencies_hz, float)
-    out = np.zeros(np.shape(H), complex)
-    pos = f > 0  # lsfd fits the lines above 0 Hz
-    out[pos] = synthesize_from_modes(fitted, f[pos])
+    pos = f > 0
+    w = 2 * np.pi * f[pos]
+    iw = 1j * w[:, None]
+    P, Pc = 1 / (iw - s[None, :]), 1 / (iw - s.conj()[None, :])
+    cols = [P + Pc, 1j * P - 1j * Pc]  # real and imaginary parts of each residue
+    if residuals:
+        cols += [(-1 / w**2)[:, None].astype(complex), np.ones((len(w), 1), complex)]
+    A = np.hstack(cols)
+    B = H[pos].reshape(len(w), -1)
+    x, *_ = np.linalg.lstsq(np.vstack([A.real, A.imag]), np.vstack([B.real, B.imag]), rcond=None)
+    out = np.zeros(H.shape, complex)
+    out[pos] = (A @ x).reshape((len(w),) + H.shape[1:])
     return out

@@ -225,10 +225,11 @@ def _configuration(page: _Page, sec: ConfigurationSection, slug: str, figs_dir, 
         _table(page, sec.test_modes, tabs_dir, f"{slug}_test_modes", written)
     if sec.frfs:
         page.add("<h3>Measured and synthesised FRFs</h3><p class=\"note\">Per reference: the measured FRFs "
-                 "against those synthesised from the identified modes alone (residues fitted by least squares, "
-                 "no residual terms), and the mode indicator function (MIF, dips at the modes the reference "
-                 "excites). FRAC: the correlation of a synthesised FRF with the measured one (1 = same shape "
-                 "over the band).</p>")
+                 "against those synthesised from the identified modes (residues fitted by least squares, with "
+                 "lower and upper residual terms for the modes outside the band), and the mode indicator "
+                 "function (MIF, dips at the modes the reference excites). FRAC: the correlation of a "
+                 "synthesised FRF with the measured one over the band (1 = the same curve); a low FRAC where "
+                 "the synthesis misses a peak points at a mode the identification did not find.</p>")
         _save_png(figures.frf_comparison, (sec.frfs, sec.name), figs_dir, f"{slug}_frfs", written)
         for comp in sec.frfs:
             page.figure(interactive.frf_comparison(comp, sec.name))

@@ -148,7 +148,7 @@ def _section(res, name: str):
         labels_m = [f"{i + 1}: {f:.2f} Hz" for i, f in enumerate(item.frequencies_hz)]
     frfs, why = ([], "") if item is None else testdata.frf_comparisons(project, name, item)
     if why:
-        notes.append(f"measured and synthesised FRFs not shown: {why}")
+        notes.append(why if frfs else f"measured and synthesised FRFs not shown: {why}")
     return ConfigurationSection(
         name, _geometry(model, model.xyz), _geometry(model, state.positions), rows, mac0, mac1,
         labels_m if (mac1 is not None or (item is not None and item.shapes is not None)) else [], labels_a, stab,

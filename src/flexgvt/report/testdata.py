@@ -176,7 +176,8 @@ def setup_tables(project, name: str, configuration, item) -> dict[str, list[dict
 
 def frf_comparisons(project, name: str, item, max_curves: int = 3) -> tuple[list[FRFComparison], str]:
     """Measured against synthesised FRFs per reference in the identification band ((comparisons,
-    '') or ([], why not)). The FRFs are the identification's, read again from the project's files
+    note): the note says why there are none, or that the identified modes explain the FRFs poorly
+    (median FRAC below 0.9). The FRFs are the identification's, read again from the project's files
     when the identification came from the store."""
     spec = next(c for c in project.spec.configurations if c.name == name).test
     if spec is None or (spec.frfs is None and spec.time is None):
@@ -197,7 +198,7 @@ def frf_comparisons(project, name: str, item, max_curves: int = 3) -> tuple[list
     Hs = resynthesize(f, H, item.frequencies_hz, item.damping_ratio)
     outputs = np.asarray(frfs.outputs).astype(int)
     inputs = np.asarray(frfs.inputs).astype(int)
-    out = []
+    out, poor = [], []
     for j in range(H.shape[2]):
         ref = dof_name(*inputs[j]) if len(inputs) > j else f"reference {j + 1}"
         names = [dof_name(*o) if len(outputs) > k else f"output {k + 1}" for k, o in
@@ -214,7 +215,13 @@ def frf_comparisons(project, name: str, item, max_curves: int = 3) -> tuple[list
         order = np.argsort(r)
         fit = [{"output": names[k], "frac": float(r[k])} for k in order[:5]]
         fit.append({"output": f"median of {len(r)} outputs", "frac": float(np.median(r))})
+        if np.median(r) < 0.9:
+            poor.append(f"{ref} (median FRAC {np.median(r):.2f})")
         out.append(FRFComparison(ref, f, np.column_stack([c[1] for c in curves]),
                                  np.column_stack([c[2] for c in curves]), [c[0] for c in curves],
                                  mif(H[:, :, j])[:, 0], mif(Hs[:, :, j])[:, 0], fit, item.frequencies_hz))
-    return out, ""
+    note = "" if not poor else (
+        f"the identified modes explain the measured FRFs poorly for reference {', '.join(poor)}: where the "
+        "synthesised curve misses a peak, the identification missed a mode (widen the selection, check the band "
+        "edges) and the updating did not see it")
+    return out, note
