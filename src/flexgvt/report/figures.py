@@ -171,7 +171,8 @@ def variable_bars(rows: list[dict]) -> dict:
     not pin the variable inside them) and at twice the largest change, so one huge sigma cannot
     squash the others; clipped bars are annotated with their sigma. status: 'identifiable',
     'at bound', 'sigma > bounds' (wider than its bounds) or 'not identifiable' (the data cannot see
-    it: identifiable False, or no finite sigma). limit: the half-range of the change axis [%]."""
+    it: identifiable False, or no finite sigma). range: the change axis [%] (the bars and their
+    drawn sigmas, padded)."""
     change = np.array([np.nan if r.get("change_percent") is None else float(r["change_percent"]) for r in rows])
     std = np.array([np.nan if r.get("std_percent") is None else float(r["std_percent"]) for r in rows])
     core = max(float(np.nanmax(np.abs(change), initial=0.0)), 5.0)
@@ -193,10 +194,16 @@ def variable_bars(rows: list[dict]) -> dict:
     clip = np.asarray(clip)
     shown = np.where(np.isfinite(std), np.minimum(std, clip), 0.0)
     clipped = np.isfinite(std) & (std > clip)
-    reach = np.nan_to_num(np.abs(change)) + shown
-    limit = 1.15 * max(float(reach.max(initial=0.0)), core)
+    c = np.nan_to_num(change)
+    lo, hi = min(float((c - shown).min(initial=0.0)), 0.0), max(float((c + shown).max(initial=0.0)), 0.0)
+    pad = 0.15 * max(hi - lo, core)
     return {"names": names, "change": change, "std": std, "shown": shown, "clipped": clipped,
-            "status": status, "limit": limit}
+            "status": status, "range": (lo - pad, hi + pad)}
+
+
+def sigma_text(v: float) -> str:
+    """A standard deviation [%] as written on a clipped bar: 'σ 2434 %', 'σ 31.5 %'."""
+    return f"\u03c3 {v:.0f} %" if abs(v) >= 100 else f"\u03c3 {v:.3g} %"
 
 
 STATUS_COLOURS = {"identifiable": BLUE, "at bound": ORANGE, "sigma > bounds": "#8fb3e6",
@@ -222,22 +229,21 @@ def design_variables(rows: list[dict]):
     ok = d["shown"] > 0
     ax.errorbar(x[ok], np.nan_to_num(d["change"])[ok], yerr=d["shown"][ok], fmt="none", ecolor="#222222",
                 capsize=3, lw=1)
-    lim = d["limit"]
     for k in np.flatnonzero(d["clipped"]):
         top = np.nan_to_num(d["change"][k]) + d["shown"][k]
-        ax.annotate(f"\u03c3 {d['std'][k]:.3g} %", (k, top), (0, 3), textcoords="offset points", ha="center",
+        ax.annotate(sigma_text(d["std"][k]), (k, top), (0, 3), textcoords="offset points", ha="center",
                     va="bottom", fontsize=6.5, rotation=90, color="#222222")
     for k, st in enumerate(d["status"]):
-        if st == "not identifiable":  # written on the side of the axis the bar does not take
-            up = np.nan_to_num(d["change"][k]) > 0
-            ax.annotate("not identifiable", (k, 0), (0, -4 if up else 4), textcoords="offset points", ha="center",
-                        va="top" if up else "bottom", fontsize=6.5, rotation=90, color="#666666")
-    ax.set_ylim(-lim, lim)
+        if st == "not identifiable":  # written upwards from the bar's top (or from 0)
+            ax.annotate("not identifiable", (k, max(np.nan_to_num(d["change"][k]), 0.0)), (0, 4),
+                        textcoords="offset points", ha="center", va="bottom", fontsize=6.5, rotation=90,
+                        color="#666666")
+    ax.set_ylim(*d["range"])
     ax.set_xticks(x, d["names"], rotation=35, ha="right", fontsize=7.5)
     ax.axhline(0, color="#444", lw=0.8)
     ax.set_ylabel("change from the initial value [%]")
-    ax.set_title("Design-variable changes (± one standard deviation; clipped bars annotated with \u03c3)",
-                 fontsize=10)
+    ax.set_title("Design-variable changes, \u00b1 one standard deviation\n(a \u03c3 wider than the bounds or twice "
+                 "the largest change is clipped and written)", fontsize=9)
     present = [s for s in STATUS_COLOURS if s in d["status"]]
     ax.legend([Patch(facecolor=STATUS_COLOURS[s], edgecolor="#555555", hatch="//" if s == "not identifiable"
                      else "") for s in present], present, fontsize=7, loc="upper right", ncol=len(present))

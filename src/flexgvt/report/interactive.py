@@ -277,7 +277,7 @@ def design_variables(rows: list[dict]):
     by status (report.figures.variable_bars: clipped bars annotated with their sigma; the hover
     gives every sigma in full)."""
     go = _go()
-    from .figures import STATUS_COLOURS, variable_bars
+    from .figures import STATUS_COLOURS, sigma_text, variable_bars
 
     if not rows:
         return None
@@ -299,18 +299,18 @@ def design_variables(rows: list[dict]):
                          visible=True),
             customdata=[[names[k], sigma[k]] for k in ks],
             hovertemplate="%{customdata[0]}: %{y:.2f} % (\u03c3 %{customdata[1]})<extra>" + st + "</extra>"))
-    notes = [dict(x=k, y=change[k] + float(d["shown"][k]), text=f"\u03c3 {d['std'][k]:.3g} %", showarrow=False,
+    notes = [dict(x=k, y=change[k] + float(d["shown"][k]), text=sigma_text(d["std"][k]), showarrow=False,
                   yshift=6, textangle=-90, yanchor="bottom", font=dict(size=10)) for k in np.flatnonzero(d["clipped"])]
-    notes += [dict(x=k, y=0, text="not identifiable", showarrow=False, yshift=-6 if change[k] > 0 else 6,
-                   textangle=-90, yanchor="top" if change[k] > 0 else "bottom", font=dict(size=10, color="#666666"))
+    notes += [dict(x=k, y=max(change[k], 0.0), text="not identifiable", showarrow=False, yshift=6, textangle=-90,
+                   yanchor="bottom", font=dict(size=10, color="#666666"))
               for k in x if d["status"][k] == "not identifiable"]
     fig = go.Figure(traces)
-    lim = d["limit"]
-    _layout(fig, "Design-variable changes (± one standard deviation; clipped bars annotated with \u03c3)", 480,
+    _layout(fig, "Design-variable changes, \u00b1 one standard deviation (a \u03c3 wider than the bounds or twice "
+            "the largest change is clipped and written)", 480,
             barmode="overlay", annotations=notes,
             xaxis=dict(tickvals=x, ticktext=names, tickangle=-35),
             yaxis=dict(title="change from the initial value [%]", zeroline=True, zerolinecolor="#444",
-                       range=[-lim, lim]),
+                       range=list(d["range"])),
             legend=dict(orientation="h", y=1.1, x=0.99, xanchor="right"))
     return fig
 
