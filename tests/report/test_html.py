@@ -252,9 +252,9 @@ def test_design_variable_chart_keeps_a_huge_sigma_from_squashing_the_others():
     assert d["names"] == ["E_root [Pa]", "k_tail [N/m]", "G_tip [Pa]", "rho_tip [kg/m^3]"]
     # the +-2434 % bar is drawn to its +-10 % bounds and flagged; the axis is set by the 100 % change
     assert d["shown"][2] == pytest.approx(10.0) and list(d["clipped"]) == [False, False, True, False]
-    assert d["range"] == pytest.approx((-14.0 - 0.15 * 118.0, 104.0 + 0.15 * 118.0))
+    assert d["range"] == pytest.approx((-14.0 - 0.15 * 118.0, 104.0 + 0.5 * 118.0))  # room above for the sigmas
     alone = variable_bars([dict(r, bounds=None) for r in _variables()[:1] + _variables()[2:3]])
-    assert alone["shown"][1] == pytest.approx(2 * 5.0) and alone["range"][1] < 10  # no bounds: twice the largest change
+    assert alone["shown"][1] == pytest.approx(2 * 5.0) and alone["range"][1] < 20  # no bounds: twice the largest change
 
 
 def test_frf_auto_mac_and_comac_sections_render(tmp_path):

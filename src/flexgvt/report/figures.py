@@ -197,8 +197,9 @@ def variable_bars(rows: list[dict]) -> dict:
     c = np.nan_to_num(change)
     lo, hi = min(float((c - shown).min(initial=0.0)), 0.0), max(float((c + shown).max(initial=0.0)), 0.0)
     pad = 0.15 * max(hi - lo, core)
+    written = 0.35 * max(hi - lo, core) if clipped.any() or "not identifiable" in status else 0.0  # room for text
     return {"names": names, "change": change, "std": std, "shown": shown, "clipped": clipped,
-            "status": status, "range": (lo - pad, hi + pad)}
+            "status": status, "range": (lo - pad, hi + pad + written)}
 
 
 def sigma_text(v: float) -> str:
