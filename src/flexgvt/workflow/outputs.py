@@ -130,8 +130,6 @@ def round_value(key: str, value, row: dict | None = None):
         return v
     k = key.lower()
     if "_std" in k or k.startswith("std"):
-        if k.endswith("percent"):
-            return round(v, 2)
         return _significant(v, 2)
     if k.endswith("_hz"):
         std = (row or {}).get(k[:-3] + "_std_hz")
