@@ -107,14 +107,18 @@ def comac_rows(item, sensors, fe_modes, paired) -> list[dict]:
 
 def model_damping(state, fe, n_modes: int) -> np.ndarray | None:
     """The modelled damping ratio of each real FE mode in ``fe`` (from the complex modes of the same
-    state, paired by full-shape MAC), or None when the structure carries no damper."""
+    state, paired by full-shape MAC), or None when the structure carries no damper (or the complex
+    eigenproblem fails)."""
     from ..fem import solve_modes
 
     if not getattr(state.system, "has_damping", False):
         return None
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")  # the cautions were given when the real modes were solved
-        damped = solve_modes(state, n_modes, damped=True, label=False)
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")  # the cautions were given when the real modes were solved
+            damped = solve_modes(state, n_modes, damped=True, label=False)
+    except FlexGVTError:  # the table then goes without modelled damping rather than without a report
+        return None
     a = np.asarray(fe.shapes).reshape(fe.n_modes, -1)
     b = np.asarray(damped.complex_shapes if damped.complex_shapes is not None else damped.shapes)
     m = mac_rows(a, b.reshape(len(b), -1))
