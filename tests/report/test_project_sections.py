@@ -178,6 +178,7 @@ def test_frequency_table_has_measured_and_modelled_damping_and_a_check_configura
     paired = [(r, c) for r, c in zip(check, ref) if c["analytical_hz"] is not None]
     assert paired and all(float(r["updated_hz"]) == pytest.approx(c["analytical_hz"], rel=1e-4) for r, c in paired)
     assert all(r["initial_hz"] and r["measured_damping_percent"] for r, _ in paired)
+    assert all(r["label"] for r, _ in paired)  # the updated model's paired mode names an unlabelled test mode
 
 
 def test_design_variables_carry_units_and_csvs_are_rounded(run_result, page):

@@ -135,6 +135,11 @@ def _section(res, name: str):
                  for j in range(min(8, fe.n_modes))]
         if item is not None and name in res.checks.get("initial", {}):
             rows = _check_rows(res, name, item)
+            for r in rows:  # unlabelled test modes take the label of the updated model's paired mode
+                if not r["label"] and r["updated_hz"]:
+                    j = int(np.argmin(np.abs(fe.frequencies_hz - r["updated_hz"])))
+                    if abs(fe.frequencies_hz[j] - r["updated_hz"]) <= 1e-6 * r["updated_hz"]:
+                        r["label"] = fe.labels[j]
             notes = [f"measured mode {r['mode']} ({r['measured_hz']:.4g} Hz) is {r['pairing']}" for r in rows
                      if r.get("pairing")]
     d = None if item is None else item.diagram
