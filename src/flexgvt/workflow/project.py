@@ -47,8 +47,9 @@ def _message(e: dict) -> str:
     return e["msg"].removeprefix("Value error, ")
 
 
-def load_project(path: str | Path) -> Project:
-    """Read and check a project file; raises ProjectError naming the file and key on any problem."""
+def load_project(path: str | Path, pretest: bool = False) -> Project:
+    """Read and check a project file; raises ProjectError naming the file and key on any problem.
+    pretest: for planning the test (`flexgvt plan`): configurations need no test data, nor the project variables."""
     from .validate import checked_path
     path = checked_path(Path("."), str(path), "flexgvt", "project file")
     try:
@@ -81,7 +82,7 @@ def load_project(path: str | Path) -> Project:
             raise ProjectError(f"{path}: {lines[0]}") from None
         raise ProjectError(f"{path}: {len(lines)} problems in the project file:\n" + "\n".join(
             "  " + s for s in lines)) from None
-    return resolve(path, spec)
+    return resolve(path, spec, pretest)
 
 
 def _need_file(path: Path, where: str, what: str) -> Path:
@@ -132,7 +133,7 @@ def _read_deck(bdf: Path, spec, where: str):
     return deck
 
 
-def resolve(path: Path, spec: ProjectFile) -> Project:
+def resolve(path: Path, spec: ProjectFile, pretest: bool = False) -> Project:
     """Build the model, configurations and variables a validated spec names, checking every reference."""
     from .validate import check_test_data, checked_path, output_dir, read_reference
     folder = path.parent
@@ -173,7 +174,7 @@ def resolve(path: Path, spec: ProjectFile) -> Project:
     for k, c in enumerate(spec.configurations):
         loc = f"{where}: configurations[{k}] ('{c.name}')"
         configurations[c.name] = _configuration(c, available, blocks, model, loc)
-        if c.role == "update" and c.test is None:
+        if c.role == "update" and c.test is None and not pretest:
             raise ProjectError(f"{loc}: no test data: add a [configurations.test] table with 'frfs', 'time' or "
                                "'modes', or set role = \"check\" to only predict this configuration")
         if c.test is not None:
@@ -183,7 +184,7 @@ def resolve(path: Path, spec: ProjectFile) -> Project:
                     _need_file(rel(f, f"{loc}.test.{key}"), f"{loc}.test.{key}", "test data file")
             sensors[c.name] = _points(t.points, case, model, lambda s, loc=loc: rel(s, f"{loc}.test.points"),
                                       f"{loc}.test.points")
-    if not spec.variables and any(c.role == "update" for c in spec.configurations):
+    if not spec.variables and not pretest and any(c.role == "update" for c in spec.configurations):
         raise ProjectError(f"{where}: variables: no design variable; add [[variables]] tables (or set every "
                            "configuration's role = \"check\" to only compare and predict)")
     variables = _variables(spec, model, configurations, where)
