@@ -15,6 +15,6 @@ from .removal import Removal, remove_suspension
 from .support import SupportCorrection, support_correction, two_mass_model
 
 __all__ = ["Attachment", "Bungee", "Layout", "LayoutResult", "Line", "LineElement", "Removal", "assess",
-           "driving_point", "driving_residues", "effective_independence", "rank", "layout_configuration", "place_sensors", "plan_suspension", "SupportCorrection",
-           "SuspensionPoint", "identify_block", "modulus_from_tip_load", "parallel", "remove_suspension", "series",
-           "support_correction", "two_mass_model"]
+           "driving_point", "driving_residues", "effective_independence", "rank", "layout_configuration",
+           "place_sensors", "plan_suspension", "SupportCorrection", "SuspensionPoint", "identify_block",
+           "modulus_from_tip_load", "parallel", "remove_suspension", "series", "support_correction", "two_mass_model"]

@@ -70,6 +70,13 @@ class LayoutResult:
         return sum(bool(e.get("contaminated")) for e in self.elastic) if self.state is not None else 10**6
 
     @property
+    def max_shift_percent(self) -> float:
+        """The largest |shift| [%] of a paired elastic mode from free-free (inf when not solved)."""
+        shifts = [abs(e["suspended_shift_percent"]) for e in self.elastic if e.get("suspended_shift_percent")
+                  is not None]
+        return max(shifts) if shifts else (0.0 if self.state is not None else float("inf"))
+
+    @property
     def first_elastic_hz(self) -> float | None:
         """The hung structure's lowest elastic frequency [Hz] (None when not solved)."""
         if self.modes is None:
@@ -147,8 +154,8 @@ def assess(model: Model, configuration: Configuration, layout: Layout | None = N
 
 def plan_suspension(model: Model, layouts: Iterable[Layout], n_modes: int = 10, energy_limit: float = 0.1,
                     shift_limit_percent: float = 1.0, base: Configuration | None = None) -> list[LayoutResult]:
-    """Predict each layout's hung test and rank them: acceptable layouts first, then those that
-    contaminate fewer elastic modes, then by separation.
+    """Predict each layout's hung test and rank them (see rank): acceptable layouts first, then
+    those that contaminate fewer elastic modes, then those that move them less, then by separation.
 
     Every elastic mode gets its frequency shift from free-free and the share of its energy in the
     suspension (docs/method.md: a separation below 10x always contaminates very flexible aircraft; the
@@ -170,8 +177,10 @@ def plan_suspension(model: Model, layouts: Iterable[Layout], n_modes: int = 10, 
 
 
 def rank(results: Iterable[LayoutResult]) -> list[LayoutResult]:
-    """Acceptable first, then fewer contaminated elastic modes, then larger separation."""
-    return sorted(results, key=lambda r: (not r.acceptable, r.n_contaminated, -r.separation))
+    """Acceptable first, then fewer contaminated elastic modes, then the smaller largest shift of an
+    elastic mode from free-free (to 0.01 %), then the larger separation."""
+    return sorted(results, key=lambda r: (not r.acceptable, r.n_contaminated, round(r.max_shift_percent, 2),
+                                          -r.separation))
 
 
 def effective_independence(shapes: np.ndarray, n_sensors: int) -> np.ndarray:

@@ -65,14 +65,12 @@ class ConfigurationPlan:
         """One row per candidate suspension, best first."""
         rows = []
         for k, r in enumerate(self.layouts):
-            shifts = [abs(e["suspended_shift_percent"]) for e in r.elastic if e.get("suspended_shift_percent")
-                      is not None]
             first = next((e for e in r.elastic if e.get("suspended_hz") is not None), None)
             rows.append({"rank": k + 1, "suspension": r.name, "acceptable": r.acceptable,
                          "highest_suspension_hz": float(r.suspension_hz.max()) if len(r.suspension_hz) else None,
                          "first_elastic_hz": r.first_elastic_hz, "separation": r.separation if r.state else None,
                          "first_elastic_shift_percent": None if first is None else first["suspended_shift_percent"],
-                         "max_elastic_shift_percent": max(shifts) if shifts else None,
+                         "max_elastic_shift_percent": r.max_shift_percent if r.state else None,
                          "contaminated": ", ".join(e["label"] for e in r.elastic if e.get("contaminated")),
                          "cord_tension_N": ", ".join(f"{t:.3g}" for t in r.tensions),
                          "problems": "; ".join(r.problems)})
@@ -81,8 +79,8 @@ class ConfigurationPlan:
     def target_rows(self) -> list[dict]:
         """The target modes of the tested configuration."""
         m = self.modes
-        return [{"mode": int(j) + 1, "label": m.labels[j] if m.labels else "", "frequency_hz": float(m.frequencies_hz[j]),
-                 "suspension_energy": float(m.energy_fractions[j, 4]),
+        return [{"mode": int(j) + 1, "label": m.labels[j] if m.labels else "",
+                 "frequency_hz": float(m.frequencies_hz[j]), "suspension_energy": float(m.energy_fractions[j, 4]),
                  "seen_by_candidates": float(v)} for j, v in zip(self.targets, self.visibility)]
 
     def sensor_rows(self) -> list[dict]:
@@ -92,7 +90,7 @@ class ConfigurationPlan:
         for k, s in enumerate(self.sensors):
             p = self.state.positions[index[int(s.node)]]
             rows.append({"sensor": k + 1, "name": s.name, "node": int(s.node), "direction": _axis(s.direction),
-                         "x_m": float(p[0]), "y_m": float(p[1]), "z_m": float(p[2])})
+                         **{f"{a}_m": round(float(v), 9) for a, v in zip("xyz", p)}})
         return rows
 
     def to_dict(self) -> dict:
@@ -265,7 +263,7 @@ def plan_configuration(project: Project, name: str, progress: Callable[[str], No
         exciters.append({"rank": k + 1, "name": exc[i].name, "node": int(exc[i].node), "direction": _axis(
             exc[i].direction), "min_residue": float(r.min()), "weakest_mode": labels[int(np.argmin(r))],
             "mean_residue": float(r.mean()), "residues": {lab: float(v) for lab, v in zip(labels, r)}})
-    faint = [f"{lab} ({100 * v:.2g} %)" for lab, v in zip(labels, seen) if v < 0.1]
+    faint = [f"{lab} ({100 * v:.1f} %)" for lab, v in zip(labels, seen) if v < 0.1]
     if faint:
         notes.append(f"the candidate sensor directions ({s.directions}) barely see {', '.join(faint)} (largest "
                      "reading over the mode's largest translation): add directions (plan.directions) or narrow "
