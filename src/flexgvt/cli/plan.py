@@ -51,7 +51,7 @@ def register(app: typer.Typer, console: Console) -> None:
                 from ..workflow.validate import checked_path, output_dir
                 out = checked_path(Path("."), str(out), "--out", "output directory")
                 output_dir(out.parent, out.name, True, "--out")
-            console.rule(f"[bold]{escape(p.spec.project.name)}[/]: pre-test plan")
+            console.print(f"[bold]{escape(p.spec.project.name)}[/]: pre-test plan")
             res = run_with_progress(console, lambda log: plan_project(p, out=out, progress=log))
             for name, c in res.configurations.items():
                 if c.layouts:

@@ -238,6 +238,8 @@ def settings_table(cls: type, name: str, **extra: Any) -> type[BaseModel]:
             kind = _listed(kind)
         limits = {} if md["size"] or varying else {k: md[k] for k in ("ge", "gt", "le") if md[k] is not None}
         default = f.default if f.default is not MISSING else ...
+        if varying and isinstance(default, tuple):
+            default = [list(v) if isinstance(v, tuple) else v for v in default]  # as the project file writes it
         keys[f.name] = (kind, Field(default, description=md["doc"], json_schema_extra={"unit": md["unit"]},
                                     **limits))
     return create_model(name, __base__=Strict, __doc__=cls.__doc__, **keys, **extra)
