@@ -61,8 +61,9 @@ def register(app: typer.Typer, console: Console) -> None:
                          f"{_num(float(c.modes.frequencies_hz[c.targets].max()))} Hz",
                          f"{len(c.sensors)} sensors (auto-MAC off-diagonal max {c.auto_mac_max:.2f}): "
                          + ", ".join(c.sensors.names),
-                         "driving points (smallest normalised residue, weakest mode): " + ", ".join(
-                             f"{e['name']} ({e['min_residue']:.2f}, {e['weakest_mode']})" for e in c.exciters)]
+                         "driving points (smallest normalised residue over the targets, weakest mode):"]
+                lines += [f"{e['rank']:2d}. {e['name']:<10} {e['min_residue']:.2f}  {e['weakest_mode']}"
+                          for e in c.exciters]
                 lines += [f"note: {n}" for n in c.notes]
                 for k, line in enumerate(lines):  # wrapped here: piped output keeps 80 columns and every number
                     console.print(escape(textwrap.fill(line, 78, initial_indent="" if k == 0 else "  ",

@@ -32,6 +32,7 @@ from .plansettings import PlanSettings
 from .projectbase import Project, ProjectError
 
 AXES = "XYZ"
+WEAK_RESIDUE = 0.05  # a driving point exciting a target mode below 5 % of that mode's best point is noted
 
 
 @dataclass
@@ -268,10 +269,14 @@ def plan_configuration(project: Project, name: str, progress: Callable[[str], No
         notes.append(f"the candidate sensor directions ({s.directions}) barely see {', '.join(faint)} (largest "
                      "reading over the mode's largest translation): add directions (plan.directions) or narrow "
                      "plan.band_hz to the modes they see")
-    if residues[order[0]].min() < 1e-3:
-        notes.append(f"no candidate driving point excites '{exciters[0]['weakest_mode']}' (normalised residue "
-                     f"{residues[order[0]].min():.1e}): add exciter candidates off the elastic axis or in other "
-                     "directions (plan.exciter_nodes, plan.exciter_directions), or use two exciters")
+    best = residues[order[0]]
+    if best.min() < WEAK_RESIDUE:
+        weak = int(np.argmin(best))
+        other = exc[int(np.argmax(residues[:, weak]))].name
+        notes.append(f"the best single driving point, {exciters[0]['name']}, drives '{labels[weak]}' at "
+                     f"{100 * best.min():.2g} % of that mode's best point ({other}): add a second exciter at {other} "
+                     "(a multiple-input test), or exciter candidates in other places or directions "
+                     "(plan.exciter_nodes, plan.exciter_directions)")
     return ConfigurationPlan(name, base, results, tested, cfg, state, modes, targets, chosen, amac, exciters, notes,
                              seen)
 

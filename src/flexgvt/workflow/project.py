@@ -49,7 +49,7 @@ def _message(e: dict) -> str:
 
 def load_project(path: str | Path, pretest: bool = False) -> Project:
     """Read and check a project file; raises ProjectError naming the file and key on any problem.
-    pretest: for planning the test (`flexgvt plan`): configurations need no test data, nor the project variables."""
+    pretest: for planning the test (`flexgvt plan`): test data are neither needed nor read, nor design variables."""
     from .validate import checked_path
     path = checked_path(Path("."), str(path), "flexgvt", "project file")
     try:
@@ -177,7 +177,7 @@ def resolve(path: Path, spec: ProjectFile, pretest: bool = False) -> Project:
         if c.role == "update" and c.test is None and not pretest:
             raise ProjectError(f"{loc}: no test data: add a [configurations.test] table with 'frfs', 'time' or "
                                "'modes', or set role = \"check\" to only predict this configuration")
-        if c.test is not None:
+        if c.test is not None and not pretest:  # planning comes before the test: its files need not exist
             t = c.test
             for key, files in (("frfs", t.frfs), ("modes", t.modes)):
                 for f in ([files] if isinstance(files, str) else files or []):
@@ -197,7 +197,7 @@ def resolve(path: Path, spec: ProjectFile, pretest: bool = False) -> Project:
         read_reference(_need_file(rel(spec.prediction.reference, key), key, "reference file"), key)
     project = Project(path, spec, model, configurations, available, variables, case, deck, sensors)
     for k, c in enumerate(spec.configurations):
-        if c.test is not None:
+        if c.test is not None and not pretest:
             check_test_data(project, k, c, where)
     return project
 
