@@ -190,3 +190,21 @@ def test_a_configuration_with_its_own_cords_or_none_is_planned_as_it_stands(tmp_
     assert [r["label"] for r in free.target_rows()] == ["1 OOP", "2 OOP", "3 OOP", "4 OOP"]
     assert free.target_rows()[0]["frequency_hz"] == pytest.approx(3.918, rel=1e-3)  # free-free first bending
     assert len(free.sensors) == 4 and len(free.exciters) == 2
+
+
+def test_a_free_configuration_under_gravity_without_a_suspension_is_refused_with_the_remedy(tmp_path):
+    path = _project_replacing(tmp_path, 'stations = [[110, 132], [101, 141], [116, 126]]', "")
+    path.write_text(path.read_text().replace('stiffness = ["20 N/m"]\nlength = ["1 m", "4 m"]', ""))
+    with pytest.raises(ProjectError, match=r"plan \(configuration 'clean'\): the configuration has no supports and "
+                       r"no suspension .*give candidate suspensions \(plan.stations"):
+        plan_project(load_plan_project(path))
+
+
+def test_sensor_directions_that_miss_the_targets_are_noted(tmp_path):
+    """Chordwise (X) sensors on a strip whose targets bend flatwise (Z): the plan says they barely see them."""
+    shutil.copy(DECK, tmp_path / "free_strip.bdf")
+    text = OWN.replace('directions = "Z"', 'directions = "X"\nconfigurations = ["free"]')
+    (tmp_path / "project.toml").write_text(text)
+    plan = plan_project(load_plan_project(tmp_path / "project.toml")).configurations["free"]
+    assert [r["seen_by_candidates"] < 1e-6 for r in plan.target_rows()] == [True] * 4
+    assert any("candidate sensor directions (X) barely see 1 OOP (0.0 %), 2 OOP" in n for n in plan.notes)

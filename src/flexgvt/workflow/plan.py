@@ -231,7 +231,14 @@ def plan_configuration(project: Project, name: str, progress: Callable[[str], No
         tested, cfg = "as configured (no suspension)", base
     progress(f"{name}: sensors and driving points on '{tested}'")
     try:
-        state = solve_static(model, cfg)
+        try:
+            state = solve_static(model, cfg)
+        except FlexGVTError as exc_:
+            if cfg.suspension or cfg.fixed:
+                raise
+            raise ProjectError(f"{where}: the configuration has no supports and no suspension ({exc_}); give "
+                               "candidate suspensions (plan.stations, plan.stiffness, plan.length) or cords to the "
+                               "configuration, or plan it free-free without loads (gravity = 0)") from None
         n_extra = 6 + len(cfg.suspension)
         modes = solve_modes(state, s.n_modes + n_extra, damped=False)
         ok = (modes.energy_fractions[:, 4] <= 0.5) & (modes.frequencies_hz > 0)
