@@ -141,9 +141,10 @@ def assess(model: Model, configuration: Configuration, layout: Layout | None = N
     for row in removal.rows:
         j = row.get("suspended_mode")
         share = float(modes.energy_fractions[j - 1, 4]) if j else None
-        res.elastic.append({**row, "suspension_energy": share,
-                            "contaminated": bool(j and (abs(row["suspended_shift_percent"]) > shift_limit_percent
-                                                        or share > energy_limit))})
+        # A free mode no hung mode resembles (MAC below the pairing floor) is changed past recognition.
+        res.elastic.append({**row, "suspension_energy": share, "unpaired": not j,
+                            "contaminated": bool(not j or abs(row["suspended_shift_percent"]) > shift_limit_percent
+                                                 or share > energy_limit)})
     if res.separation < 2.0:
         k = int(np.flatnonzero(susp)[np.argmax(modes.frequencies_hz[susp])])
         res.problems.append(f"suspension mode '{modes.labels[k]}' ({modes.frequencies_hz[k]:.3g} Hz) sits within "
@@ -160,9 +161,11 @@ def plan_suspension(model: Model, layouts: Iterable[Layout], n_modes: int = 10, 
     Every elastic mode gets its frequency shift from free-free and the share of its energy in the
     suspension (docs/method.md: a separation below 10x always contaminates very flexible aircraft; the
     row says by how much): 'contaminated' when that share passes ``energy_limit`` or the shift
-    ``shift_limit_percent``. A line loaded or stretched past its allowance is a problem of the layout
-    (a spring that would yield), not an error. ``base``: the configuration hung (its masses and loads
-    kept, see layout_configuration); default the bare structure in 1 g."""
+    ``shift_limit_percent``, or when no hung mode pairs with it ('unpaired': MAC below 0.6). A line
+    loaded or stretched past its allowance is a problem of the layout (a spring that would yield), not
+    an error. ``base``: the configuration hung (its masses and loads kept, see layout_configuration);
+    default the bare structure in 1 g.
+    """
     results = []
     for layout in layouts:
         try:

@@ -72,7 +72,8 @@ class ConfigurationPlan:
                          "first_elastic_hz": r.first_elastic_hz, "separation": r.separation if r.state else None,
                          "first_elastic_shift_percent": None if first is None else first["suspended_shift_percent"],
                          "max_elastic_shift_percent": r.max_shift_percent if r.state else None,
-                         "contaminated": ", ".join(e["label"] for e in r.elastic if e.get("contaminated")),
+                         "contaminated": ", ".join(e["label"] + (" (unpaired)" if e.get("unpaired") else "")
+                                                   for e in r.elastic if e.get("contaminated")),
                          "cord_tension_N": ", ".join(f"{t:.3g}" for t in r.tensions),
                          "problems": "; ".join(r.problems)})
         return rows
