@@ -208,3 +208,14 @@ def test_sensor_directions_that_miss_the_targets_are_noted(tmp_path):
     plan = plan_project(load_plan_project(tmp_path / "project.toml")).configurations["free"]
     assert [r["seen_by_candidates"] < 1e-6 for r in plan.target_rows()] == [True] * 4
     assert any("candidate sensor directions (X) barely see 1 OOP (0.0 %), 2 OOP" in n for n in plan.notes)
+
+
+def test_a_band_picks_the_targets_by_frequency(tmp_path):
+    """band_hz above the lowest modes: more modes are solved until the band's are found."""
+    path = _project_replacing(tmp_path, "[[110, 132], [101, 141], [116, 126]]", "[[110, 132]]")
+    path.write_text(path.read_text() + 'band_hz = ["40 Hz", "100 Hz"]\n')
+    plan = plan_project(load_plan_project(path)).configurations["clean"]
+    rows = plan.target_rows()
+    assert [r["label"] for r in rows] == ["5 OOP", "1 IP", "6 OOP", "1 T", "7 OOP"]
+    assert all(40 <= r["frequency_hz"] <= 100 for r in rows)
+    assert any("barely see 1 IP (0.0 %), 1 T (0.0 %)" in n for n in plan.notes)  # Z sensors on the axis

@@ -26,12 +26,12 @@ def layouts_table(name: str, rows: list[dict], n: int = 5) -> Table:
                   box=box.SIMPLE_HEAD, pad_edge=False)
     for col, just, width in (("#", "right", 2), ("suspension", "left", 22), ("susp. max [Hz]", "right", 6),
                              ("1st elastic [Hz]", "right", 7), ("separation", "right", 10),
-                             ("max shift [%]", "right", 6), ("ok", "left", 3)):
+                             ("largest shift [%]", "right", 7), ("ok", "left", 3)):
         table.add_column(col, justify=just, overflow="fold", max_width=width)
     for r in rows[:n]:
         table.add_row(str(r["rank"]), escape(r["suspension"]), _num(r["highest_suspension_hz"]),
                       _num(r["first_elastic_hz"]), _num(r["separation"], ".2f"),
-                      _num(r["max_elastic_shift_percent"], ".2f"), "yes" if r["acceptable"] else "no")
+                      _num(r["largest_elastic_shift_percent"], "+.2f"), "yes" if r["acceptable"] else "no")
     return table
 
 

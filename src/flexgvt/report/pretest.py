@@ -22,7 +22,7 @@ from .html import CSS, _Page, _esc, _slug, table_html
 from .interactive import _go, _layout, _scene, _wire
 
 _SHOWN = ("rank", "suspension", "acceptable", "highest_suspension_hz", "first_elastic_hz", "separation",
-          "first_elastic_shift_percent", "max_elastic_shift_percent", "contaminated", "problems")
+          "first_elastic_shift_percent", "largest_elastic_shift_percent", "contaminated", "problems")
 
 
 def frequency_map(plan):

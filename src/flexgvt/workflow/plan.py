@@ -71,7 +71,7 @@ class ConfigurationPlan:
                          "highest_suspension_hz": float(r.suspension_hz.max()) if len(r.suspension_hz) else None,
                          "first_elastic_hz": r.first_elastic_hz, "separation": r.separation if r.state else None,
                          "first_elastic_shift_percent": None if first is None else first["suspended_shift_percent"],
-                         "max_elastic_shift_percent": r.max_shift_percent if r.state else None,
+                         "largest_elastic_shift_percent": _largest_shift(r),
                          "contaminated": ", ".join(e["label"] + (" (unpaired)" if e.get("unpaired") else "")
                                                    for e in r.elastic if e.get("contaminated")),
                          "cord_tension_N": ", ".join(f"{t:.3g}" for t in r.tensions),
@@ -121,6 +121,12 @@ class PlanResult:
         return {"project": self.project.spec.project.name, "file": str(self.project.path),
                 "settings": asdict(self.settings),
                 "configurations": [c.to_dict() for c in self.configurations.values()]}
+
+
+def _largest_shift(r: LayoutResult) -> float | None:
+    """The signed shift [%] of the paired elastic mode the suspension moves most (None: none paired)."""
+    shifts = [e["suspended_shift_percent"] for e in r.elastic if e.get("suspended_shift_percent") is not None]
+    return max(shifts, key=abs) if shifts else None
 
 
 def _axis(direction) -> str:
@@ -240,17 +246,12 @@ def plan_configuration(project: Project, name: str, progress: Callable[[str], No
             raise ProjectError(f"{where}: the configuration has no supports and no suspension ({exc_}); give "
                                "candidate suspensions (plan.stations, plan.stiffness, plan.length) or cords to the "
                                "configuration, or plan it free-free without loads (gravity = 0)") from None
-        n_extra = 6 + len(cfg.suspension)
-        modes = solve_modes(state, s.n_modes + n_extra, damped=False)
-        ok = (modes.energy_fractions[:, 4] <= 0.5) & (modes.frequencies_hz > 0)
-        if s.band_hz is not None:
-            ok &= (modes.frequencies_hz >= s.band_hz[0]) & (modes.frequencies_hz <= s.band_hz[1])
-        targets = np.flatnonzero(ok)[: s.n_modes]
+        modes, targets = _targets(state, s, 6 + len(cfg.suspension))
         if not len(targets):
             raise ProjectError(f"{where}: no elastic mode"
                                + (f" in plan.band_hz = {list(s.band_hz)} Hz" if s.band_hz else "")
                                + f" among the {modes.n_modes} lowest modes ({modes.frequencies_hz.min():.3g}-"
-                               f"{modes.frequencies_hz.max():.3g} Hz); widen plan.band_hz or raise plan.n_modes")
+                               f"{modes.frequencies_hz.max():.3g} Hz); widen or lower plan.band_hz")
         if len(targets) < s.n_modes:
             notes.append(f"{len(targets)} elastic target mode(s) of the {s.n_modes} asked"
                          + (f" in {list(s.band_hz)} Hz" if s.band_hz else ""))
@@ -287,6 +288,23 @@ def plan_configuration(project: Project, name: str, progress: Callable[[str], No
                      "(plan.exciter_nodes, plan.exciter_directions)")
     return ConfigurationPlan(name, base, results, tested, cfg, state, modes, targets, chosen, amac, exciters, notes,
                              seen)
+
+
+def _targets(state, s: PlanSettings, n_extra: int, most: int = 400):
+    """The modes about ``state`` and the indices of the target elastic modes (energy mostly in the
+    structure, above 0 Hz, inside band_hz): more modes are solved until n_modes targets are found or
+    the modes pass the band (at most ``most``)."""
+    n = s.n_modes + n_extra
+    while True:
+        modes = solve_modes(state, n, damped=False)
+        ok = (modes.energy_fractions[:, 4] <= 0.5) & (modes.frequencies_hz > 0)
+        if s.band_hz is not None:
+            ok &= (modes.frequencies_hz >= s.band_hz[0]) & (modes.frequencies_hz <= s.band_hz[1])
+        targets = np.flatnonzero(ok)[: s.n_modes]
+        if (len(targets) == s.n_modes or s.band_hz is None or modes.frequencies_hz.max() > s.band_hz[1]
+                or n >= most or modes.n_modes < n):
+            return modes, targets
+        n = min(2 * n, most)
 
 
 def _visibility(modes, candidates: Sensors, targets: np.ndarray) -> np.ndarray:
