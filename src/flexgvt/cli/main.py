@@ -31,6 +31,7 @@ if ema_app is not None:
     app.add_typer(ema_app, name="ema")
 
 from .suspension import app as _suspension_app  # noqa: E402
+from .plan import register as _register_plan  # noqa: E402
 from .verify import register as _register_verify  # noqa: E402
 from .workflow import register as _register_workflow  # noqa: E402
 
@@ -58,6 +59,7 @@ def _main(version: bool = typer.Option(False, "--version", callback=_version, is
 
 _register_verify(app, console)
 _register_workflow(app, console)
+_register_plan(app, console)
 
 
 def _fail(exc: Exception) -> None:

@@ -108,6 +108,15 @@ free_free = true
 proposed = [{proposed}]
 n_modes = 10
 {reference}
+# [plan]                   # pre-test planning, `flexgvt plan project.toml` (no test data needed yet)
+# stations = [[12, 30]]    # candidate suspension stations: the nodes hung at once
+# stiffness = ["5 N/m", "18 N/m"]   # line rates tried at every station
+# length = ["2 m", "20 m"] # cord lengths (anchor above each attachment)
+# n_modes = 8              # elastic target modes (band_hz = [0.5, 10] to pick them by frequency)
+# sensors = 12             # sensors placed by effective independence
+# directions = "Z"         # sensor directions tried at every node (sensor_nodes = [...] to restrict)
+# exciters = 3             # driving points listed, best first
+
 [outputs]
 directory = "results"      # report.html, updated.bdf, modes as UFF 55, CSV tables, the results store
 # allow_outside = false    # true lets `directory` point outside this project's folder ("../x", "/data/...")
