@@ -164,8 +164,8 @@ MAT8,8,1.5e11,9.e9,0.3,5.e9,,,1600.
     ("CQUAD4,7,5,1,2,3,4\nPSHELL,5,9,0.01\n", ModelError, r"PSHELL 5 MID1 refers to material 9, which is not def"),
     ("CQUAD4,7,5,1,2,4,3\nPSHELL,5,1,0.01\n", ModelError, r"deck.bdf:8: CQUAD4 7: .*zero area or crossing edges"),
     ("CTRIA3,7,5,1,2,3,,,\n,,,0.01,-1.,0.01\nPSHELL,5,1,0.01\n", ModelError,
-     r"deck.bdf:8: CTRIA3 7: .*corner_thickness of element 1 \(nodes \[1, 2, 3\]\) is \[0.01, -1.0, 0.01\]; it "
-     "must be finite and positive"),
+     r"deck.bdf:8: CTRIA3 7: .*corner_thickness of element 1 \(nodes \[1, 2, 3\]\) is \[0.01, -1.0, 0.01\]; each "
+     "must be >= 0 and at least one positive"),
     ("CQUAD8,7,5,1,2,3,4\nCHEXA,8,5,1,2,3,4,1,2\n,3,4\nCSHEAR,9,5,1,2,3,4\nPSHELL,5,1,0.01\n",
      UnsupportedCardsError, r"CHEXA: 8; CQUAD8: 7; CSHEAR: 9 \(CHEXA: solids: .*CQUAD8: 8-node quads: remesh with "
                             r"CQUAD4; CSHEAR: shear panels"),
