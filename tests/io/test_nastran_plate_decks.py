@@ -17,6 +17,7 @@ import flexgvt as fg
 from flexgvt.errors import ModelError
 from flexgvt.model import RodSection
 from flexgvt.workflow import solve_deck
+from nastran_helpers import shell_data
 
 DATA = Path(__file__).parents[1] / "data" / "bdf" / "pynastran"
 F06 = {name: v for name, v in json.loads((DATA / "eigenvalues_f06.json").read_text()).items() if v.get("shells")}
@@ -132,6 +133,18 @@ def test_plate_deck_frequencies_are_nastrans(name):
     result = solved(lambda: next(iter(solve_deck(deck, n_modes=len(nastran)).values())))
     f = result.modes.frequencies_hz
     assert f[:len(nastran)] == pytest.approx(nastran, rel=5e-3)
+
+
+@pytest.mark.parametrize("name", sorted(COUNTS))
+def test_plate_deck_written_into_itself_reads_back_the_same(tmp_path, name):
+    """write_bdf(model, template=deck) keeps every card it does not own (ASET1 among them)."""
+    deck = read(name)
+    out = tmp_path / Path(name).name
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        back = fg.io.read_bdf(fg.io.write_bdf(deck.model, out, template=deck), units=COUNTS[name][0])
+    assert sorted(shell_data(back.model)) == sorted(shell_data(deck.model))
+    assert back.options == deck.options and back.model.n_nodes == deck.model.n_nodes
 
 
 def test_only_the_not_yet_solved_error_skips():

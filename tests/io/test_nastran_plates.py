@@ -12,6 +12,8 @@ import flexgvt as fg
 from flexgvt.errors import ModelError
 from flexgvt.io.nastran import UnsupportedCardsError
 from flexgvt.model import AnisotropicMaterial, Laminate, Material, OrthotropicMaterial, ShellProperty
+from nastran_helpers import comparable as _values
+from nastran_helpers import shell_data
 
 DATA = Path(__file__).parents[1] / "data" / "bdf"
 MM = 1e-3  # m per mm; mm-N-t-s: stress MPa = 1e6 Pa, density t/mm^3 = 1e12 kg/m^3
@@ -180,24 +182,6 @@ def test_malformed_plate_cards(tmp_path, cards, error, match):
 def test_shell_group_name_addresses_the_property(plates):
     k = plates.model.shell_group("PCOMPG_4_CTRIA3")
     assert plates.shells["PCOMPG_4_CTRIA3"].property_card == "PCOMPG" and plates.model.shells[k].ids.size == 1
-
-
-def _values(obj):
-    """Dataclass values without names (renumbered ids rename cards), arrays as lists, floats to 12 digits."""
-    if dataclasses.is_dataclass(obj):
-        return tuple((f.name, _values(getattr(obj, f.name))) for f in dataclasses.fields(obj) if f.name != "name")
-    if isinstance(obj, (tuple, list)):
-        return tuple(_values(v) for v in obj)
-    if isinstance(obj, np.ndarray):
-        return _values(obj.tolist())
-    if isinstance(obj, float):
-        return float(f"{obj:.12g}")
-    return obj
-
-
-def shell_data(model):
-    return [(g.nodes.tolist(), _values(g.property), _values(g.theta), _values(g.material_axis), _values(g.zoffs),
-             _values(g.corner_thickness), g.mass) for g in model.shells]
 
 
 def test_template_shells_keep_their_mat1_when_the_rods_change_it(tmp_path):
