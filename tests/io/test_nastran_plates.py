@@ -195,3 +195,44 @@ def test_template_shells_keep_their_mat1_when_the_rods_change_it(tmp_path):
         back = read(fg.io.write_bdf(changed, tmp_path / "g.bdf", template=deck))
     assert sorted(shell_data(back.model)) == sorted(shell_data(deck.model))
     assert {g.material.E for g in back.model.beams} == {2 * 1.4976e9}
+
+
+MEMBRANES = """SOL 103
+CEND
+BEGIN BULK
+GRID,1,,0.,0.,0.
+GRID,2,,1.,0.,0.
+GRID,3,,1.,1.,0.
+GRID,4,,0.,1.,0.
+GRID,5,,0.,1.,1.
+GRID,6,,0.,0.,1.
+GRID,7,,2.,0.,0.
+GRID,8,,3.,1.,0.
+GRID,9,,3.,1.,1.
+GRID,10,,2.,0.,1.
+GRID,11,,5.,0.,0.
+GRID,12,,6.,0.,0.
+CQUAD4,1,1,1,2,3,4
+CQUAD4,2,1,1,4,5,6
+CQUAD4,3,1,7,8,9,10
+CTRIA3,4,2,11,12,8
+PSHELL,1,1,0.001
+PSHELL,2,1,0.001,1
+MAT1,1,7.e10,,0.3,2700.
+ENDDATA
+"""
+
+
+def test_membrane_nodes_keep_their_drilling_rotations(tmp_path):
+    """A membrane (PSHELL without MID2) stiffens only the rotation about its normal (flexgvt's drilling
+    DOF): the other rotations are fixed, in basic axes; at an edge of two membranes (normals z and x)
+    only the rotation about y; on a membrane whose in-plane axes are not basic, all three; a node of a
+    bending plate keeps all three free."""
+    path = tmp_path / "membranes.bdf"
+    path.write_text(MEMBRANES)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        deck = fg.io.read_bdf(path)
+    fixed = next(iter(deck.configurations.values())).fixed
+    assert fixed == {1: "5", 4: "5", 2: "45", 3: "45", 5: "56", 6: "56", 7: "456", 9: "456", 10: "456"}
+    assert "the drilling rotation about a membrane's normal stays free" in str(caught[0].message)
