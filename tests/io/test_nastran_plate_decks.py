@@ -1,9 +1,8 @@
 """Real Nastran plate decks with what Nastran printed for them (pyNastran's repository, BSD-3; origins
 in tests/data/bdf/ORIGIN.md, numbers in pynastran/eigenvalues_f06.json, entries with "shells": true):
 the Goland wing box, the HA145E/HA145G swept plates, the cropped delta wing and the 2-mode flutter
-plate. Each reads with no option (only its units) into the model Nastran analysed; its mass and
-frequencies are compared with Nastran's once fem solves shells. Until then fem refuses a model with
-shells with one ModelError, and exactly that error skips those tests (any other error fails them).
+plate. Each reads with no option (only its units) into the model Nastran analysed, and gives the
+mass and the frequencies Nastran printed.
 """
 
 import json
@@ -14,14 +13,12 @@ import numpy as np
 import pytest
 
 import flexgvt as fg
-from flexgvt.errors import ModelError
 from flexgvt.model import RodSection
 from flexgvt.workflow import solve_deck
 from nastran_helpers import shell_data
 
 DATA = Path(__file__).parents[1] / "data" / "bdf" / "pynastran"
 F06 = {name: v for name, v in json.loads((DATA / "eigenvalues_f06.json").read_text()).items() if v.get("shells")}
-NOT_YET_SOLVED = "are read but not yet solved by flexgvt"
 
 # deck -> (units, nodes, shells, rods, other beams, masses, springs, rigid links, mass formulation)
 COUNTS = {
@@ -37,16 +34,6 @@ def read(name):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         return fg.io.read_bdf(DATA / name, units=COUNTS[name][0])
-
-
-def solved(call):
-    """call(), or a skip when fem refuses the shells as not yet solved (nothing else is caught)."""
-    try:
-        return call()
-    except ModelError as exc:
-        if NOT_YET_SOLVED in str(exc):
-            pytest.skip(f"shells are not solved yet (fem: '{str(exc)[:120]}...'): this test turns on with them")
-        raise
 
 
 def test_every_plate_deck_of_the_json_is_tested():
@@ -117,7 +104,7 @@ def test_plate_deck_mass_is_the_one_nastran_printed(name):
     the deck's units; flexgvt's mass is in kg."""
     ref = F06[name]
     deck = read(name)
-    props = solved(lambda: fg.mass_properties(deck.model))
+    props = fg.mass_properties(deck.model)
     assert props.mass == pytest.approx(ref["mass"] * deck.wtmass * deck.units.mass, rel=1e-6)
     if "cg" in ref:
         assert props.cg == pytest.approx(np.array(ref["cg"]) * deck.units.length, abs=1e-6 * deck.units.length)
@@ -133,7 +120,7 @@ def test_plate_deck_frequencies_are_nastrans(name):
     n, rel = ref["compare"]["modes"], ref["compare"]["rel"]
     nastran = np.array(ref["cycles_hz"][:n])
     deck = read(name)
-    result = solved(lambda: next(iter(solve_deck(deck, n_modes=len(ref["cycles_hz"])).values())))
+    result = next(iter(solve_deck(deck, n_modes=len(ref["cycles_hz"])).values()))
     assert result.modes.frequencies_hz[:n] == pytest.approx(nastran, rel=rel)
 
 
@@ -147,14 +134,3 @@ def test_plate_deck_written_into_itself_reads_back_the_same(tmp_path, name):
         back = fg.io.read_bdf(fg.io.write_bdf(deck.model, out, template=deck), units=COUNTS[name][0])
     assert sorted(shell_data(back.model)) == sorted(shell_data(deck.model))
     assert back.options == deck.options and back.model.n_nodes == deck.model.n_nodes
-
-
-def test_only_the_not_yet_solved_error_skips():
-    def raise_(exc):
-        raise exc
-
-    with pytest.raises(ModelError, match="something else"):
-        solved(lambda: raise_(ModelError("model 'x': something else")))
-    with pytest.raises(ValueError):
-        solved(lambda: raise_(ValueError(NOT_YET_SOLVED)))
-    assert solved(lambda: 3) == 3
