@@ -15,6 +15,7 @@ from ._common import EigenMethod
 from ._deck import Deck, Findings, Parts
 from ._grids import coord_axes
 from ._limits import MAX_ENFORCED_SIZES
+from ._plates import membrane_rotation_fixes
 
 CARDS = ("SPC", "SPC1", "SPCADD", "MPC", "MPCADD", "SUPORT", "SUPORT1", "LOAD", "FORCE", "MOMENT", "GRAV", "PLOAD1",
          "SPCD")
@@ -53,6 +54,7 @@ class _Subcases:
         self.mpc_set: int | None = None  # the MPC set read into model constraints
         self.autospc: list[int] = []  # nodes without elements, fixed in every configuration
         self.autospc_rotations: list[int] = []  # nodes without rotational stiffness: rotations fixed
+        self.membrane_rotations: dict[int, set[int]] = {}  # membrane-only shell nodes: the rotations fixed
 
     def at(self, name: str, ident) -> str:
         return self.deck.at(name, ident)
@@ -141,9 +143,8 @@ class _Subcases:
         self.autospc = sorted(set(bdf.nodes) - connected)
         # Nodes joined only by rods have no rotational stiffness or inertia: their rotations are fixed.
         rod_nodes = {int(n) for g in self.model.beams if isinstance(g.section, RodSection) for n in g.nodes.ravel()}
-        # a membrane (PSHELL without MID2) has no bending stiffness at its nodes either
-        rod_nodes |= {int(n) for g in self.model.shells if getattr(g.property, "bending", True) is None
-                      for n in g.nodes.ravel()}
+        # a membrane (PSHELL without MID2) turns its nodes only about its normal (the drilling DOF)
+        membrane = membrane_rotation_fixes(self.model)
         bending_shells = [g for g in self.model.shells if getattr(g.property, "bending", True) is not None]
         bending = {int(n) for g in self.model.beams if not isinstance(g.section, RodSection) for n in g.nodes.ravel()}
         bending |= {int(n) for g in bending_shells for n in g.nodes.ravel()}
@@ -153,9 +154,10 @@ class _Subcases:
         bending |= {ip.reference for ip in self.model.interpolations if "4" in ip.components}
         loose = {n for link in self.model.rigid_links if "4" not in link.components for n in link.dependents}
         loose |= {n for ip in self.model.interpolations for n in (*ip.nodes, ip.reference)} - bending
-        self.autospc_rotations = sorted((rod_nodes | loose) - bending)
+        self.autospc_rotations = sorted((rod_nodes | loose) - bending - set(membrane))
+        self.membrane_rotations = {n: dofs for n, dofs in sorted(membrane.items()) if n not in bending and dofs}
         if str(self.deck.param("AUTOSPC", "YES")).upper() in ("NO", "N", "-1"):
-            self.autospc, self.autospc_rotations = [], []
+            self.autospc, self.autospc_rotations, self.membrane_rotations = [], [], {}
         if self.autospc:
             self.log.note(f"node(s) {self.autospc[:10]}{' ...' if len(self.autospc) > 10 else ''} have no "
                               "element: fixed in every configuration (as Nastran's AUTOSPC does)")
@@ -164,6 +166,12 @@ class _Subcases:
             self.log.note(f"node(s) {r[:10]}{' ...' if len(r) > 10 else ''} have no rotational stiffness "
                               "(joined only by rods, RBE2s without 456 or RBE3s): their rotations are fixed in every "
                               "configuration (as Nastran's AUTOSPC does)")
+        if self.membrane_rotations:
+            r = list(self.membrane_rotations)
+            self.log.note(f"node(s) {r[:10]}{' ...' if len(r) > 10 else ''} of membrane-only shells (PSHELL "
+                          "without MID2): the rotations about axes in every membrane's plane are fixed in every "
+                          "configuration (no element stiffens them); the drilling rotation about a membrane's "
+                          "normal stays free (flexgvt's membrane uses it)")
         for name, sub, sid in cases:
             self.configuration(name, sub, sid)
 
@@ -206,6 +214,8 @@ class _Subcases:
             fixed.setdefault(int(nid), set()).update(range(6))
         for nid in self.autospc_rotations:
             fixed.setdefault(int(nid), set()).update(range(3, 6))
+        for nid, dofs in self.membrane_rotations.items():
+            fixed.setdefault(int(nid), set()).update(dofs)
         for nid, node in bdf.nodes.items():
             if node.ps:
                 self._fix(fixed, nid, str(node.ps), f"{self.at('GRID', nid)} (PS)")
