@@ -239,6 +239,11 @@ def render(content: ReportContent, figs_dir: Path | None = None, tabs_dir: Path 
         page.add(table_html(content.prediction))
         if tabs_dir is not None:
             written.append(write_csv(content.prediction, tabs_dir / "prediction.csv"))
+        taken: set[str] = set()
+        for name, rows in content.prediction_modes.items():
+            page.add(table_html(rows, caption=f"{name}: every mode"))
+            if tabs_dir is not None:
+                written.append(write_csv(rows, tabs_dir / f"prediction_modes_{_slug(name, taken)}.csv"))
         page.end()
     if content.notes:
         page.section("notes", "Notes")

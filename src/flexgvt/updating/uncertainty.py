@@ -20,6 +20,7 @@ retained sample's predicted frequencies giving the percentile interval.
 from __future__ import annotations
 
 from dataclasses import dataclass, replace
+from functools import lru_cache
 from typing import Callable, Sequence
 
 import numpy as np
@@ -31,8 +32,8 @@ from .settings import UncertaintySettings
 from .targets import Measured, Objective
 from .variables import Parametrisation, Variable
 
-__all__ = ["Covariance", "Interval", "parameter_covariance", "prior_std", "propagate", "PredictedModes", "sampled_interval",
-           "measurement_variance", "sample_posterior", "z_value"]
+__all__ = ["Covariance", "Interval", "PredictedModes", "measurement_variance", "parameter_covariance", "prior_std",
+           "propagate", "sample_posterior", "sampled_interval", "z_value"]
 
 NULL_SHARE = 1e-3  # a prediction whose gradient has this share in a direction no data nor prior sees is unbounded
 
@@ -53,6 +54,17 @@ class Covariance:
     dof: float
     prior: np.ndarray | None
     null: np.ndarray
+
+    @property
+    def estimated(self) -> bool:
+        """sigma2 was estimated from the fit's residual (intervals then use Student's t on dof)."""
+        return self.source.startswith("residual") or "chi2" in self.source
+
+    def quantile(self, level: float) -> float:
+        """The two-sided quantile of ``level``: normal, or Student's t on dof when sigma2 was estimated."""
+        if not self.estimated:
+            return z_value(level)
+        return _quantile(level, round(max(self.dof, 0.5), 6))
 
     @property
     def std(self) -> np.ndarray:
@@ -82,10 +94,16 @@ class Interval:
 
 def z_value(level: float) -> float:
     """The two-sided normal quantile of ``level`` (1.96 for 0.95)."""
-    from scipy.stats import norm
     if not 0.0 < level < 1.0:
         raise ModelError(f"confidence level {level} must lie in (0, 1)")
-    return float(norm.ppf(0.5 + level / 2))
+    return _quantile(level, None)
+
+
+@lru_cache(maxsize=256)
+def _quantile(level: float, dof: float | None) -> float:
+    """The two-sided quantile of ``level``: normal (dof None) or Student's t on dof (scipy's are slow)."""
+    from scipy.stats import norm, t
+    return float(norm.ppf(0.5 + level / 2) if dof is None else t.ppf(0.5 + level / 2, dof))
 
 
 def prior_std(variables: Sequence[Variable]) -> np.ndarray:
@@ -122,67 +140,59 @@ def parameter_covariance(jacobian: np.ndarray, residuals: np.ndarray, sigma2_mea
     rss = float(r @ r)
     _, s, vt = np.linalg.svd(J, full_matrices=True)
     s = np.r_[s, np.zeros(n - len(s))]
-    cut = rank_tolerance * max(s.max(initial=0.0), 1e-300)
+    seen = s > rank_tolerance * max(s.max(initial=0.0), 1e-300)
     p_inv = None if prior is None else 1.0 / np.asarray(prior, float) ** 2
 
-    def cov_and_peff(sigma2: float) -> tuple[np.ndarray, float]:
+    def posterior(sigma2: float) -> tuple[np.ndarray, float]:
+        """(C, effective number of parameters) for residual variance sigma2 > 0."""
         if p_inv is None:
-            keep = s > cut
-            inv = np.where(keep, 1.0 / np.where(keep, s, 1.0) ** 2, 0.0)
-            return (vt.T * (sigma2 * inv)) @ vt, float(np.sum(keep))
-        A = J.T @ J / sigma2 + np.diag(p_inv) if sigma2 > 0 else np.diag(p_inv) * np.inf
-        if sigma2 <= 0:
-            return np.zeros((n, n)), float(np.sum(s > cut))
-        C = np.linalg.inv(A)
+            inv = np.where(seen, 1.0 / np.where(seen, s, 1.0) ** 2, 0.0)
+            return (vt.T * (sigma2 * inv)) @ vt, float(np.sum(seen))
+        C = np.linalg.inv(J.T @ J / sigma2 + np.diag(p_inv))
         C = 0.5 * (C + C.T)
         return C, float(np.trace(J @ C @ J.T) / sigma2)
 
-    null = vt[np.flatnonzero(s <= cut)] if p_inv is None else np.zeros((0, n))
+    def fit_variance(start: float, floor: float) -> tuple[float, np.ndarray, float]:
+        """sigma2 = |r|^2 / (m - p_eff(sigma2)) (not below floor), by fixed-point iteration."""
+        sigma2 = start
+        for _ in range(100):
+            C, p_eff = posterior(sigma2)
+            new = max(rss / max(m - p_eff, 0.5), floor)
+            if abs(new - sigma2) <= 1e-10 * sigma2:
+                break
+            sigma2 = new
+        C, p_eff = posterior(sigma2)
+        return sigma2, C, p_eff
+
+    null = vt[~seen] if p_inv is None else np.zeros((0, n))
     chi2 = None
     if sigma2_measured is not None and sigma2_measured > 0:
         sigma2, source = sigma2_measured, "measured standard deviations"
-        C, p_eff = cov_and_peff(sigma2)
-        dof = m - p_eff
-        if dof > 0.5:
-            chi2 = rss / (dof * sigma2_measured)
+        C, p_eff = posterior(sigma2)
+        if m - p_eff > 0.5:
+            chi2 = rss / ((m - p_eff) * sigma2_measured)
             if scale_to_fit and chi2 > 1.0:
-                # The residual is larger than the measured scatter explains: widen to what the fit shows.
-                sigma2, source = sigma2_measured * chi2, "measured standard deviations x chi2/dof of the fit"
-                for _ in range(20):  # p_eff depends on sigma2 through the prior's share
-                    C, p_eff = cov_and_peff(sigma2)
-                    dof = m - p_eff
-                    new = rss / max(dof, 0.5)
-                    if abs(new - sigma2) <= 1e-9 * sigma2:
-                        break
-                    sigma2 = max(new, sigma2_measured)
-                chi2 = rss / (max(dof, 0.5) * sigma2_measured)
+                # The residual is larger than the measured scatter explains (a model error or an
+                # under-stated scatter): widen to what the fit shows (the Birge ratio).
+                sigma2, C, p_eff = fit_variance(sigma2_measured * chi2, sigma2_measured)
+                source = "measured standard deviations x chi2/dof of the fit"
+    elif rss > 0 and m > 0:
+        sigma2, C, p_eff = fit_variance(rss / m, 0.0)
+        source = f"residual ({m - p_eff:.1f} degrees of freedom)"
     else:
-        sigma2, source = (rss / m if m else 0.0), "residual"
-        C, p_eff = cov_and_peff(sigma2)
-        for _ in range(50):
-            dof = m - p_eff
-            if dof <= 0.5:
-                break
-            new = rss / dof
-            if abs(new - sigma2) <= 1e-9 * max(sigma2, 1e-300):
-                break
-            sigma2 = new
-            C, p_eff = cov_and_peff(sigma2)
-        dof = m - p_eff
-        if dof <= 0.5 or rss <= 0:
-            sigma2, source = 0.0, "none (no redundancy and no measured standard deviations)"
-            C, p_eff = cov_and_peff(0.0) if p_inv is None else (np.diag(1.0 / p_inv), 0.0)
-            null = vt if p_inv is None else null
-        else:
-            source = f"residual ({dof:.1f} degrees of freedom)"
+        sigma2, C, p_eff = 0.0, np.zeros((n, n)), 0.0
+    if sigma2 <= 0 or m - p_eff <= 0.5 and chi2 is None and (sigma2_measured or 0) <= 0:
+        # No redundancy to estimate the scatter from and none measured: no interval can be stated.
+        return Covariance(np.zeros((n, n)), 0.0, "none (no redundancy and no measured standard deviations)",
+                          None, float(m - p_eff), None if prior is None else np.asarray(prior, float), np.eye(n))
     return Covariance(C, float(sigma2), source, None if chi2 is None else float(chi2), float(m - p_eff),
                       None if prior is None else np.asarray(prior, float), null)
 
 
 def propagate(values: np.ndarray, gradient: np.ndarray, covariance: Covariance, level: float = 0.95) -> Interval:
     """Linearised interval of ``values`` (k,) with ``gradient`` (k, n) d value / d x: std = sqrt(g C g^T),
-    bounds value -+ z std; a value whose gradient reaches a direction nothing constrains is
-    unbounded (std inf, bounds -inf / inf)."""
+    bounds value -+ q std (q: covariance.quantile(level)); a value whose gradient reaches a direction
+    nothing constrains is unbounded (std inf, bounds -inf / inf)."""
     f = np.asarray(values, float)
     G = np.asarray(gradient, float)
     var = np.einsum("ki,ij,kj->k", G, covariance.matrix, G)
@@ -190,8 +200,8 @@ def propagate(values: np.ndarray, gradient: np.ndarray, covariance: Covariance, 
     if len(covariance.null):
         share = np.sum((G @ covariance.null.T) ** 2, axis=1) / np.maximum(np.sum(G**2, axis=1), 1e-300)
         std = np.where(share > NULL_SHARE, np.inf, std)
-    z = z_value(level)
-    return Interval(f, std, f - z * std, f + z * std, level, "linear")
+    q = covariance.quantile(level)
+    return Interval(f, std, f - q * std, f + q * std, level, "linear")
 
 
 # ---------------------------------------------------------------------- sensitivities of predictions
@@ -245,21 +255,16 @@ class PredictedModes:
                 raise SolverError(f"confidence bounds, configuration '{key}': predicted mode(s) "
                                   f"{(bad + 1).tolist()} ({f[bad].round(4).tolist()} Hz) not found again for "
                                   "their sensitivities")
-        point = self.point
-        self.problem.set_pairing_reference(self.problem.reference_of(point))  # followed by MAC from here
-        self.point = point
+        self.problem.set_pairing_reference(self.problem.reference_of(self.point))  # followed by MAC from here
 
     def sensitivities(self) -> dict[str, np.ndarray]:
         """{key: d f / d x (k, n)} at the updated point (the eigenvalue sensitivities about each
         configuration's equilibrium, as the updating's Jacobian)."""
         out = {}
-        row = 0
         for key, (cfg, f) in self.cases.items():
             g = np.zeros((len(f), self.n))
-            if self.point is not None:
-                block = self.point.configurations[cfg.name].block
-                g[:, self.keep] = block.jacobian[:len(f)] * f[:, None]
-                row += len(block.residuals)
+            if self.point is not None:  # a block's first rows: (f - fm) / fm, so d f = fm d row
+                g[:, self.keep] = self.point.configurations[cfg.name].block.jacobian[:len(f)] * f[:, None]
             out[key] = g
         return out
 
@@ -269,7 +274,7 @@ class PredictedModes:
             return {key: f.copy() for key, (_, f) in self.cases.items()}
         point = self.problem.evaluate(np.asarray(x, float)[self.keep])
         out = {}
-        for key, (cfg, f) in self.cases.items():
+        for key, (cfg, _) in self.cases.items():
             p = point.configurations[cfg.name]
             out[key] = np.where(p.paired >= 0, p.frequencies_hz[np.maximum(p.paired, 0)], np.nan)
         return out
@@ -326,5 +331,5 @@ def sampled_interval(values: np.ndarray, samples: np.ndarray, level: float) -> I
     """Percentile interval at ``level`` of predicted values (k,) from their samples (s, k); std: the
     samples' standard deviation."""
     q = 50 * (1 - level)
-    low, high = np.percentile(samples, [q, 100 - q], axis=0)
-    return Interval(np.asarray(values, float), samples.std(axis=0, ddof=1), low, high, level, "mcmc")
+    low, high = np.nanpercentile(samples, [q, 100 - q], axis=0)
+    return Interval(np.asarray(values, float), np.nanstd(samples, axis=0, ddof=1), low, high, level, "mcmc")
