@@ -186,8 +186,14 @@ def _interval_columns(row: dict, bounds: dict | None) -> dict:
         base = k[:-3] if k.endswith("_hz") else None
         if base is not None and f"{base}_low_hz" in row:
             lo, hi = row[f"{base}_low_hz"], row[f"{base}_high_hz"]
-            out[f"{base}_{_level(bounds)}_hz"] = None if lo is None or hi is None else (lo, hi)
+            out[f"{base}_{_level(bounds)}_hz"] = _interval(lo, hi)
     return out
+
+
+def _interval(lo: float | None, hi: float | None) -> str | None:
+    """'low–high' [Hz] as the report writes frequencies; None when a bound is missing (unbounded)."""
+    from .html import format_value
+    return None if lo is None or hi is None else f"{format_value('_hz', lo)}\u2013{format_value('_hz', hi)}"
 
 
 def _mode_lists(modes: dict) -> dict:
@@ -195,9 +201,8 @@ def _mode_lists(modes: dict) -> dict:
     out = {}
     for name, rows in modes.items():
         out[name] = [{"mode": m["mode"], "label": m["label"], "frequency_hz": m["frequency_hz"],
-                      **({"interval_hz": None if m["low_hz"] is None or m["high_hz"] is None
-                          else (m["low_hz"], m["high_hz"])} if "low_hz" in m else {}),
-                      "free_free_mode": "" if m["free_mode"] is None else f"{m['free_mode']} ({m['free_label']})",
+                      **({"interval_hz": _interval(m["low_hz"], m["high_hz"])} if "low_hz" in m else {}),
+                      "free-free_mode": None if m["free_mode"] is None else f"{m['free_mode']} ({m['free_label']})",
                       "mac": m["mac"], "suspension": m["suspension"]} for m in rows]
     return out
 

@@ -107,7 +107,7 @@ class UncertaintySettings:
                          "once per walker)", ge=2)
     burn: int = setting(200, "mcmc: steps discarded as burn-in", ge=0)
     thin: int = setting(10, "mcmc: keep every thin-th step of the chain", ge=1)
-    samples: int = setting(100, "mcmc: posterior samples whose predictions give the interval", ge=10)
+    samples: int = setting(100, "mcmc: posterior samples whose predictions give the interval", ge=2)
     seed: int = setting(0, "mcmc: seed of the walkers' start and moves")
 
     def __post_init__(self) -> None:
