@@ -103,6 +103,9 @@ def main(argv=None) -> dict:
     keys = [k[:-3] for k in pred[0] if k.endswith("_hz") and not k.endswith(("_low_hz", "_high_hz"))
             and k != "free_hz"]
     bounds = prediction.uncertainty
+    if bounds and "failed" in bounds:
+        print(f"\nconfidence bounds not computed: {bounds['failed']}")
+        bounds = None
     level = f"{100 * bounds['confidence']:g} %" if bounds else ""
     print("\nfree-flying prediction (updated model) [Hz]: free-free, then each layout's mode paired by MAC"
           + (f"; [low, high]: {level} interval ({bounds['method']}, sigma from {bounds['sigma_source']})"

@@ -155,7 +155,9 @@ def build_report_content(res):
     notes = ["Free-flying prediction: free_hz is the model with the suspension removed (free-free, free fall); "
              "each <configuration>_hz is that suspended or proposed configuration's mode paired with it by "
              "mass-weighted MAC, with the shift the suspension causes."] if prediction else []
-    if bounds:
+    if bounds and "failed" in bounds:
+        notes.append(f"Confidence bounds were not computed: {bounds['failed']}")
+    elif bounds:
         notes.append(f"Confidence bounds: each <value> {_level(bounds)} column is the {_level(bounds)} interval of "
                      f"that frequency ({bounds['method']}; sigma {bounds['sigma']:.3g} from the "
                      f"{bounds['sigma_source']}; docs/updating.md). A blank bound: a direction neither the data "
@@ -176,7 +178,7 @@ def _level(bounds: dict) -> str:
 
 def _interval_columns(row: dict, bounds: dict | None) -> dict:
     """<value>_low_hz and <value>_high_hz as one '<value> 95% [Hz]' column of (low, high) after <value>_hz."""
-    if not bounds:
+    if not bounds or "failed" in bounds:
         return row
     out = {}
     for k, v in row.items():

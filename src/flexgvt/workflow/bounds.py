@@ -8,13 +8,13 @@ from typing import Callable
 
 import numpy as np
 
-from ..errors import ModelError
+from ..errors import ModelError, SolverError
 from ..model import Configuration
 from ..updating import UncertaintySettings, UpdateResult, UpdatingProblem
 from ..updating.uncertainty import (Covariance, Interval, PredictedModes, measurement_variance, parameter_covariance,
                                     prior_std, propagate, sample_posterior, sampled_interval)
 from .identification import Identified, measured
-from .project import Project
+from .project import Project, ProjectError
 from .steps import Prediction, objective
 
 FREE = "free"  # the cases' key of the free-free modes
@@ -40,6 +40,16 @@ def _cases(project: Project, prediction: Prediction) -> dict[str, tuple[Configur
         f = np.asarray(prediction.free.frequencies_hz)
         out[FREE] = (free, f[f > 0])
     return out
+
+
+def require(settings: UncertaintySettings, where: str) -> None:
+    """ProjectError before any computation when the settings need what is not installed (emcee)."""
+    if settings.method == "mcmc":
+        try:
+            import emcee  # noqa: F401
+        except ImportError:
+            raise ProjectError(f"{where}: prediction.uncertainty method \"mcmc\" needs the emcee package: pip install "
+                               "'flexgvt[mcmc]' (or emcee), or use method = \"linear\"") from None
 
 
 def updating_problem(project: Project, identified: dict[str, Identified]) -> UpdatingProblem:
@@ -75,12 +85,17 @@ def add_bounds(project: Project, result: UpdateResult, prediction: Prediction, i
     cov = variable_covariance(project, result, problem, settings)
     cases = _cases(project, prediction)
     tested = [project.configurations[n] for n in project.to_update]
-    modes = PredictedModes(project.model, tested, project.variables, result.x, cases)
-    if settings.method == "linear":
-        grads = modes.sensitivities()
-        intervals = {k: propagate(f, grads[k], cov, settings.confidence) for k, (_, f) in cases.items()}
-    else:
-        intervals = _sampled(problem, result, modes, cases, cov, settings, log)
+    try:
+        modes = PredictedModes(project.model, tested, project.variables, result.x, cases)
+        if settings.method == "linear":
+            grads = modes.sensitivities()
+            intervals = {k: propagate(f, grads[k], cov, settings.confidence) for k, (_, f) in cases.items()}
+        else:
+            intervals = _sampled(problem, result, modes, cases, cov, settings, log)
+    except SolverError as exc:  # the prediction stands; say why it has no bounds
+        prediction.uncertainty = {"method": settings.method, "confidence": settings.confidence, "failed": str(exc)}
+        log(f"confidence bounds: not computed ({exc})")
+        return prediction
     _write(prediction, intervals)
     prediction.uncertainty = {"method": settings.method, "confidence": settings.confidence, **cov.to_dict(),
                               "variables": {v.name: float(s) if np.isfinite(s) else None

@@ -236,6 +236,9 @@ def _run_locked(project: Project, out: Path, store: Path, log, report, t_all: fl
     """run() once it holds the project's lock."""
     from ..updating import ResultsStore
     remove_temporaries(out, store)  # a killed run's; this process holds the lock
+    if project.to_update and project.spec.prediction.free_free:
+        from .bounds import require
+        require(project.spec.prediction.uncertainty, str(project.path))
     timings: dict[str, float] = {}
     resumed: list[str] = []
 
