@@ -9,8 +9,8 @@ known, docs/method.md section 4; ``prior="none"`` leaves it out). Then
     var f_k = g_k C g_k^T,   g_k = d f_k / d x  (exact sensitivities of the predicted mode)
 
 sigma^2: from the measured frequency standard deviations (the weights the objective used), scaled
-up by the fit's chi^2 per degree of freedom when the residual is larger than they explain (a model
-error or an under-stated scatter: the Birge ratio), or from the residual alone without them.
+up by the fit's chi^2 per degree of freedom when the residual is larger than they explain at 95 %
+(a model error or an under-stated scatter: the Birge ratio), or from the residual alone without them.
 
 Sampling route: an affine-invariant ensemble MCMC (emcee, optional dependency ``flexgvt[mcmc]``)
 of the same residuals, log p(x) = -|r(x)|^2 / (2 sigma^2) inside the bounds (uniform prior), each
@@ -100,6 +100,14 @@ def z_value(level: float) -> float:
 
 
 @lru_cache(maxsize=256)
+def _chi2_limit(dof: float) -> float:
+    """The 95 % point of chi^2 / dof on dof degrees of freedom: a fit's residual above it is more than
+    the measured scatter explains."""
+    from scipy.stats import chi2
+    return float(chi2.ppf(0.95, dof) / dof)
+
+
+@lru_cache(maxsize=256)
 def _quantile(level: float, dof: float | None) -> float:
     """The two-sided quantile of ``level``: normal (dof None) or Student's t on dof (scipy's are slow)."""
     from scipy.stats import norm, t
@@ -131,7 +139,8 @@ def parameter_covariance(jacobian: np.ndarray, residuals: np.ndarray, sigma2_mea
     residuals (m,) of the weighted residual vector there).
 
     sigma2_measured: variance of one residual from the measured scatter (None: from the residual,
-    |r|^2 / dof); scale_to_fit: multiply it by chi^2/dof when that exceeds 1; prior: (n,) prior
+    |r|^2 / dof); scale_to_fit: when chi^2/dof of the fit exceeds its 95 % point (the scatter does
+    not explain the residual), sigma^2 from the residual instead (Student's t then); prior: (n,) prior
     standard deviations or None (then directions J does not see are reported in ``null``). dof is
     m minus the effective number of parameters, trace(J C J^T) / sigma^2."""
     J = np.asarray(jacobian, float)
@@ -171,9 +180,10 @@ def parameter_covariance(jacobian: np.ndarray, residuals: np.ndarray, sigma2_mea
         C, p_eff = posterior(sigma2)
         if m - p_eff > 0.5:
             chi2 = rss / ((m - p_eff) * sigma2_measured)
-            if scale_to_fit and chi2 > 1.0:
-                # The residual is larger than the measured scatter explains (a model error or an
-                # under-stated scatter): widen to what the fit shows (the Birge ratio).
+            if scale_to_fit and chi2 > _chi2_limit(round(m - p_eff, 6)):
+                # The residual is larger than the measured scatter explains at 95 % (a model error or
+                # an under-stated scatter): widen to what the fit shows (the Birge ratio). Below that
+                # the scatter stands as measured (widening then would only make the interval wider).
                 sigma2, C, p_eff = fit_variance(sigma2_measured * chi2, sigma2_measured)
                 source = "measured standard deviations x chi2/dof of the fit"
     elif rss > 0 and m > 0:
