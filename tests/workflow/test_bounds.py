@@ -145,3 +145,12 @@ def test_the_settings_key(tmp_path):
     with pytest.raises(ProjectError, match="burn"):
         load_project(path)
     assert np.isclose(load_project(_project(tmp_path)).spec.prediction.uncertainty.confidence, 0.95)
+
+
+def test_mcmc_without_emcee_is_refused_before_the_run(tmp_path, monkeypatch):
+    import sys
+    monkeypatch.setitem(sys.modules, "emcee", None)  # import emcee then raises ImportError
+    path = _project(tmp_path, '\n[prediction.uncertainty]\nmethod = "mcmc"\n')
+    with pytest.raises(ProjectError, match="emcee"):
+        run(load_project(path))
+    assert not (tmp_path / "results" / "store" / "updating.sqlite").exists()
