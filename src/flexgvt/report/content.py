@@ -257,6 +257,8 @@ class ReportContent:
     or None (frequencies versus load).
     prediction: rows of the free-flying prediction table, any columns (mode, label, free_hz,
     truth_hz, error_percent, bungee_hz...).
+    prediction_modes: {configuration: rows} the full mode list of each predicted configuration,
+    shown as a table each under the prediction table.
     """
 
     title: str
@@ -268,6 +270,7 @@ class ReportContent:
     prediction: list[dict[str, Any]] = field(default_factory=list)
     prediction_title: str = "Free-flying prediction"
     notes: list[str] = field(default_factory=list)
+    prediction_modes: dict[str, list[dict[str, Any]]] = field(default_factory=dict)
 
     def __post_init__(self):
         names = [c.name for c in self.configurations]

@@ -307,6 +307,11 @@ def render(content: ReportContent, figs_dir: Path | None = None, tabs_dir: Path 
     if content.prediction:
         page.section("prediction", content.prediction_title)
         _table(page, content.prediction, tabs_dir, "prediction", written)
+        taken: set[str] = set()
+        for name, rows in content.prediction_modes.items():
+            page.add(table_html(rows, caption=f"{name}: every mode"))
+            if tabs_dir is not None:
+                written.append(write_csv(rows, tabs_dir / f"prediction_modes_{_slug(name, taken)}.csv"))
         page.end()
     if content.notes:
         page.section("notes", "Notes")

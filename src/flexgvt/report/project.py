@@ -209,9 +209,10 @@ def build_report_content(res):
             tr = modes_versus_load(res.model, cfg, np.linspace(0.0, cfg.gravity, 6), 12)
             evolution = {"load_factors": tr.load_factors, "frequencies_hz": tr.frequencies_hz,
                          "labels": list(tr.labels)}
-    prediction, title = [], "Free-flying prediction"
+    prediction, title, modes, bounds = [], "Free-flying prediction", {}, None
     if "updated" in res.predictions or "initial" in res.predictions:
         key = "updated" if "updated" in res.predictions else "initial"
+        bounds = res.predictions[key].uncertainty
         init = {r["free_mode"]: r for r in res.predictions.get("initial", res.predictions[key]).rows}
         for r in res.predictions[key].rows:
             row = {"mode": r["free_mode"], "label": r["label"]}
@@ -219,16 +220,66 @@ def build_report_content(res):
                 row["initial_free_hz"] = init[r["free_mode"]]["free_hz"]
                 if "reference_hz" in init[r["free_mode"]]:
                     row["initial_error_percent"] = init[r["free_mode"]]["error_percent"]
-            row.update({k: v for k, v in r.items() if k not in ("free_mode", "label") and not k.endswith("_mac")})
+            row.update(_interval_columns({k: v for k, v in r.items() if k not in ("free_mode", "label")
+                                          and not k.endswith("_mac")}, bounds))
             prediction.append(row)
         title = f"Free-flying prediction ({key} model)"
+        modes = _mode_lists(res.predictions[key].modes)
     notes = ["Free-flying prediction: free_hz is the model with the suspension removed (free-free, free fall); "
              "each <configuration>_hz is that suspended or proposed configuration's mode paired with it by "
              "mass-weighted MAC, with the shift the suspension causes."] if prediction else []
+    if bounds and "failed" in bounds:
+        notes.append(f"Confidence bounds were not computed: {bounds['failed']}")
+    elif bounds:
+        notes.append(f"Confidence bounds: each <value> {_level(bounds)} column is the {_level(bounds)} interval of "
+                     f"that frequency ({bounds['method']}; sigma {bounds['sigma']:.3g} from the "
+                     f"{bounds['sigma_source']}; docs/updating.md). A blank bound: a direction neither the data "
+                     "nor a prior constrain.")
+    if modes:
+        notes.append("Every mode of each predicted configuration: its free-free partner by mass-weighted MAC, or "
+                     "none (a mode of the suspended aircraft no free-free mode resembles); suspension modes "
+                     "(energy mostly in the cords) marked.")
     if up is not None and up.identifiability.get("unidentifiable"):
         notes.append(f"variables the data cannot see: {up.identifiability['unidentifiable']}")
     return ReportContent(f"flexgvt: {spec.project.name}", summary, sections, variables, history, evolution,
-                         prediction, title, notes)
+                         prediction, title, notes, modes)
+
+
+def _level(bounds: dict) -> str:
+    return f"{100 * bounds['confidence']:g}%"
+
+
+def _interval_columns(row: dict, bounds: dict | None) -> dict:
+    """<value>_low_hz and <value>_high_hz as one '<value> 95% [Hz]' column of (low, high) after <value>_hz."""
+    if not bounds or "failed" in bounds:
+        return row
+    out = {}
+    for k, v in row.items():
+        if k.endswith(("_low_hz", "_high_hz")):
+            continue
+        out[k] = v
+        base = k[:-3] if k.endswith("_hz") else None
+        if base is not None and f"{base}_low_hz" in row:
+            lo, hi = row[f"{base}_low_hz"], row[f"{base}_high_hz"]
+            out[f"{base}_{_level(bounds)}_hz"] = _interval(lo, hi)
+    return out
+
+
+def _interval(lo: float | None, hi: float | None) -> str | None:
+    """'low–high' [Hz] as the report writes frequencies; None when a bound is missing (unbounded)."""
+    from .html import format_value
+    return None if lo is None or hi is None else f"{format_value('_hz', lo)}\u2013{format_value('_hz', hi)}"
+
+
+def _mode_lists(modes: dict) -> dict:
+    """The report's rows of each predicted configuration's full mode list."""
+    out = {}
+    for name, rows in modes.items():
+        out[name] = [{"mode": m["mode"], "label": m["label"], "frequency_hz": m["frequency_hz"],
+                      **({"interval_hz": _interval(m["low_hz"], m["high_hz"])} if "low_hz" in m else {}),
+                      "free-free_mode": None if m["free_mode"] is None else f"{m['free_mode']} ({m['free_label']})",
+                      "mac": m["mac"], "suspension": m["suspension"]} for m in rows]
+    return out
 
 
 def write_project_report(res, out: Path | None = None) -> Path:

@@ -7,11 +7,12 @@
 
 from .derivatives import StateDerivatives, eigenvalue_derivatives, eigenvector_derivatives, state_derivatives
 from .problem import ConfigurationPoint, DesignPointFailure, Point, UpdatingProblem
-from .settings import OptimiserSettings
+from .settings import OptimiserSettings, UncertaintySettings
 from .targets import MassTarget, Measured, Objective
 from .variables import Parametrisation, Variable, beam, case_variables, cord, mass, shell, spring
 
 __all__ = ["ConfigurationPoint", "DesignPointFailure", "MassTarget", "Measured", "Objective", "OptimiserSettings",
+           "UncertaintySettings",
            "Parametrisation", "Point", "StateDerivatives", "UpdatingProblem", "Variable", "beam", "case_variables",
            "cord", "eigenvalue_derivatives", "eigenvector_derivatives", "mass", "shell", "spring", "state_derivatives"]
 from .result import UpdateResult  # noqa: E402

@@ -61,6 +61,8 @@ class RunResult:
             "updating": None if up is None else {k: v for k, v in up.to_dict().items() if k != "mac"},
             "checks": self.checks,
             "prediction": {k: p.rows for k, p in self.predictions.items()},
+            "prediction_modes": {k: p.modes for k, p in self.predictions.items()},
+            "prediction_uncertainty": {k: p.uncertainty for k, p in self.predictions.items()},
             "files": self.files})
 
     def as_dict(self) -> dict:
@@ -234,6 +236,9 @@ def _run_locked(project: Project, out: Path, store: Path, log, report, t_all: fl
     """run() once it holds the project's lock."""
     from ..updating import ResultsStore
     remove_temporaries(out, store)  # a killed run's; this process holds the lock
+    if project.to_update and project.spec.prediction.free_free:
+        from .bounds import require
+        require(project.spec.prediction.uncertainty, str(project.path))
     timings: dict[str, float] = {}
     resumed: list[str] = []
 
@@ -275,6 +280,11 @@ def _run_locked(project: Project, out: Path, store: Path, log, report, t_all: fl
             predictions["updated"] = predict(project, model, configs)
         log(f"prediction: {len(predictions[list(predictions)[-1]].rows)} free-free elastic modes")
     timings["prediction"] = time.perf_counter() - t0
+    if result is not None and "updated" in predictions and project.spec.prediction.uncertainty.method != "none":
+        from .bounds import add_bounds
+        t0 = time.perf_counter()
+        add_bounds(project, result, predictions["updated"], identified, progress=log)
+        timings["bounds"] = time.perf_counter() - t0
 
     res = RunResult(project, identified, result, checks, predictions, {}, timings, resumed)
     t0 = time.perf_counter()

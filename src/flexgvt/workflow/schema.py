@@ -11,7 +11,7 @@ from typing import Annotated, Any, Literal, get_args, get_origin, get_type_hints
 
 from pydantic import AfterValidator, BaseModel, BeforeValidator, ConfigDict, Field, create_model, model_validator
 
-from ..updating import MassTarget, Objective, OptimiserSettings
+from ..updating import MassTarget, Objective, OptimiserSettings, UncertaintySettings
 from ..updating.settings import described
 from .plansettings import PlanSettings
 from .units import DIMENSIONS, quantity, unit_dimensions, unit_system
@@ -266,6 +266,12 @@ ObjectiveSpec = settings_table(Objective, "ObjectiveSpec", measured_mass=(
     Field(None, description="measured mass properties ([objective.measured_mass])")))
 OptimiserSpec = settings_table(OptimiserSettings, "OptimiserSpec")
 PlanSpec = settings_table(PlanSettings, "PlanSpec")
+UncertaintySpec = settings_table(UncertaintySettings, "UncertaintySpec")
+
+
+def _method_only(value: Any) -> Any:
+    """``uncertainty = "mcmc"`` as the table's method alone."""
+    return {"method": value} if isinstance(value, str) else value
 
 
 class PredictionSpec(Strict):
@@ -277,6 +283,9 @@ class PredictionSpec(Strict):
                                 "(e.g. long bungees)")
     n_modes: int = Field(10, ge=1, le=100, description="free-free modes predicted")
     reference: str | None = Field(None, description="JSON of known free-free frequencies to score against")
+    uncertainty: Annotated[UncertaintySpec, BeforeValidator(_method_only), _into(UncertaintySettings)] = Field(
+        default_factory=UncertaintySettings, description="confidence bounds of the predicted frequencies: "
+        "[prediction.uncertainty], or its method alone (uncertainty = \"mcmc\")")
 
 
 class OutputSpec(Strict):
