@@ -1,0 +1,214 @@
+"""Arc-length continuation of a static load path past limit points (Riks; Crisfield's cylindrical
+constraint): the load factor lambda becomes an unknown and each increment moves a fixed distance
+along the path in displacement space, so the path can pass a maximum of the load (snap-through of
+a shallow arch or a pinched shell) where load control stops.
+
+solve_static (fem.static) calls :func:`trace` when ``StaticSettings(control="arc-length")``. The
+driver works on a System with its evaluate / tangent / update, as Newton's load stepping does.
+The states at requested load factors are those a slowly growing load reaches: each level is
+recorded where the path first rises through it (on a snap-through that is the branch before the
+limit point below it, and the branch after the snap above it), by a Newton solve at that fixed
+load factor started from the path.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Callable
+
+import numpy as np
+import scipy.sparse as sp
+
+from ..errors import ConvergenceError, ModelError
+from .linsolve import superlu
+from .system import System
+
+STABILISATION = (2 * np.pi * 1e-3) ** 2  # as fem.static: a mass term only if the bare tangent is singular
+_PATH_TOLERANCE = 1e-6  # relative residual of the points on the way; the requested levels take settings.tolerance
+
+
+@dataclass
+class ArcPath:
+    """A traced path: converged points (load factor, positions (n, 3) [m], rotations (n, 3, 3)) in
+    path order, the states at the requested levels, the final state (at load factor 1), the
+    iteration record (step, load factor, iteration, relative residual) and the load factors of the
+    limit points passed (local maxima of lambda along the path)."""
+
+    points: list[tuple[float, np.ndarray, np.ndarray]] = field(default_factory=list)
+    levels: list[tuple[float, np.ndarray, np.ndarray]] = field(default_factory=list)
+    final: tuple[float, np.ndarray, np.ndarray] | None = None
+    history: list[tuple[int, float, int, float]] = field(default_factory=list)
+    limit_points: list[float] = field(default_factory=list)
+
+
+class _Solver:
+    """The tangent at a state, factorised (SuperLU on the full, possibly indefinite tangent: past a
+    limit point it has a negative eigenvalue and a Cholesky factorisation does not exist)."""
+
+    def __init__(self, system: System, M: sp.csc_matrix):
+        self.system, self.M = system, M
+
+    def factor(self, x, R, lam: float):
+        ev = self.system.evaluate(x, R, lam)
+        K = self.system.tangent_of(ev)
+        for alpha in (0.0, STABILISATION, 1e3 * STABILISATION):
+            A = K if alpha == 0.0 else (K + alpha * self.M).tocsc()
+            try:
+                return ev, superlu(A.tocsc()).solve
+            except RuntimeError:
+                continue
+        return ev, None
+
+
+def _norm_mask(system: System) -> np.ndarray:
+    """The DOFs the arc length is measured on: the translations (rotations are in other units and
+    large rotations would dominate the step), all DOFs if there are none."""
+    mask = ~system.rotation_mask
+    return mask if mask.any() else np.ones_like(mask)
+
+
+def trace(system: System, x: np.ndarray, R: np.ndarray, levels: list[float], settings,
+          mass: sp.csc_matrix, progress: Callable[[float], None] | None = None) -> ArcPath:
+    """Follow the equilibrium path from (x, R) at lambda = 0 to lambda = 1 by arc-length steps.
+
+    settings: the StaticSettings (increments sets the first step: the tangent predictor for a
+    load increment 1/increments; arc_length [m] overrides it; max_iterations, tolerance,
+    desired_iterations, max_increment_growth, min_increment and max_arc_steps are used).
+    levels: load factors (0 to 1) whose states are wanted. Raises ConvergenceError (with the last
+    converged point in its message) when the path cannot be continued.
+    """
+    if system.has_prescribed or len(system.cord_nodes):
+        raise ModelError(f"configuration '{system.config.name}': arc-length control needs dead loads only; "
+                         "prescribed motions and suspension cords (whose pre-tension is ramped) are not supported. "
+                         "Use StaticSettings(control='load')")
+    solver = _Solver(system, mass)
+    path = ArcPath()
+    mask = _norm_mask(system)
+    q = system.evaluate(x, R, 1.0, tangent=False).external - system.evaluate(x, R, 0.0, tangent=False).external
+    q_norm = max(float(np.linalg.norm(q)), 1e-300)
+    if not np.any(q):
+        raise ModelError(f"configuration '{system.config.name}': arc-length control needs applied loads; "
+                         "the configuration has none")
+    pending = sorted(lv for lv in levels if lv > 1e-12) + [1.0]
+    if any(lv <= 1e-12 for lv in levels):
+        path.levels.append((0.0, x.copy(), R.copy()))
+    lam, top = 0.0, 0.0
+    path.points.append((lam, x, R))
+    ev, solve = solver.factor(x, R, lam)
+    if solve is None:
+        raise ConvergenceError(f"configuration '{system.config.name}': the unloaded tangent is singular; arc-length "
+                               "control cannot start")
+    du_t = solve(q)
+    arc = settings.arc_length or float(np.linalg.norm(du_t[mask])) / settings.increments
+    min_arc = settings.min_increment * arc * settings.increments
+    previous = None  # the last converged increment (reduced displacement, lambda change)
+    step = 0
+    while pending and step < settings.max_arc_steps:
+        step += 1
+        got = _arc_step(system, solver, x, R, lam, q, q_norm, arc, previous, mask, settings, step, path.history)
+        if got is None:
+            arc *= 0.5
+            if arc < min_arc:
+                raise ConvergenceError(f"configuration '{system.config.name}': the arc-length path could not be "
+                                       f"continued beyond load factor {lam:.4g} (the arc length was cut below "
+                                       f"{min_arc:.3g}); a bifurcation on the path (a symmetric structure "
+                                       "buckling asymmetrically) needs an imperfection", history=tuple(path.history))
+            continue
+        x_new, R_new, lam_new, du, iterations = got
+        if previous is not None and previous[1] > 0 >= lam_new - lam:
+            path.limit_points.append(lam)
+        # Levels the load rises through for the first time: solved at their load factor.
+        while pending and lam_new >= pending[0] - 1e-12 and pending[0] > top - 1e-12 and lam_new > lam:
+            level = pending.pop(0)
+            frac = (level - lam) / (lam_new - lam)
+            xs, Rs = system.update(x, R, frac * du)
+            at = _fixed_level(system, solver, xs, Rs, level, q_norm, settings, step, path.history)
+            if at is None:
+                raise ConvergenceError(f"configuration '{system.config.name}': Newton did not converge at load factor "
+                                       f"{level:.4g} from the arc-length path", history=tuple(path.history))
+            if level >= 1.0 - 1e-12:
+                path.final = (1.0, *at)
+            else:
+                path.levels.append((level, *at))
+        previous = (du, lam_new - lam)
+        x, R, lam = x_new, R_new, lam_new
+        top = max(top, lam)
+        path.points.append((lam, x, R))
+        if progress is not None:
+            progress(lam)
+        scale = np.sqrt(settings.desired_iterations / max(iterations, 1))
+        arc *= min(scale, settings.max_increment_growth)
+    if path.final is None:
+        raise ConvergenceError(f"configuration '{system.config.name}': the arc-length path reached load factor "
+                               f"{lam:.4g} (highest {top:.4g}) in {settings.max_arc_steps} steps without reaching the "
+                               "full load: raise StaticSettings.max_arc_steps or arc_length, or the structure cannot "
+                               "carry the load", history=tuple(path.history))
+    return path
+
+
+def _arc_step(system: System, solver: _Solver, x, R, lam: float, q: np.ndarray, q_norm: float, arc: float,
+              previous, mask: np.ndarray, settings, step: int, history: list):
+    """One arc-length increment from the converged (x, R, lam): tangent predictor with the direction
+    of the last increment (Feng's sign rule: the predictor keeps going the way the path went), then
+    Newton corrections on the cylindrical constraint |du| = arc over the translations, the root
+    closer in direction to the increment so far (Crisfield). Returns (x, R, lam, du, iterations) or
+    None."""
+    ev, solve = solver.factor(x, R, lam)
+    if solve is None:
+        return None
+    du_t = solve(q)
+    n_t = float(np.linalg.norm(du_t[mask]))
+    if not np.isfinite(n_t) or n_t == 0.0:
+        return None
+    sign = 1.0
+    if previous is not None:
+        sign = 1.0 if du_t[mask] @ previous[0][mask] >= 0 else -1.0
+    dlam = sign * arc / n_t
+    du = dlam * du_t
+    xk, Rk = system.update(x, R, du)
+    lam_k = lam + dlam
+    for it in range(1, settings.max_iterations + 1):
+        ev, solve = solver.factor(xk, Rk, lam_k)
+        r = ev.internal - ev.external
+        res = float(np.linalg.norm(r)) / max(q_norm * abs(lam_k), q_norm * 1e-3)
+        history.append((step, lam_k, it, res))
+        if not np.isfinite(res):
+            return None
+        if res < _PATH_TOLERANCE:
+            return xk, Rk, lam_k, du, it
+        if solve is None:
+            return None
+        du_r = -solve(r)
+        du_t = solve(q)
+        a_vec, b_vec = du_t[mask], (du + du_r)[mask]
+        a = a_vec @ a_vec
+        b = 2.0 * (a_vec @ b_vec)
+        c = b_vec @ b_vec - arc**2
+        disc = b * b - 4 * a * c
+        if disc < 0 or a == 0:
+            return None
+        roots = ((-b + np.sqrt(disc)) / (2 * a), (-b - np.sqrt(disc)) / (2 * a))
+        # The root whose increment turns least from the increment so far.
+        cosines = [(du + du_r + g * du_t)[mask] @ du[mask] for g in roots]
+        g = roots[int(np.argmax(cosines))]
+        delta = du_r + g * du_t
+        xk, Rk = system.update(xk, Rk, delta)
+        du = du + delta
+        lam_k += g
+    return None
+
+
+def _fixed_level(system: System, solver: _Solver, x, R, lam: float, q_norm: float, settings, step: int,
+                 history: list):
+    """Newton at a fixed load factor from a state on the path next to it: (x, R) or None."""
+    for it in range(settings.max_iterations):
+        ev, solve = solver.factor(x, R, lam)
+        r = ev.internal - ev.external
+        res = float(np.linalg.norm(r)) / max(q_norm * lam, 1e-300)
+        history.append((step, lam, it, res))
+        if res < settings.tolerance:
+            return x, R
+        if solve is None or not np.isfinite(res):
+            return None
+        x, R = system.update(x, R, -solve(r))
+    return None
