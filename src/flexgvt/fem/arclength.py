@@ -21,6 +21,7 @@ import scipy.sparse as sp
 
 from ..errors import ConvergenceError, ModelError
 from .linsolve import superlu
+from .stability import Instability, _unit, _where
 from .system import System
 
 STABILISATION = (2 * np.pi * 1e-3) ** 2  # as fem.static: a mass term only if the bare tangent is singular
@@ -38,7 +39,13 @@ class ArcPath:
     levels: list[tuple[float, np.ndarray, np.ndarray]] = field(default_factory=list)
     final: tuple[float, np.ndarray, np.ndarray] | None = None
     history: list[tuple[int, float, int, float]] = field(default_factory=list)
-    limit_points: list[float] = field(default_factory=list)
+    arc: list[float] = field(default_factory=list)  # cumulative arc length [m] (translations) at each point
+    limits: list[Instability] = field(default_factory=list)
+
+    @property
+    def limit_points(self) -> list[float]:
+        """Load factors of the limit points passed."""
+        return [event.load_factor for event in self.limits]
 
 
 class _Solver:
@@ -94,6 +101,7 @@ def trace(system: System, x: np.ndarray, R: np.ndarray, levels: list[float], set
         path.levels.append((0.0, x.copy(), R.copy()))
     lam, top = 0.0, 0.0
     path.points.append((lam, x, R))
+    path.arc.append(0.0)
     ev, solve = solver.factor(x, R, lam)
     if solve is None:
         raise ConvergenceError(f"configuration '{system.config.name}': the unloaded tangent is singular; arc-length "
@@ -102,6 +110,7 @@ def trace(system: System, x: np.ndarray, R: np.ndarray, levels: list[float], set
     arc = settings.arc_length or float(np.linalg.norm(du_t[mask])) / settings.increments
     min_arc = settings.min_increment * arc * settings.increments
     previous = None  # the last converged increment (reduced displacement, lambda change)
+    fine = None  # the step length that resolves a limit point found in the current step
     step = 0
     while pending and step < settings.max_arc_steps:
         step += 1
@@ -116,7 +125,14 @@ def trace(system: System, x: np.ndarray, R: np.ndarray, levels: list[float], set
             continue
         x_new, R_new, lam_new, du, iterations = got
         if previous is not None and previous[1] > 0 >= lam_new - lam:
-            path.limit_points.append(lam)
+            # A limit point within the step: taken again in shorter steps until the step is a
+            # sixteenth of the one that found it, so the parabola through the last points is close.
+            fine = fine or arc / 16
+            if arc > fine:
+                arc *= 0.25
+                continue
+            path.limits.append(_limit(system, path, lam_new, path.arc[-1] + arc, du))
+            fine = None
         # Levels the load rises through for the first time: solved at their load factor.
         while pending and lam_new >= pending[0] - 1e-12 and pending[0] > top - 1e-12 and lam_new > lam:
             level = pending.pop(0)
@@ -134,6 +150,7 @@ def trace(system: System, x: np.ndarray, R: np.ndarray, levels: list[float], set
         x, R, lam = x_new, R_new, lam_new
         top = max(top, lam)
         path.points.append((lam, x, R))
+        path.arc.append(path.arc[-1] + arc)
         if progress is not None:
             progress(lam)
         scale = np.sqrt(settings.desired_iterations / max(iterations, 1))
@@ -144,6 +161,18 @@ def trace(system: System, x: np.ndarray, R: np.ndarray, levels: list[float], set
                                "full load: raise StaticSettings.max_arc_steps or arc_length, or the structure cannot "
                                "carry the load", history=tuple(path.history))
     return path
+
+
+def _limit(system: System, path: ArcPath, lam_next: float, s_next: float, du: np.ndarray) -> Instability:
+    """The limit point between the last two converged points and the new one: the vertex of the
+    parabola lambda(s) through the three (s the arc length), the path's direction there as the
+    shape (the tangent's null vector at a limit point)."""
+    s = np.array([path.arc[-2], path.arc[-1], s_next])
+    lam = np.array([path.points[-2][0], path.points[-1][0], lam_next])
+    c2, c1, c0 = np.polyfit(s - s[1], lam, 2)
+    top = c0 - c1 * c1 / (4 * c2) if c2 < 0 else lam[1]
+    shape = _unit(system.expand(du))
+    return Instability(float(max(top, lam[1])), "limit point", 0.0, shape, _where(system, shape), (float(lam[1]), float(lam_next)))
 
 
 def _arc_step(system: System, solver: _Solver, x, R, lam: float, q: np.ndarray, q_norm: float, arc: float,

@@ -542,7 +542,8 @@ def _solve_static(model: Model, configuration: Configuration, *, settings: Stati
         run.history.extend(IterationRecord(*h, 0.0, 0.0) for h in path.history)
         saved = [run.state(xk, Rk, lk, system.evaluate(xk, Rk, lk, tangent=False), False)
                  for lk, xk, Rk in path.levels + [path.final]]
-        return dataclasses.replace(saved[-1], steps=tuple(saved[:-1] if 1.0 not in levels else saved))
+        return dataclasses.replace(saved[-1], steps=tuple(saved[:-1] if 1.0 not in levels else saved),
+                                   instability=path.limits[0] if path.limits else None)
     return _ramp(run, x, R, levels, progress)
 
 
