@@ -166,13 +166,15 @@ def trace(system: System, x: np.ndarray, R: np.ndarray, levels: list[float], set
 def _limit(system: System, path: ArcPath, lam_next: float, s_next: float, du: np.ndarray) -> Instability:
     """The limit point between the last two converged points and the new one: the vertex of the
     parabola lambda(s) through the three (s the arc length), the path's direction there as the
-    shape (the tangent's null vector at a limit point)."""
+    shape (the tangent's null vector at a limit point), eigenvalue 0 (the tangent is singular there
+    by definition)."""
     s = np.array([path.arc[-2], path.arc[-1], s_next])
     lam = np.array([path.points[-2][0], path.points[-1][0], lam_next])
     c2, c1, c0 = np.polyfit(s - s[1], lam, 2)
     top = c0 - c1 * c1 / (4 * c2) if c2 < 0 else lam[1]
     shape = _unit(system.expand(du))
-    return Instability(float(max(top, lam[1])), "limit point", 0.0, shape, _where(system, shape), (float(lam[1]), float(lam_next)))
+    return Instability(float(max(top, lam[1])), "limit point", 0.0, shape, _where(system, shape),
+                       (float(lam[1]), float(lam_next)))
 
 
 def _arc_step(system: System, solver: _Solver, x, R, lam: float, q: np.ndarray, q_norm: float, arc: float,
