@@ -26,6 +26,7 @@ from .system import System
 
 STABILISATION = (2 * np.pi * 1e-3) ** 2  # as fem.static: a mass term only if the bare tangent is singular
 _PATH_TOLERANCE = 1e-6  # relative residual of the points on the way; the requested levels take settings.tolerance
+_PATH_ENERGY = 1e-10  # or a correction's energy |du . r| this fraction of the step's first one
 
 
 @dataclass
@@ -198,6 +199,7 @@ def _arc_step(system: System, solver: _Solver, x, R, lam: float, q: np.ndarray, 
     du = dlam * du_t
     xk, Rk = system.update(x, R, du)
     lam_k = lam + dlam
+    first = None
     for it in range(1, settings.max_iterations + 1):
         ev, solve = solver.factor(xk, Rk, lam_k)
         r = ev.internal - ev.external
@@ -210,6 +212,10 @@ def _arc_step(system: System, solver: _Solver, x, R, lam: float, q: np.ndarray, 
         if solve is None:
             return None
         du_r = -solve(r)
+        energy = abs(float(du_r @ r))
+        first = energy if first is None else first
+        if it > 1 and energy <= _PATH_ENERGY * first:  # at the residual's round-off floor (thin shells)
+            return xk, Rk, lam_k, du, it
         du_t = solve(q)
         a_vec, b_vec = du_t[mask], (du + du_r)[mask]
         a = a_vec @ a_vec
@@ -231,15 +237,28 @@ def _arc_step(system: System, solver: _Solver, x, R, lam: float, q: np.ndarray, 
 
 def _fixed_level(system: System, solver: _Solver, x, R, lam: float, q_norm: float, settings, step: int,
                  history: list):
-    """Newton at a fixed load factor from a state on the path next to it: (x, R) or None."""
+    """Newton at a fixed load factor from a state on the path next to it: (x, R) or None. Converged
+    on the residual (settings.tolerance) or, as load stepping does for thin structures whose
+    residual has a round-off floor above it, once a correction's energy |du . r| is below
+    settings.relative_energy_tolerance of the first one or settings.energy_tolerance of load x
+    length (that correction applied)."""
+    length = float(np.abs(system.cm.xyz).max()) + 1.0
+    first = None
     for it in range(settings.max_iterations):
         ev, solve = solver.factor(x, R, lam)
         r = ev.internal - ev.external
-        res = float(np.linalg.norm(r)) / max(q_norm * lam, 1e-300)
+        ref = max(q_norm * lam, 1e-300)
+        res = float(np.linalg.norm(r)) / ref
         history.append((step, lam, it, res))
         if res < settings.tolerance:
             return x, R
         if solve is None or not np.isfinite(res):
             return None
-        x, R = system.update(x, R, -solve(r))
+        delta = -solve(r)
+        energy = abs(float(delta @ r))
+        first = energy if first is None else first
+        x, R = system.update(x, R, delta)
+        if it > 0 and (energy <= settings.relative_energy_tolerance * first
+                       or energy <= settings.energy_tolerance * ref * length):
+            return x, R
     return None
