@@ -2,7 +2,7 @@
 the measured values, their errors against the tables and the time (docs/shells.md, "Nonlinear
 benchmarks"). The models and tables are those of tests/fem/test_sze_benchmarks.py.
 
-    PYTHONPATH=src python bench/sze_benchmarks.py [slit hemisphere pullout pinched]
+    PYTHONPATH=src python bench/sze_benchmarks.py [slit hemisphere hemisphere24 pullout pinched]
 """
 
 import sys
@@ -19,6 +19,7 @@ import flexgvt as fg  # noqa: E402
 CASES = {  # name: (builder, mesh, table, columns, control)
     "slit": (sze.slit_annular_plate, (10, 80), sze.SLIT, ("W_A", "W_B"), "load"),
     "hemisphere": (sze.hemisphere, (16,), sze.HEMISPHERE, ("U_A out", "-U_B in"), "arc-length"),
+    "hemisphere24": (sze.hemisphere, (24,), sze.HEMISPHERE, ("U_A out", "-U_B in"), "load"),
     "pullout": (sze.pullout, (24, 36), sze.PULLOUT, ("W_A", "-U_B", "-U_C"), "load"),
     "pinched": (sze.pinched_cylinder, (48, 48), sze.PINCHED, ("-W_A", "U_B"), "arc-length"),
 }
@@ -34,7 +35,7 @@ def run(name: str) -> None:
         print(f"{name} {'x'.join(map(str, mesh))} ({control}): failed: {exc}")
         return
     wall, cpu = time.perf_counter() - t0, time.process_time() - c0
-    got = sze.measured(name, state, points)
+    got = sze.measured(name.rstrip("0123456789"), state, points)
     err = sze._errors(table, got)
     print(f"\n{name}, {'x'.join(map(str, mesh))} quads, {control} control: {wall:.1f} s wall, {cpu:.1f} s CPU, "
           f"{len(state.history)} iterations")
