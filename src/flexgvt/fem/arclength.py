@@ -175,7 +175,7 @@ def _limit(system: System, path: ArcPath, lam_next: float, s_next: float, du: np
     top = c0 - c1 * c1 / (4 * c2) if c2 < 0 else lam[1]
     shape = _unit(system.expand(du))
     return Instability(float(max(top, lam[1])), "limit point", 0.0, shape, _where(system, shape),
-                       (float(lam[1]), float(lam_next)))
+                       (float(lam[0]), float(lam[2])))
 
 
 def _arc_step(system: System, solver: _Solver, x, R, lam: float, q: np.ndarray, q_norm: float, arc: float,
