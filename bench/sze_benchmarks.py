@@ -18,7 +18,7 @@ import flexgvt as fg  # noqa: E402
 
 CASES = {  # name: (builder, mesh, table, columns, control)
     "slit": (sze.slit_annular_plate, (10, 80), sze.SLIT, ("W_A", "W_B"), "load"),
-    "hemisphere": (sze.hemisphere, (16,), sze.HEMISPHERE, ("U_A out", "-U_B in"), "arc-length"),
+    "hemisphere": (sze.hemisphere, (16,), sze.HEMISPHERE, ("U_A out", "-U_B in"), "load"),
     "hemisphere24": (sze.hemisphere, (24,), sze.HEMISPHERE, ("U_A out", "-U_B in"), "load"),
     "pullout": (sze.pullout, (24, 36), sze.PULLOUT, ("W_A", "-U_B", "-U_C"), "load"),
     "pinched": (sze.pinched_cylinder, (48, 48), sze.PINCHED, ("-W_A", "U_B"), "arc-length"),
