@@ -21,6 +21,7 @@ from ..model import Configuration, Model, NodalLoad
 from ..model.configuration import parse_dofs
 from .checks import check_connected
 from .eigen import real_modes
+from .arclength import trace
 from .rotations import logm_so3, scaled_increment
 from .linsolve import HAVE_CHOLMOD, CholmodCache, serial_blas, superlu
 from .stability import BUCKLING_MODES, Instability, locate, negative_eigenvalues
@@ -134,6 +135,9 @@ class StaticSettings:
     cord_strain_limit: float = 1.0  # a cord stretched past its design length by this x its unstretched one: warned
     buckling: str = "warn"  # an unstable final state: "ignore", "warn", "stop" or "continue" (see solve_static)
     imperfection: float = 0.0  # [m] the post-buckled path's imperfection; 0: a tenth of the buckled shells' thickness
+    control: str = "load"  # "load" (load stepping) or "arc-length" (past limit points: fem.arclength)
+    arc_length: float = 0.0  # [m] first arc-length step (0: the tangent predictor of a 1/increments load step)
+    max_arc_steps: int = 500  # arc-length steps before giving up
 
 
 # Pseudo-dynamic stabilisation [rad^2/s^2]: (2 pi 1 mHz)^2 times the mass matrix is added to the
@@ -357,6 +361,8 @@ def solve_static(model: Model, configuration: Configuration, *, settings: Static
     settings = settings or StaticSettings()
     if settings.buckling not in BUCKLING_MODES:
         raise ModelError(f"StaticSettings.buckling='{settings.buckling}' must be one of {BUCKLING_MODES}")
+    if settings.control not in ("load", "arc-length"):
+        raise ModelError(f"StaticSettings.control='{settings.control}' must be 'load' or 'arc-length'")
     trail = _Trail() if settings.buckling != "ignore" else None
     state = _solve_static(model, configuration, settings=settings, start=start, load_factors=load_factors,
                           progress=progress, trail=trail)
@@ -540,6 +546,13 @@ def _solve_static(model: Model, configuration: Configuration, *, settings: Stati
         # Nothing loads the structure: the undeformed state is the equilibrium.
         state = run.state(x, R, 1.0, system.evaluate(x, R, 1.0, tangent=False), False)
         return dataclasses.replace(state, steps=(state,) * len(levels))
+    if settings.control == "arc-length":
+        path = trace(system, x, R, levels, settings, mass, progress)
+        run.history.extend(IterationRecord(*h, 0.0, 0.0) for h in path.history)
+        saved = [run.state(xk, Rk, lk, system.evaluate(xk, Rk, lk, tangent=False), False)
+                 for lk, xk, Rk in path.levels + [path.final]]
+        return dataclasses.replace(saved[-1], steps=tuple(saved[:-1] if 1.0 not in levels else saved),
+                                   instability=path.limits[0] if path.limits else None)
     return _ramp(run, x, R, levels, progress)
 
 
