@@ -12,16 +12,13 @@ import numpy as np
 import typer
 from rich.console import Console
 from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
-from rich.table import Table
 from rich.markup import escape
 
 from ..errors import FlexGVTError
 
-app = typer.Typer(add_completion=False, no_args_is_help=True,
+app = typer.Typer(add_completion=False, no_args_is_help=True, rich_markup_mode=None,  # help text is plain: "[kg]" shows
                   help="GVT and FE model updating of very flexible aircraft.")
-console = Console()
-if not console.is_terminal:  # logs and CI: wide enough for the tables
-    console = Console(width=110)
+console = Console()  # a terminal's width; 80 columns (or COLUMNS) in logs and pipes: the tables split to fit
 
 try:  # the EMA commands live in their own module
     from .ema import app as ema_app
@@ -85,24 +82,29 @@ def _result_record(state, modes, timings) -> dict:
             "cautions": list(state.cautions + modes.cautions)}
 
 
-def _modes_table(title: str, results: dict) -> Table:
-    """One column per configuration: frequency [Hz], damping ratio where non-zero, label."""
-    table = Table(title=title)
-    table.add_column("mode", justify="right")
-    for name in results:
-        table.add_column(f"{name}\nf [Hz]  zeta  label", justify="left")
+def _modes_table(title: str, results: dict) -> None:
+    """Print one column group per configuration: frequency [Hz], damping ratio [%] where any is
+    non-zero, label; split by columns to fit the console."""
+    from .tables import print_table
+
+    headers, columns = ["mode"], []
+    for name, r in results.items():
+        damped = any(abs(z) >= 5e-4 for z in r["damping_ratio"])
+        headers += [f"{name} f [Hz]"] + ([f"{name} zeta [%]"] if damped else []) + [f"{name} label"]
+        columns.append((r, damped))
     n = max(len(r["frequencies_hz"]) for r in results.values())
+    rows = []
     for k in range(n):
         row = [str(k + 1)]
-        for r in results.values():
-            if k >= len(r["frequencies_hz"]):
-                row.append("")
-                continue
-            z = r["damping_ratio"][k]
-            zeta = f"{100 * z:4.1f}%" if abs(z) >= 5e-4 else "     "
-            row.append(f"{r['frequencies_hz'][k]:8.4f} {zeta} {r['labels'][k]}")
-        table.add_row(*row)
-    return table
+        for r, damped in columns:
+            have = k < len(r["frequencies_hz"])
+            row.append(f"{r['frequencies_hz'][k]:.4f}" if have else "")
+            if damped:
+                row.append(f"{100 * r['damping_ratio'][k]:.2f}" if have else "")
+            row.append(r["labels"][k] if have else "")
+        rows.append(row)
+    print_table(console, title, headers, rows,
+                justify=["right"] + [("left" if h.endswith(" label") else "right") for h in headers[1:]])
 
 
 @app.command()
@@ -166,7 +168,7 @@ def solve(case: str = typer.Argument(..., help="built-in case (cantilever_strip,
             for w in caught:
                 if str(w.message) not in st.cautions + md.cautions:
                     console.print(f"  [yellow]note:[/] {escape(str(w.message))}")
-        console.print(_modes_table(f"{title}: pre-stressed modes", results))
+        _modes_table(f"{title}: pre-stressed modes", results)
         if out is not None:
             _write_figures(out, title, states, mode_sets)
         if json_path is not None:
@@ -196,35 +198,38 @@ def _write_figures(out: Path, title: str, states: dict, mode_sets: dict) -> list
 def demo(out: Path = typer.Option(Path("demo-output"), help="folder for the project, its data and results"),
          json_path: Optional[Path] = typer.Option(None, "--json", help="write per-mode prediction errors as JSON"),
          seed: int = typer.Option(7, help="seed of the as-built airframe and of the measurement noise"),
-         report: bool = typer.Option(True, help="write the HTML report (--no-report to skip)")):
+         report: bool = typer.Option(True, help="write the HTML report (--no-report to skip)"),
+         fresh: bool = typer.Option(False, "--fresh/--continue", help="--fresh: discard what an earlier demo "
+                                    "in --out stored; --continue (the default): resume from it"),
+         verbose: bool = typer.Option(False, "--verbose", "-v", help="print every optimiser iteration")):
     """The whole method on the X-HALE-like aircraft: synthetic GVT of the as-built airframe in two
     suspension layouts, PolyMAX, updating on both at once (30 variables), suspension removed,
     free-free and 20 m bungee predictions scored against the as-built truth, report."""
     from ..workflow.demo import SCORED_MODES, demo_figures, demo_project
-    from .workflow import prediction_table, run_with_progress
+    from .workflow import print_prediction, run_with_progress
 
-    def job(log):
+    def job(log, iteration):
         from ..report import write_project_report
         from ..workflow import run
         t0 = time.perf_counter()
         project = demo_project(out, seed=seed, progress=log)
         t_data = time.perf_counter() - t0
-        res = run(project, progress=log)
+        res = run(project, progress=log, iterations=iteration, fresh=fresh)
         if report:  # the face renders; the workflow only returns results
             write_project_report(res)
         return demo_figures(res, out, seed, t_data, t0)
     try:
         console.rule("[bold]flexgvt demo: X-HALE-like aircraft, GVT on two suspension layouts[/]")
-        result = run_with_progress(console, job)
+        result = run_with_progress(console, job, verbose)
         for name, c in result["configurations"].items():
             console.print(f"configuration '{name}': rms frequency error {c['initial_rms_error_percent']:.2f} % "
                           f"(initial model) -> {c['updated_rms_error_percent']:.2f} % (updated), {c['modes']} modes")
         for key, rows in result["free_free"].items():
-            console.print(prediction_table(f"free-free prediction of the {key} model against the as-built truth "
-                                           f"(first {SCORED_MODES} elastic modes, paired by MAC)", rows))
+            print_prediction(console, f"free-free prediction of the {key} model against the as-built truth "
+                             f"(first {SCORED_MODES} elastic modes, paired by MAC)", rows)
         for name, by_model in result["bungees"].items():
-            console.print(prediction_table(f"{name} (20 m bungees): updated model against the as-built truth",
-                                           by_model.get("updated", by_model.get("initial"))))
+            print_prediction(console, f"{name} (20 m bungees): updated model against the as-built truth",
+                             by_model.get("updated", by_model.get("initial")))
         worst = result["max_abs_error_percent"]
         console.print("largest free-free error: " + ", ".join(f"{k} model {v:.2f} %" for k, v in worst.items()))
         if "report" in result["files"]:
