@@ -53,6 +53,18 @@ def split_columns(widths: Sequence[int], key: int, width: int) -> list[list[int]
     return parts
 
 
+def _widen(widths: list[int], full: list[int], width: int) -> list[int]:
+    """Column widths grown from ``widths`` towards ``full`` (headers unbroken) while the table fits
+    ``width``; the spare columns go to the headers that need the fewest."""
+    out = list(widths)
+    spare = width - _table_width(out)
+    for k in sorted(range(len(out)), key=lambda k: full[k] - out[k]):
+        grow = min(max(spare, 0), full[k] - out[k])
+        out[k] += grow
+        spare -= grow
+    return out
+
+
 def tables(title: str, headers: Sequence[str], rows: Sequence[Sequence], *, key: int = 1, width: int = 80,
            justify: Sequence[str] | None = None) -> list[Table]:
     """``rows`` (cells: str, int, float with 4 decimals, None as blank) under ``headers`` as one rich
@@ -60,14 +72,15 @@ def tables(title: str, headers: Sequence[str], rows: Sequence[Sequence], *, key:
     and titled "(part i of n)". Text is never read as markup."""
     cells = [[_cell(v) for v in r] for r in rows]
     widths = [_column_width(h, [r[j] for r in cells if j < len(r)]) for j, h in enumerate(headers)]
+    full = [max(w, len(h)) for w, h in zip(widths, headers)]  # the header on one line
     parts = split_columns(widths, key, width)
     out = []
     for n, part in enumerate(parts):
         name = title if len(parts) == 1 else f"{title} (part {n + 1} of {len(parts)})"
         t = Table(title=Text(name), title_justify="left")
-        for j in part:
-            t.add_column(Text(headers[j]), justify=(justify[j] if justify else _RIGHT), min_width=widths[j],
-                         overflow="fold")
+        fixed = _widen([widths[j] for j in part], [full[j] for j in part], width)
+        for j, w in zip(part, fixed):
+            t.add_column(Text(headers[j]), justify=(justify[j] if justify else _RIGHT), width=w, overflow="fold")
         for r in cells:
             t.add_row(*[Text(r[j] if j < len(r) else "") for j in part])
         out.append(t)

@@ -48,7 +48,8 @@ def print_prediction(console: Console, title: str, rows: list[dict]) -> None:
     mode and label repeated in each part)."""
     from .tables import print_table
     headers, cells = prediction_rows(rows)
-    print_table(console, title, headers, cells, key=2 if len(headers) > 1 and headers[1] == "label" else 1)
+    print_table(console, title, headers, cells, key=2 if len(headers) > 1 and headers[1] == "label" else 1,
+                justify=["left" if h == "label" else "right" for h in headers])
 
 
 def run_with_progress(console: Console, job, verbose: bool = False):
