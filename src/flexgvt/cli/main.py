@@ -27,6 +27,7 @@ except ImportError:  # not installed in this build
 if ema_app is not None:
     app.add_typer(ema_app, name="ema")
 
+from .show import register as _register_show  # noqa: E402
 from .suspension import app as _suspension_app  # noqa: E402
 from .verify import register as _register_verify  # noqa: E402
 from .workflow import register as _register_workflow  # noqa: E402
@@ -55,6 +56,7 @@ def _main(version: bool = typer.Option(False, "--version", callback=_version, is
 
 _register_verify(app, console)
 _register_workflow(app, console)
+_register_show(app, console)
 
 
 def _fail(exc: Exception) -> None:
