@@ -25,7 +25,10 @@ def _g(v: float) -> str:
 
 
 def _vec(v) -> str:
-    return "(" + ", ".join(_g(float(x) + 0.0) for x in np.ravel(v)) + ")"  # + 0.0: no "-0"
+    """A vector to 6 digits; round-off below 1e-12 of its largest entry shown as 0 (and no "-0")."""
+    v = np.asarray(v, float).ravel()
+    v = np.where(np.abs(v) <= 1e-12 * np.abs(v).max(initial=0.0), 0.0, v) + 0.0
+    return "(" + ", ".join(_g(x) for x in v) + ")"
 
 
 def _load(target: str, units: str, allow_unsupported: bool, notes: list[str]):
