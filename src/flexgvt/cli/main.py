@@ -135,7 +135,7 @@ def solve(case: str = typer.Argument(..., help="built-in case (cantilever_strip,
                 deck = read_bdf(case, units=system, unsupported="warn" if allow_unsupported else "error",
                                 cbar_torsional_inertia=cbar_torsional_inertia)
             for w in caught:
-                console.print(f"[yellow]note:[/] {w.message}")
+                console.print(f"[yellow]note:[/] {escape(str(w.message))}")
             model, configurations, title = deck.model, deck.configurations, Path(case).name
             methods = deck.methods
         else:
@@ -175,7 +175,7 @@ def solve(case: str = typer.Argument(..., help="built-in case (cantilever_strip,
             _write_figures(out, title, states, mode_sets)
         if json_path is not None:
             json_path.write_text(json.dumps({"case": title, "configurations": results}, indent=2))
-            console.print(f"results written to {json_path}")
+            console.print(f"results written to {json_path}", markup=False, highlight=False)
     except FlexGVTError as exc:
         _fail(exc)
 
@@ -239,7 +239,7 @@ def demo(out: Path = typer.Option(Path("demo-output"), help="folder for the proj
         console.print(f"done in {result['timings_s']['total']:.1f} s; everything in {out}/")
         if json_path is not None:
             json_path.write_text(json.dumps(result, indent=1, default=float))
-            console.print(f"results written to {json_path}")
+            console.print(f"results written to {json_path}", markup=False, highlight=False)
     except FlexGVTError as exc:
         _fail(exc)
 

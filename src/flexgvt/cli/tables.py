@@ -25,10 +25,15 @@ def _cell(v, digits: int = 4) -> str:
     return str(v)
 
 
+WRAP = 40  # text cells longer than this (with spaces) wrap at spaces; numbers never do
+
+
 def _column_width(header: str, cells: Sequence[str]) -> int:
-    """The narrowest width that shows every cell on one line and breaks the header only at spaces."""
-    words = max((len(w) for w in header.split()), default=0)
-    return max([words, *(len(c) for c in cells)])
+    """The narrowest width that shows every number on one line, wraps text longer than WRAP
+    characters at spaces and breaks the header only at spaces."""
+    words = [len(w) for text in (header, *cells) for w in text.split()]
+    lines = [len(line) if " " not in line else min(len(line), WRAP) for c in cells for line in c.splitlines()]
+    return max([0, *words, *lines])
 
 
 def _table_width(widths: Sequence[int]) -> int:

@@ -120,10 +120,11 @@ def register(app: typer.Typer, console: Console) -> None:
             res = run_with_progress(console, job, verbose)
             for key, pred in res.predictions.items():
                 print_prediction(console, f"free-flying prediction, {key} model", pred.rows)
-            console.print(f"outputs in {p.output}/: " + ", ".join(Path(f).name for f in res.files.values()))
+            console.print(f"outputs in {p.output}/: " + ", ".join(Path(f).name for f in res.files.values()),
+                          markup=False, highlight=False)
             if json_path is not None:
                 json_path.write_text(json.dumps(res.to_dict(), indent=1))
-                console.print(f"results written to {json_path}")
+                console.print(f"results written to {json_path}", markup=False, highlight=False)
         except (FlexGVTError, OSError) as exc:
             fail(console, exc)
 
@@ -140,10 +141,12 @@ def register(app: typer.Typer, console: Console) -> None:
             if path.exists() and not force:
                 raise FlexGVTError(f"{path} exists; use --force to overwrite it")
             if data:
-                files = write_example(folder, progress=console.print)
-                console.print(f"synthetic GVT written: {', '.join(Path(f).name for f in files)}")
+                files = write_example(folder, progress=lambda s: console.print(s, markup=False))
+                console.print(f"synthetic GVT written: {', '.join(Path(f).name for f in files)}", markup=False,
+                              highlight=False)
             else:
                 path.write_text(example_project())
-            console.print(f"example project written to {path}; run it with `flexgvt run {path}`")
+            console.print(f"example project written to {path}; run it with `flexgvt run {path}`", markup=False,
+                          highlight=False)
         except (FlexGVTError, OSError) as exc:
             fail(console, exc)
