@@ -78,6 +78,8 @@ def test_units_are_never_read_as_markup():
     assert "mass [kg] at [m]" in text and "[kg]" in text and "[m]" in text and "[bold]x[/bold]" in text
     help_text = runner.invoke(app, ["suspension", "identify", "--help"], env=NARROW).output
     assert "block mass [kg]" in help_text and "time [s]" in help_text and "times [s]" in help_text
+    table = runner.invoke(app, ["suspension", "identify", "--mass", "1", "--peaks", "0,1,2,3"], env=NARROW).output
+    assert "block mass [kg]" in table and "K [N/m]" in table and "C [N s/m]" in table
     run_help = runner.invoke(app, ["run", "--help"], env=NARROW).output
     assert "--fresh / --continue" in run_help and "--verbose" in run_help
 
