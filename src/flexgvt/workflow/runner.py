@@ -344,7 +344,8 @@ def limit_note(result, project: Project) -> str:
     if len(hist) > 10 and hist[-11] > 0:
         tail = (f"; the objective fell {100 * (hist[-11] - hist[-1]) / hist[-11]:.2g} % over the last 10 "
                 "iterations")
-    return (f"note: the updating stopped before its tolerance ({opt.tolerance:g}): {result.message}{tail}. Raise "
+    return (f"note: the updating stopped before its tolerance ({opt.tolerance:g}): {str(result.message).rstrip('.')}"
+            f"{tail}. Raise "
             f"[optimiser] max_iterations (now {opt.max_iterations}) or the tolerance and rerun: the run continues "
             "from its stored point")
 
