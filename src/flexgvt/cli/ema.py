@@ -41,7 +41,7 @@ def _read(path, drop_incomplete: bool):
         warnings.simplefilter("ignore", FlexGVTWarning)
         data = read_uff(path, drop_incomplete=drop_incomplete)
     for line in data.dropped:
-        console.print(f"[yellow]dropped[/] ({path.name}): {escape(line)}", soft_wrap=True)
+        console.print(f"[yellow]dropped[/] ({escape(path.name)}): {escape(line)}", soft_wrap=True)
     return data
 
 
@@ -199,7 +199,8 @@ def frf(path: Path = typer.Argument(..., help="UFF file with simultaneous time h
         console.print(f"{frfs.H.shape[1]} responses x {frfs.H.shape[2]} reference(s) ({names}), "
                       f"{len(frfs.frequencies_hz)} lines to {frfs.frequencies_hz[-1]:.4g} Hz, {estimator}, "
                       f"{frfs.n_averages} averages" + ("" if coh is None else
-                                                       f", median coherence {np.median(coh):.3f}"))
+                                                       f", median coherence {np.median(coh):.3f}"),
+                      markup=False, highlight=False)
         console.print(f"FRFs written to {out}", soft_wrap=True, markup=False, highlight=False)
     except (FlexGVTError, OSError) as exc:
         fail(console, exc)

@@ -192,7 +192,7 @@ def _write_figures(out: Path, title: str, states: dict, mode_sets: dict) -> list
         fig = plots.mode_shapes(md, 6, f"{title} - {name}")
         files.append(out / f"modes_{name}.png")
         fig.savefig(files[-1], dpi=120)
-    console.print("figures: " + ", ".join(str(f) for f in files))
+    console.print("figures: " + ", ".join(str(f) for f in files), markup=False, highlight=False)
     return files
 
 
@@ -235,8 +235,9 @@ def demo(out: Path = typer.Option(Path("demo-output"), help="folder for the proj
         worst = result["max_abs_error_percent"]
         console.print("largest free-free error: " + ", ".join(f"{k} model {v:.2f} %" for k, v in worst.items()))
         if "report" in result["files"]:
-            console.print(f"report: {result['files']['report']}")
-        console.print(f"done in {result['timings_s']['total']:.1f} s; everything in {out}/")
+            console.print(f"report: {result['files']['report']}", markup=False, highlight=False)
+        console.print(f"done in {result['timings_s']['total']:.1f} s; everything in {out}/", markup=False,
+                      highlight=False)
         if json_path is not None:
             json_path.write_text(json.dumps(result, indent=1, default=float))
             console.print(f"results written to {json_path}", markup=False, highlight=False)
