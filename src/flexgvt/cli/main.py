@@ -225,7 +225,8 @@ def demo(out: Path = typer.Option(Path("demo-output"), help="folder for the proj
         result = run_with_progress(console, job, verbose)
         for name, c in result["configurations"].items():
             console.print(f"configuration '{name}': rms frequency error {c['initial_rms_error_percent']:.2f} % "
-                          f"(initial model) -> {c['updated_rms_error_percent']:.2f} % (updated), {c['modes']} modes")
+                          f"(initial model) -> {c['updated_rms_error_percent']:.2f} % (updated), {c['modes']} modes",
+                          markup=False, highlight=False)
         for key, rows in result["free_free"].items():
             print_prediction(console, f"free-free prediction of the {key} model against the as-built truth "
                              f"(first {SCORED_MODES} elastic modes, paired by MAC)", rows)
