@@ -339,15 +339,18 @@ def _update(project: Project, identified: dict, store: Path, log, iterations):
 def limit_note(result, project: Project) -> str:
     """Why an updating stopped before its tolerance, and what to do: the line the run prints."""
     opt = project.spec.optimiser
+    message = str(result.message).rstrip(".")
     hist = [r["objective"] for r in result.history]
     tail = ""
     if len(hist) > 10 and hist[-11] > 0:
         tail = (f"; the objective fell {100 * (hist[-11] - hist[-1]) / hist[-11]:.2g} % over the last 10 "
                 "iterations")
-    return (f"note: the updating stopped before its tolerance ({opt.tolerance:g}): {str(result.message).rstrip('.')}"
-            f"{tail}. Raise "
-            f"[optimiser] max_iterations (now {opt.max_iterations}) or the tolerance and rerun: the run continues "
-            "from its stored point")
+    if "maximum number" in message.lower() or "iteration limit" in message.lower():
+        advice = (f"Raise [optimiser] max_iterations (now {opt.max_iterations}) or the tolerance and rerun: the "
+                  "run continues from its stored point")
+    else:
+        advice = "The answer is the best point reached; see the optimiser's message above"
+    return f"note: the updating stopped before its tolerance ({opt.tolerance:g}): {message}{tail}. {advice}"
 
 
 STALE = "stale-outputs"
