@@ -156,7 +156,7 @@ def resolve(path: Path, spec: ProjectFile, pretest: bool = False) -> Project:
     else:
         bdf = _need_file(rel(spec.model.bdf, f"{where}: model.bdf"), f"{where}: model.bdf", "deck")
         deck = _read_deck(bdf, spec.model, where)
-        model, available = deck.model, dict(deck.configurations)
+        model, available = deck.model, deck.configurations  # it also answers a labelled subcase's subcase_<id>
 
     names = [c.name for c in spec.configurations]
     for kind, items in (("configurations", names), ("variables", [v.name for v in spec.variables]),

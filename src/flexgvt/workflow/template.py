@@ -100,8 +100,8 @@ mac_floor = 0.5            # pairs below this MAC are not paired
 method = "least_squares"   # least_squares (Levenberg-Marquardt, then bounded), dogbox, trf, slsqp,
                            # trust-constr, nelder-mead
 starts = 1                 # multi-start
-max_iterations = 60        # function evaluations (default 100)
-tolerance = 1e-8           # on the cost, step and gradient (default 1e-10)
+max_iterations = 100       # function evaluations (the default)
+tolerance = 1e-4           # relative, on the cost, step and gradient (default 1e-10): 1e-4 is a 0.01 % step
 
 [prediction]               # suspension removed: free-free modes, and proposed suspensions
 free_free = true

@@ -33,12 +33,61 @@ class Cases:
     constraint_sources: tuple[int, ...]
 
 
+def _label(sub) -> str:
+    """A case control subcase's LABEL text ('' when none)."""
+    if sub is None or "LABEL" not in sub.params:
+        return ""
+    value = sub.get_parameter("LABEL")[0]
+    return str(value).strip() if value is not None else ""
+
+
+def subcase_names(labels: dict[int, str], inherited: str = "") -> dict[int, str]:
+    """Configuration name per subcase id: the subcase's own LABEL (one the global LABEL, which every
+    subcase inherits, does not explain), else 'subcase_<id>'. A LABEL two subcases share, or one
+    that is another subcase's 'subcase_<id>', falls back to 'subcase_<id>': names stay unique."""
+    own = {sid: lab for sid, lab in labels.items() if lab and lab != inherited}
+    taken = [lab for lab in own.values()]
+    fallback = {f"subcase_{sid}" for sid in labels}
+    return {sid: own[sid] if sid in own and taken.count(own[sid]) == 1 and own[sid] not in fallback
+            else f"subcase_{sid}" for sid in labels}
+
+
+class Named(dict):
+    """A dict keyed by configuration name that also answers a labelled subcase's old name
+    'subcase_<id>' (with a DeprecationWarning naming the new one)."""
+
+    def __init__(self, items=(), aliases: dict[str, str] | None = None):
+        super().__init__(items)
+        self.aliases = dict(aliases or {})
+
+    def _new(self, key):
+        name = self.aliases.get(key) if isinstance(key, str) else None
+        if name is not None and name in self.keys():
+            import warnings
+            warnings.warn(f"configuration '{key}' is now named after its subcase's LABEL: '{name}'",
+                          DeprecationWarning, stacklevel=3)
+        return name
+
+    def __missing__(self, key):
+        name = self._new(key)
+        if name is None:
+            raise KeyError(key)
+        return self[name]
+
+    def __contains__(self, key) -> bool:
+        return super().__contains__(key) or (isinstance(key, str) and self.aliases.get(key) in self.keys())
+
+    def get(self, key, default=None):
+        return self[key] if key in self else default
+
+
 def read_subcases(deck: Deck, model: Model, log: Findings, parts: Parts) -> Cases:
     """The configurations of a model all structure families have read (AUTOSPC needs its elements)."""
     reader = _Subcases(deck, model, log, parts.element_ids)
     reader.read()
-    return Cases(reader.configurations, reader.subcases, reader.methods, reader.n_modes,
-                 tuple(reader.constraint_sources))
+    aliases = {f"subcase_{sid}": name for name, sid in reader.subcases.items() if name != f"subcase_{sid}"}
+    return Cases(*(Named(d, aliases) for d in (reader.configurations, reader.subcases, reader.methods,
+                                               reader.n_modes)), tuple(reader.constraint_sources))
 
 
 class _Subcases:
@@ -65,7 +114,8 @@ class _Subcases:
         subcases = {} if ccd is None else dict(ccd.subcases)
         numbered = {k: v for k, v in subcases.items() if k > 0}
         if numbered:
-            return [(f"subcase_{sid}", sub, sid) for sid, sub in sorted(numbered.items())]
+            names = subcase_names({sid: _label(sub) for sid, sub in numbered.items()}, _label(subcases.get(0)))
+            return [(names[sid], sub, sid) for sid, sub in sorted(numbered.items())]
         if 0 in subcases and subcases[0].params:
             return [(self.deck.path.stem, subcases[0], 0)]
         return [(self.deck.path.stem, None, 0)]
