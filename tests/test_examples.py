@@ -28,7 +28,8 @@ def test_xhale_lab(tmp_path):
     out = _load(EXAMPLES / "xhale_lab" / "run.py").main(["--out", str(tmp_path / "o"), "--json",
                                                           str(tmp_path / "x.json"), "--no-report"])
     saved = json.loads((tmp_path / "x.json").read_text())
-    assert set(saved) == {"configurations", "rms_error_percent", "prediction", "variables", "timings_s", "files"}
+    assert set(saved) == {"configurations", "rms_error_percent", "prediction", "prediction_modes",
+                          "prediction_uncertainty", "variables", "timings_s", "files"}
     # The project written reads its own copy of the shipped table.
     assert json.loads((tmp_path / "o" / "xhale_lab_gvt.json").read_text()) == __import__("flexgvt").data.load(
         "xhale_lab_gvt")
@@ -39,6 +40,12 @@ def test_xhale_lab(tmp_path):
         assert s["updated_hz"] < s["initial_hz"], c
         assert s["updated_hz"] < s["original_updated_hz"] + 1.0, c
     assert out["prediction"][0]["label"] == "1 OOP" and 0.85 < out["prediction"][0]["free_hz"] < 0.95
+    # Every predicted frequency has its 95 % interval; every mode of a predicted configuration is
+    # listed, the bungees' second torsion near 6.2 Hz (no free-free partner) too.
+    assert all(r["free_low_hz"] < r["free_hz"] < r["free_high_hz"] for r in saved["prediction"])
+    torsion = [m for m in saved["prediction_modes"]["bungee_outboard"] if 6.0 < m["frequency_hz"] < 6.4]
+    assert len(torsion) == 1 and torsion[0]["free_mode"] is None and torsion[0]["mac"] is None
+    assert torsion[0]["low_hz"] < torsion[0]["frequency_hz"] < torsion[0]["high_hz"]
 
 
 def test_strip_366_gvt(tmp_path):

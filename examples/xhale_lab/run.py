@@ -1,6 +1,7 @@
 """The X-HALE lab GVT (measured, shipped: fg.data.load("xhale_lab_gvt")): update the X-HALE-like model on
 both suspension layouts at once (30 variables, the original work's set), then predict the
-free-flying modes with the suspension removed and on the 20 m bungees of the free-flying test.
+free-flying modes with the suspension removed and on the 20 m bungees of the free-flying test, each
+with its 95 % confidence interval, and list every mode of each predicted configuration.
 
     python examples/xhale_lab/run.py --out xhale-lab --json xhale-lab.json [--data my_table.json]
 
@@ -97,14 +98,42 @@ def main(argv=None) -> dict:
     for c, s in summary.items():
         print(f"  {c}: original work initial {s['original_initial_hz']:.2f}, updated {s['original_updated_hz']:.2f}; "
               f"flexgvt initial {s['initial_hz']:.2f}, updated {s['updated_hz']:.2f}")
-    pred = res.predictions["updated"].rows
-    keys = [k for k in pred[0] if k.endswith("_hz") and k != "free_hz"]
-    print("\nfree-flying prediction (updated model) [Hz]: free-free, then each layout's mode paired by MAC")
-    print(f"{'mode':<10} {'free-free':>9} " + " ".join(f"{k[:-3]:>16}" for k in keys))
+    prediction = res.predictions["updated"]
+    pred = prediction.rows
+    keys = [k[:-3] for k in pred[0] if k.endswith("_hz") and not k.endswith(("_low_hz", "_high_hz"))
+            and k != "free_hz"]
+    bounds = prediction.uncertainty
+    if bounds and "failed" in bounds:
+        print(f"\nconfidence bounds not computed: {bounds['failed']}")
+        bounds = None
+    level = f"{100 * bounds['confidence']:g} %" if bounds else ""
+    print("\nfree-flying prediction (updated model) [Hz]: free-free, then each layout's mode paired by MAC"
+          + (f"; [low, high]: {level} interval ({bounds['method']}, sigma from {bounds['sigma_source']})"
+             if bounds else ""))
+
+    def cell(r: dict, key: str, width: int) -> str:
+        f = r.get(f"{key}_hz")
+        if f is None:
+            return " " * width
+        lo, hi = r.get(f"{key}_low_hz"), r.get(f"{key}_high_hz")
+        text = f"{f:.3f}" + ("" if lo is None or hi is None else f" [{lo:.3f}, {hi:.3f}]")
+        return f"{text:>{width}}"
+
+    w = 23 if bounds else 9
+    print(f"{'mode':<10} {'free-free':>{w}} " + " ".join(f"{k:>{w}}" for k in keys))
     for r in pred:
-        print(f"{r['label']:<10} {r['free_hz']:9.3f} " + " ".join(
-            f"{r[k]:16.3f}" if r.get(k) is not None else f"{'':>16}" for k in keys))
+        print(f"{r['label']:<10} {cell(r, 'free', w)} " + " ".join(cell(r, k, w) for k in keys))
+    print("\nevery mode of each predicted configuration (free-free partner by mass-weighted MAC; '-': none)")
+    for name, modes in prediction.modes.items():
+        print(f"  {name}:")
+        for m in modes:
+            if m["suspension"]:
+                continue
+            iv = "" if m.get("low_hz") is None else f" [{m['low_hz']:.3f}, {m['high_hz']:.3f}]"
+            partner = "-" if m["free_mode"] is None else f"{m['free_label']} (MAC {m['mac']:.3f})"
+            print(f"    {m['label']:<10} {m['frequency_hz']:8.3f}{iv:<20}  free-free: {partner}")
     out = {"configurations": rows, "rms_error_percent": summary, "prediction": pred,
+           "prediction_modes": prediction.modes, "prediction_uncertainty": prediction.uncertainty,
            "variables": res.update.variables, "timings_s": res.timings, "files": res.files}
     if args.json is not None:
         args.json.write_text(json.dumps(out, indent=1, default=float))

@@ -31,6 +31,15 @@ class ConvergenceError(SolverError):
         self.history = history
 
 
+class InstabilityError(ConvergenceError):
+    """The load path lost stability (StaticSettings(buckling="stop")): ``state`` holds the last
+    stable equilibrium, ``instability`` where and how it was lost (fem.stability.Instability)."""
+
+    def __init__(self, message: str, state=None, history=None, instability=None):
+        super().__init__(message, state, history)
+        self.instability = instability
+
+
 class SingularModelError(SolverError):
     """The stiffness matrix is singular: the model is under-constrained or has a mechanism."""
 

@@ -35,7 +35,8 @@ def test_init_with_data_then_run(tmp_path):
     result = runner.invoke(app, ["run", str(tmp_path / "project.toml"), "--no-report", "--json", str(out)])
     assert result.exit_code == 0, result.output
     data = json.loads(out.read_text())
-    assert set(data) == {"project", "timings_s", "resumed", "identified", "updating", "checks", "prediction", "files"}
+    assert set(data) == {"project", "timings_s", "resumed", "identified", "updating", "checks", "prediction",
+                         "prediction_modes", "prediction_uncertainty", "files"}
     rows = data["prediction"]["updated"]
     assert all("reference_hz" in r for r in rows[:7]) and max(abs(r["error_percent"]) for r in rows[:7]) < 2.0
     assert "free-flying prediction, updated model" in result.output

@@ -187,3 +187,13 @@ def test_a_far_mode_with_a_high_mac_is_not_paired():
     assert pair(meas, fe_far).unpaired == (0,)
     with pytest.raises(ModelError, match="max_frequency_ratio"):
         pair(meas, fe, max_frequency_ratio=1.0)
+
+
+def test_comac_against_a_hand_computed_case():
+    """Modes a = [1, 1], [1, -1] against b = [1, 1], [1, 0] (scale factors 1 and 1): DOF 1 sees
+    |1 + 1|^2 / (2 * 2) = 1, DOF 2 sees |1 * 1 - 1 * 0|^2 / (2 * 1) = 0.5; pairs pick the columns."""
+    a = np.array([[1.0, 1.0], [1.0, -1.0]])
+    b = np.array([[1.0, 1.0], [1.0, 0.0]])
+    np.testing.assert_allclose(comac(a, b), [1.0, 0.5])
+    np.testing.assert_allclose(comac(a, b[::-1], pairs=([0, 1], [1, 0])), [1.0, 0.5])
+    np.testing.assert_allclose(comac(a, 2j * b), [1.0, 0.5])  # complex scale factors are taken out

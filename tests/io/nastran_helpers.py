@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 
 from flexgvt.model import Model, TaperedSection
@@ -98,3 +100,22 @@ def rebuild(model: Model, material=None, section=None, mass=None, spring=None) -
     for ip in model.interpolations:
         new.add_interpolation(ip.reference, ip.nodes, ip.weights, components=ip.components)
     return new
+
+
+def comparable(obj):
+    """Dataclass values without names (renumbered ids rename cards), arrays as lists, floats to 12 digits."""
+    if dataclasses.is_dataclass(obj):
+        return tuple((f.name, comparable(getattr(obj, f.name))) for f in dataclasses.fields(obj) if f.name != "name")
+    if isinstance(obj, (tuple, list)):
+        return tuple(comparable(v) for v in obj)
+    if isinstance(obj, np.ndarray):
+        return comparable(obj.tolist())
+    if isinstance(obj, float):
+        return float(f"{obj:.12g}")
+    return obj
+
+
+def shell_data(model):
+    """Shell groups as comparable values: nodes, property, theta, material axis, ZOFFS, corners, mass."""
+    return [(g.nodes.tolist(), comparable(g.property), comparable(g.theta), comparable(g.material_axis),
+             comparable(g.zoffs), comparable(g.corner_thickness), g.mass) for g in model.shells]

@@ -149,7 +149,7 @@ def test_rbe3_reads_as_an_interpolation(deck):
 
 
 def test_subcases_constraints_and_loads(deck):
-    c1, c2 = deck.configurations["subcase_1"], deck.configurations["subcase_2"]
+    c1, c2 = deck.configurations["gravity"], deck.configurations["tip loads"]  # the subcases' LABELs
     # SPCADD 101 = SPC1 100 + SPC 100 + SPC1 102 (component 1 of CD 1 is basic y); GRID 9 PS = 6
     assert c1.fixed == {1: "123456", 6: "2", 9: "6", 16: "3", 17: "456"}
     assert c2.fixed == {1: "123456", 9: "6", 16: "3", 17: "456"}
@@ -161,7 +161,7 @@ def test_subcases_constraints_and_loads(deck):
     assert loads["distributed"][(3, 4)] == pytest.approx([0, 0, -25])  # 0.5 x PLOAD1 FZ FR -50
     assert loads["distributed"][(4, 5)] == pytest.approx([0, 10, 0])
     assert loads["distributed"][(5, 6)] == pytest.approx([0, 0, -5])
-    assert deck.n_modes == {"subcase_1": 6, "subcase_2": 6}
+    assert deck.n_modes == {"gravity": 6, "tip loads": 6} and deck.subcases == {"gravity": 1, "tip loads": 2}
 
 
 def test_template_round_trip_is_exact(deck, tmp_path):
@@ -223,7 +223,7 @@ def test_compact_round_trip(deck, tmp_path):
         if g["section"]["Ip"] > 0:  # the CBARs with rho*Ip (fixture option) are written as CBEAMs (noted)
             g["mass"] = "consistent-bending"
     assert_close(a, b, rtol=1e-10)
-    assert list(again.configurations) == ["subcase_1", "subcase_2"]
+    assert list(again.configurations) == ["gravity", "tip loads"]  # written as LABELs, read back as names
     for name, cfg in deck.configurations.items():
         assert_close(config_data(deck.model, cfg), config_data(again.model, again.configurations[name]), rtol=1e-10)
 
@@ -242,5 +242,5 @@ def test_compact_deck_in_other_units(tmp_path):
     assert "1000." in text and "70000." in text  # mm and MPa in the file
     again = read(out, units="mm-N-t-s")
     assert_close(model_data(model), model_data(again.model), rtol=1e-10)
-    assert again.configurations["subcase_1"].gravity_vector == pytest.approx(cfg.gravity_vector)
+    assert again.configurations["hang"].gravity_vector == pytest.approx(cfg.gravity_vector)
     assert ids.tolist() == again.model.node_ids.tolist()

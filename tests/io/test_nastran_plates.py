@@ -12,6 +12,8 @@ import flexgvt as fg
 from flexgvt.errors import ModelError
 from flexgvt.io.nastran import UnsupportedCardsError
 from flexgvt.model import AnisotropicMaterial, Laminate, Material, OrthotropicMaterial, ShellProperty
+from nastran_helpers import comparable as _values
+from nastran_helpers import shell_data
 
 DATA = Path(__file__).parents[1] / "data" / "bdf"
 MM = 1e-3  # m per mm; mm-N-t-s: stress MPa = 1e6 Pa, density t/mm^3 = 1e12 kg/m^3
@@ -164,8 +166,8 @@ MAT8,8,1.5e11,9.e9,0.3,5.e9,,,1600.
     ("CQUAD4,7,5,1,2,3,4\nPSHELL,5,9,0.01\n", ModelError, r"PSHELL 5 MID1 refers to material 9, which is not def"),
     ("CQUAD4,7,5,1,2,4,3\nPSHELL,5,1,0.01\n", ModelError, r"deck.bdf:8: CQUAD4 7: .*zero area or crossing edges"),
     ("CTRIA3,7,5,1,2,3,,,\n,,,0.01,-1.,0.01\nPSHELL,5,1,0.01\n", ModelError,
-     r"deck.bdf:8: CTRIA3 7: .*corner_thickness of element 1 \(nodes \[1, 2, 3\]\) is \[0.01, -1.0, 0.01\]; it "
-     "must be finite and positive"),
+     r"deck.bdf:8: CTRIA3 7: .*corner_thickness of element 1 \(nodes \[1, 2, 3\]\) is \[0.01, -1.0, 0.01\]; each "
+     "must be >= 0 and at least one positive"),
     ("CQUAD8,7,5,1,2,3,4\nCHEXA,8,5,1,2,3,4,1,2\n,3,4\nCSHEAR,9,5,1,2,3,4\nPSHELL,5,1,0.01\n",
      UnsupportedCardsError, r"CHEXA: 8; CQUAD8: 7; CSHEAR: 9 \(CHEXA: solids: .*CQUAD8: 8-node quads: remesh with "
                             r"CQUAD4; CSHEAR: shear panels"),
@@ -182,24 +184,6 @@ def test_shell_group_name_addresses_the_property(plates):
     assert plates.shells["PCOMPG_4_CTRIA3"].property_card == "PCOMPG" and plates.model.shells[k].ids.size == 1
 
 
-def _values(obj):
-    """Dataclass values without names (renumbered ids rename cards), arrays as lists, floats to 12 digits."""
-    if dataclasses.is_dataclass(obj):
-        return tuple((f.name, _values(getattr(obj, f.name))) for f in dataclasses.fields(obj) if f.name != "name")
-    if isinstance(obj, (tuple, list)):
-        return tuple(_values(v) for v in obj)
-    if isinstance(obj, np.ndarray):
-        return _values(obj.tolist())
-    if isinstance(obj, float):
-        return float(f"{obj:.12g}")
-    return obj
-
-
-def shell_data(model):
-    return [(g.nodes.tolist(), _values(g.property), _values(g.theta), _values(g.material_axis), _values(g.zoffs),
-             _values(g.corner_thickness), g.mass) for g in model.shells]
-
-
 def test_template_shells_keep_their_mat1_when_the_rods_change_it(tmp_path):
     """Goland: CROD and PSHELL share MAT1 1; a stiffer rod material must not reach the skins."""
     deck = read(DATA / "pynastran" / "goland" / "goland_final_test.bdf")
@@ -211,3 +195,44 @@ def test_template_shells_keep_their_mat1_when_the_rods_change_it(tmp_path):
         back = read(fg.io.write_bdf(changed, tmp_path / "g.bdf", template=deck))
     assert sorted(shell_data(back.model)) == sorted(shell_data(deck.model))
     assert {g.material.E for g in back.model.beams} == {2 * 1.4976e9}
+
+
+MEMBRANES = """SOL 103
+CEND
+BEGIN BULK
+GRID,1,,0.,0.,0.
+GRID,2,,1.,0.,0.
+GRID,3,,1.,1.,0.
+GRID,4,,0.,1.,0.
+GRID,5,,0.,1.,1.
+GRID,6,,0.,0.,1.
+GRID,7,,2.,0.,0.
+GRID,8,,3.,1.,0.
+GRID,9,,3.,1.,1.
+GRID,10,,2.,0.,1.
+GRID,11,,5.,0.,0.
+GRID,12,,6.,0.,0.
+CQUAD4,1,1,1,2,3,4
+CQUAD4,2,1,1,4,5,6
+CQUAD4,3,1,7,8,9,10
+CTRIA3,4,2,11,12,8
+PSHELL,1,1,0.001
+PSHELL,2,1,0.001,1
+MAT1,1,7.e10,,0.3,2700.
+ENDDATA
+"""
+
+
+def test_membrane_nodes_keep_their_drilling_rotations(tmp_path):
+    """A membrane (PSHELL without MID2) stiffens only the rotation about its normal (flexgvt's drilling
+    DOF): the other rotations are fixed, in basic axes; at an edge of two membranes (normals z and x)
+    only the rotation about y; on a membrane whose in-plane axes are not basic, all three; a node of a
+    bending plate keeps all three free."""
+    path = tmp_path / "membranes.bdf"
+    path.write_text(MEMBRANES)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        deck = fg.io.read_bdf(path)
+    fixed = next(iter(deck.configurations.values())).fixed
+    assert fixed == {1: "5", 4: "5", 2: "45", 3: "45", 5: "56", 6: "56", 7: "456", 9: "456", 10: "456"}
+    assert "the drilling rotation about a membrane's normal stays free" in str(caught[0].message)

@@ -18,6 +18,7 @@ READ_BEFORE = {
     "CORD1C", "CORD1S", "SPC", "SPC1", "SPCADD", "LOAD", "MPC", "MPCADD", "SUPORT", "SUPORT1", "CMASS1", "CMASS2",
     "PMASS"}
 PLATE_CARDS = {"CQUAD4", "CTRIA3", "CQUADR", "CTRIAR", "PSHELL", "PCOMP", "PCOMPG", "MAT2", "MAT8"}
+REDUCTION_CARDS = {"ASET", "ASET1", "OMIT", "OMIT1"}
 
 PLATE = """SOL 103
 CEND
@@ -39,9 +40,9 @@ def test_each_card_is_read_by_one_family_and_the_set_is_unchanged():
     names = [card for family in _registry.FAMILIES for card in family.cards]
     names += list(_registry.DECK_CARDS) + list(_registry.CASE_CARDS)
     assert len(names) == len(set(names)), "a card is claimed by two families"
-    assert _registry.READ_CARDS == READ_BEFORE | PLATE_CARDS
+    assert _registry.READ_CARDS == READ_BEFORE | PLATE_CARDS | REDUCTION_CARDS
     assert [f.name for f in _registry.FAMILIES] == ["materials", "beams", "rods", "plates", "masses", "springs",
-                                                    "rigid"]
+                                                    "rigid", "reduction"]
 
 
 def test_a_new_family_plugs_in_through_the_registry(tmp_path, monkeypatch):

@@ -71,7 +71,12 @@ def test_bad_properties_say_what_to_do():
     with pytest.raises(ModelError, match="give property=.*or material= and thickness="):
         m.add_shells(quads, material=AL)
     with pytest.raises(ModelError, match=r"corner_thickness of element 2 \(nodes \[2, 3, 6, 5\]\)"):
-        m.add_shells(quads[:2], material=AL, thickness=1e-3, corner_thickness=[[1e-3] * 4, [1e-3, 0, 1e-3, 1e-3]])
+        m.add_shells(quads[:2], material=AL, thickness=1e-3, corner_thickness=[[1e-3] * 4, [1e-3, -1e-3, 1e-3, 1e-3]])
+    with pytest.raises(ModelError, match=r"element 1 \(nodes \[1, 2, 5, 4\]\) is \[0.0, 0.0, 0.0, 0.0\]; each must be "
+                       ">= 0 and at least one positive"):
+        m.add_shells(quads[:1], material=AL, thickness=1e-3, corner_thickness=[[0.0] * 4])
+    tapered = m.add_shells(quads[:1], material=AL, thickness=1e-3, corner_thickness=[[0.0, 0.0, 1e-3, 1e-3]])
+    assert m.shells[-1].corner_thickness.tolist() == [[0.0, 0.0, 1e-3, 1e-3]] and len(tapered) == 1
     with pytest.raises(ModelError, match="laminate 'l': ply 2 has no material"):
         Laminate("l", [Ply(CFRP, 1e-4), Ply(None, 1e-4)])
     with pytest.raises(ModelError, match="laminate 'l': ply 1 thickness=0.0"):

@@ -228,3 +228,62 @@ window.addEventListener('load', function () {
     assert got, "the probe did not run"
     expect, moved = float(got.group(1)), float(got.group(2))
     assert expect > 0 and moved == pytest.approx(expect, rel=1e-9)
+
+
+# ---------------------------------------------------------------- design variables, FRFs, auto-MAC, COMAC
+
+def _variables():
+    """Four variables: one moved 3 % +- 1 %, one at its bound, one with a +-2434 % sigma, one the data cannot see."""
+    return [dict(name="E_root", unit="Pa", initial=7e10, updated=7.21e10, change_percent=3.0, std_percent=1.0,
+                 bounds=(0.8, 1.2), at_bound=False, identifiable=True),
+            dict(name="k_tail", unit="N/m", initial=1e4, updated=2e4, change_percent=100.0, std_percent=4.0,
+                 bounds=(0.5, 2.0), at_bound=True, identifiable=True),
+            dict(name="G_tip", unit="Pa", initial=2.6e10, updated=2.5e10, change_percent=-4.0, std_percent=2434.0,
+                 bounds=(0.9, 1.1), at_bound=False, identifiable=True),
+            dict(name="rho_tip", unit="kg/m^3", initial=1600.0, updated=1650.0, change_percent=3.1, std_percent=None,
+                 bounds=(0.9, 1.1), at_bound=False, identifiable=False)]
+
+
+def test_design_variable_chart_keeps_a_huge_sigma_from_squashing_the_others():
+    from flexgvt.report.figures import variable_bars
+
+    d = variable_bars(_variables())
+    assert d["status"] == ["identifiable", "at bound", "sigma > bounds", "not identifiable"]
+    assert d["names"] == ["E_root [Pa]", "k_tail [N/m]", "G_tip [Pa]", "rho_tip [kg/m^3]"]
+    # the +-2434 % bar is drawn to its +-10 % bounds and flagged; the axis is set by the 100 % change
+    assert d["shown"][2] == pytest.approx(10.0) and list(d["clipped"]) == [False, False, True, False]
+    assert d["range"] == pytest.approx((-14.0 - 0.15 * 118.0, 104.0 + 0.5 * 118.0))  # room above for the sigmas
+    alone = variable_bars([dict(r, bounds=None) for r in _variables()[:1] + _variables()[2:3]])
+    assert alone["shown"][1] == pytest.approx(2 * 5.0) and alone["range"][1] < 20  # no bounds: twice the largest change
+
+
+def test_frf_auto_mac_and_comac_sections_render(tmp_path):
+    from flexgvt.report import FRFComparison
+
+    f = np.linspace(0.5, 9.0, 300)
+    H = np.column_stack([1 / (fk**2 - f**2 + 0.05j * fk * f) for fk in (1.2, 3.4)])
+    comp = FRFComparison("10+Z", f, H, 1.01 * H, ["sum over outputs", "driving point 10+Z"],
+                         np.linspace(1, 0, 300), np.linspace(1, 0, 300),
+                         [{"output": "3+X", "frac": 0.61234}, {"output": "median of 4 outputs", "frac": 0.99}],
+                         np.array([1.2, 3.4]))
+    with pytest.raises(ReportError, match="measured"):
+        FRFComparison("r", f, H[:10], H, ["a", "b"])
+    g = _beam()
+    sec = ConfigurationSection("wing", g, g, auto_mac=np.array([[1.0, 0.2], [0.2, 1.0]]), frfs=[comp],
+                               comac=[{"sensor": "1+Z", "node": 3, "comac": 0.97}, {"sensor": "2+X", "node": 4,
+                                                                                  "comac": 0.41}],
+                               setup={"sensors": [{"point": 1, "node": 3, "directions": "+Z", "arm_m": (0, 0, 0)}]},
+                               test_modes=[{"mode": 1, "frequency_hz": 1.2, "frequency_std_hz": 0.00123,
+                                            "damping_percent": 1.5, "mpc": 0.9987, "mpd_deg": 2.34}],
+                               notes=["mode 2 is unpaired: MAC below the floor"])
+    text = write_report(ReportContent("t", configurations=[sec], variables=_variables()), tmp_path).read_text()
+    for title in ("Test set-up: sensors", "Test modes", "Measured and synthesised FRFs", "Auto-MAC of the test modes",
+                  "COMAC per sensor", "wing: reference 10+Z", "mode 2 is unpaired: MAC below the floor"):
+        assert title in text
+    assert ">0.0012<" in text and ">0.999<" in text and ">2.3<" in text  # std to 2 digits, MPC 3 decimals, deg 0.1
+    pngs = {p.name for p in (tmp_path / "figures").iterdir()}
+    assert {"wing_frfs.png", "wing_auto_mac.png", "wing_comac.png", "design_variables.png"} <= pngs
+    with open(tmp_path / "tables" / "wing_frf_fit_10_Z.csv", newline="") as fh:
+        assert next(csv.DictReader(fh))["frac"] == "0.612"
+    with open(tmp_path / "tables" / "design_variables.csv", newline="") as fh:
+        assert [r["unit"] for r in csv.DictReader(fh)] == ["Pa", "N/m", "Pa", "kg/m^3"]

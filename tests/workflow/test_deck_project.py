@@ -14,7 +14,7 @@ PROJECT = """
 bdf = "strip.bdf"
 [[configurations]]
 name = "loaded"
-from = "subcase_2"
+from = "{loaded}"
 [configurations.shaker]
 node = {tip}
 mass = "12 g"
@@ -48,12 +48,12 @@ def test_deck_project_updates_the_users_deck(tmp_path):
     g = truth.beams[1]
     truth.set_beam_group(1, material=fg.Material("t", E=g.material.E * 1.04, G=g.material.shear_modulus * 1.04,
                                                   rho=g.material.rho))
-    cfg = deck.configurations["subcase_2"].with_(
+    cfg = deck.configurations["self_weight"].with_(  # the subcase's LABEL (written from the configuration's name)
         masses=(fg.model.ConcentratedMass(tip, 0.012, np.zeros(3), np.zeros((3, 3))),),
         forces=(fg.NodalLoad(mid, (0.0, 0.0, -0.05)),))
     f = fg.solve_modes(fg.solve_static(truth, cfg), 6, damped=False).frequencies_hz[:5]
     (tmp_path / "modes.json").write_text(json.dumps({"frequencies_hz": f.tolist()}))
-    (tmp_path / "project.toml").write_text(PROJECT.format(tip=tip, mid=mid))
+    (tmp_path / "project.toml").write_text(PROJECT.format(tip=tip, mid=mid, loaded="self_weight"))
     project = load_project(tmp_path / "project.toml")
     c = project.configurations["loaded"]
     assert c.masses[-1].mass == pytest.approx(0.012) and c.forces[-1].force == (0.0, 0.0, -0.05)
@@ -63,6 +63,6 @@ def test_deck_project_updates_the_users_deck(tmp_path):
     assert "SUBCASE" in text  # the user's case control kept
     back = fg.io.read_bdf(project.output / "updated.bdf")
     assert back.model.beams[1].material.E == pytest.approx(res.model.beams[1].material.E, rel=1e-9)
-    m1 = fg.solve_modes(fg.solve_static(back.model, back.configurations["subcase_1"]), 5).frequencies_hz
-    m0 = fg.solve_modes(fg.solve_static(res.model, deck.configurations["subcase_1"]), 5).frequencies_hz
+    m1 = fg.solve_modes(fg.solve_static(back.model, back.configurations["unloaded"]), 5).frequencies_hz
+    m0 = fg.solve_modes(fg.solve_static(res.model, deck.configurations["unloaded"]), 5).frequencies_hz
     np.testing.assert_allclose(m1, m0, rtol=1e-8)

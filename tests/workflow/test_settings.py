@@ -47,10 +47,11 @@ def test_project_tables_validate_into_the_dataclasses_with_units_and_limits():
 
 
 def test_the_shipped_project_states_its_limits():
-    """flexgvt init, the demo and the X-HALE example keep their 60 evaluations at 1e-8 explicitly, so the
-    unified default (100, 1e-10) leaves their results as they were."""
+    """flexgvt init, the demo and the X-HALE example state their limits explicitly: 100 evaluations at a
+    relative tolerance of 1e-4, under which they converge (docs/workflow.md, "Limits, convergence and
+    resuming under other limits"), instead of stopping at the evaluation limit as with 60 at 1e-8."""
     text = example_project("xhale")
-    assert "max_iterations = 60" in text and "tolerance = 1e-8" in text
+    assert "max_iterations = 100" in text and "tolerance = 1e-4" in text
 
 
 def test_callback_is_a_deprecated_name_of_progress():

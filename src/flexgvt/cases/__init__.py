@@ -1,5 +1,6 @@
 """Built-in structures of docs/method.md section 5, each with its model and named configurations:
-cantilever_strip, strip_366, hale_wing and the X-HALE-like flying wing xhale (module xhale).
+cantilever_strip, strip_366, hale_wing, the X-HALE-like flying wing xhale (module xhale) and the
+built-up shell wingbox (module wingbox).
 
     case = flexgvt.cases.cantilever_strip()
     case.model, case.configurations["self_weight"], case.references
@@ -20,9 +21,11 @@ from ..model import (
 )
 from .case import Case
 from .xhale import match_modes as xhale_match_modes
+from .wingbox import wingbox
 from .xhale import xhale
 
-__all__ = ["BUILTIN", "Case", "cantilever_strip", "get", "hale_wing", "strip_366", "xhale", "xhale_match_modes"]
+__all__ = ["BUILTIN", "Case", "cantilever_strip", "get", "hale_wing", "strip_366", "wingbox", "xhale",
+           "xhale_match_modes"]
 
 
 def _line(model: Model, start, end, n: int) -> np.ndarray:
@@ -131,7 +134,8 @@ def hale_wing(n_elements: int = 32) -> Case:
         "tip_node": int(ids[-1])})
 
 
-BUILTIN = {"cantilever_strip": cantilever_strip, "strip_366": strip_366, "hale_wing": hale_wing, "xhale": xhale}
+BUILTIN = {"cantilever_strip": cantilever_strip, "strip_366": strip_366, "hale_wing": hale_wing, "xhale": xhale,
+           "wingbox": wingbox}
 
 
 def get(name: str, **kwargs) -> Case:

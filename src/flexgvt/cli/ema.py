@@ -14,9 +14,9 @@ import numpy as np
 import typer
 from rich.console import Console
 from rich.markup import escape
-from rich.table import Table
 
 from ..errors import FlexGVTError, FlexGVTWarning
+from .tables import print_table
 from .workflow import fail
 
 app = typer.Typer(add_completion=False, no_args_is_help=True, help="Experimental modal analysis.")
@@ -41,7 +41,7 @@ def _read(path, drop_incomplete: bool):
         warnings.simplefilter("ignore", FlexGVTWarning)
         data = read_uff(path, drop_incomplete=drop_incomplete)
     for line in data.dropped:
-        console.print(f"[yellow]dropped[/] ({path.name}): {escape(line)}", soft_wrap=True)
+        console.print(f"[yellow]dropped[/] ({escape(path.name)}): {escape(line)}", soft_wrap=True)
     return data
 
 
@@ -116,11 +116,10 @@ def identify(paths: list[Path] = typer.Argument(..., help="UFF file(s) with FRFs
         out.mkdir(parents=True, exist_ok=True)
         title = (paths[0].name if len(paths) == 1
                  else f"{len(paths)} tests averaged ({', '.join(p.name for p in paths)})")
-        table = Table(title=f"{title}: identified modes")
         sd_label = "std" if len(paths) == 1 else "spread (std)"
-        for col in ("mode", "f [Hz]", f"f {sd_label} [Hz]", "zeta [%]", f"zeta {sd_label} [%]") + \
-                (("tests",) if table_tests else ()):
-            table.add_column(col, justify="right")
+        headers = ["mode", "f [Hz]", f"f {sd_label} [Hz]", "zeta [%]", f"zeta {sd_label} [%]"] + \
+            (["tests"] if table_tests else [])
+        rows = []
         fs = modes.frequency_std_hz
         zs = modes.damping_std
         lines = ["mode,frequency_hz,frequency_std_hz,damping_ratio,damping_std"]
@@ -131,10 +130,10 @@ def identify(paths: list[Path] = typer.Argument(..., help="UFF file(s) with FRFs
                    _fmt_std(None if z_sd is None else 100 * z_sd, "{:.2f}")]
             if table_tests:
                 row.append(str(int(table_tests["n_tests"][k])))
-            table.add_row(*row)
+            rows.append(row)
             lines.append(f"{k + 1},{f:.8g},{'' if f_sd is None else f'{f_sd:.6g}'},{z:.8g},"
                          f"{'' if z_sd is None else f'{z_sd:.6g}'}")
-        console.print(table)
+        print_table(console, f"{title}: identified modes", headers, rows)
         (out / "modes.csv").write_text("\n".join(lines) + "\n")
         points, shapes = shapes_at_points(np.real(modes.shapes), frfs.outputs)
         write_uff(out / "modes.uff", modes=ModalResults(modes.frequencies_hz, modes.damping_ratio, shapes, points,
@@ -159,7 +158,8 @@ def identify(paths: list[Path] = typer.Argument(..., help="UFF file(s) with FRFs
                                                   for r in table_tests["damping_ratio"]],
                                 "n_tests": table_tests["n_tests"].tolist()}
             json_path.write_text(json.dumps(doc, indent=2))
-        console.print(f"modes written to {out / 'modes.uff'} and {out / 'modes.csv'}; figures in {out}/")
+        console.print(f"modes written to {out / 'modes.uff'} and {out / 'modes.csv'}; figures in {out}/",
+                      markup=False, highlight=False)
     except (FlexGVTError, OSError) as exc:
         fail(console, exc)
 
@@ -199,7 +199,8 @@ def frf(path: Path = typer.Argument(..., help="UFF file with simultaneous time h
         console.print(f"{frfs.H.shape[1]} responses x {frfs.H.shape[2]} reference(s) ({names}), "
                       f"{len(frfs.frequencies_hz)} lines to {frfs.frequencies_hz[-1]:.4g} Hz, {estimator}, "
                       f"{frfs.n_averages} averages" + ("" if coh is None else
-                                                       f", median coherence {np.median(coh):.3f}"))
-        console.print(f"FRFs written to {out}", soft_wrap=True)
+                                                       f", median coherence {np.median(coh):.3f}"),
+                      markup=False, highlight=False)
+        console.print(f"FRFs written to {out}", soft_wrap=True, markup=False, highlight=False)
     except (FlexGVTError, OSError) as exc:
         fail(console, exc)

@@ -12,16 +12,13 @@ import numpy as np
 import typer
 from rich.console import Console
 from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
-from rich.table import Table
 from rich.markup import escape
 
 from ..errors import FlexGVTError
 
-app = typer.Typer(add_completion=False, no_args_is_help=True,
+app = typer.Typer(add_completion=False, no_args_is_help=True, rich_markup_mode=None,  # help text is plain: "[kg]" shows
                   help="GVT and FE model updating of very flexible aircraft.")
-console = Console()
-if not console.is_terminal:  # logs and CI: wide enough for the tables
-    console = Console(width=110)
+console = Console()  # a terminal's width; 80 columns (or COLUMNS) in logs and pipes: the tables split to fit
 
 try:  # the EMA commands live in their own module
     from .ema import app as ema_app
@@ -30,7 +27,9 @@ except ImportError:  # not installed in this build
 if ema_app is not None:
     app.add_typer(ema_app, name="ema")
 
+from .show import register as _register_show  # noqa: E402
 from .suspension import app as _suspension_app  # noqa: E402
+from .plan import register as _register_plan  # noqa: E402
 from .verify import register as _register_verify  # noqa: E402
 from .workflow import register as _register_workflow  # noqa: E402
 
@@ -58,6 +57,8 @@ def _main(version: bool = typer.Option(False, "--version", callback=_version, is
 
 _register_verify(app, console)
 _register_workflow(app, console)
+_register_plan(app, console)
+_register_show(app, console)
 
 
 def _fail(exc: Exception) -> None:
@@ -85,24 +86,29 @@ def _result_record(state, modes, timings) -> dict:
             "cautions": list(state.cautions + modes.cautions)}
 
 
-def _modes_table(title: str, results: dict) -> Table:
-    """One column per configuration: frequency [Hz], damping ratio where non-zero, label."""
-    table = Table(title=title)
-    table.add_column("mode", justify="right")
-    for name in results:
-        table.add_column(f"{name}\nf [Hz]  zeta  label", justify="left")
+def _modes_table(title: str, results: dict) -> None:
+    """Print one column group per configuration: frequency [Hz], damping ratio [%] where any is
+    non-zero, label; split by columns to fit the console."""
+    from .tables import print_table
+
+    headers, columns = ["mode"], []
+    for name, r in results.items():
+        damped = any(abs(z) >= 5e-4 for z in r["damping_ratio"])
+        headers += [f"{name} f [Hz]"] + ([f"{name} zeta [%]"] if damped else []) + [f"{name} label"]
+        columns.append((r, damped))
     n = max(len(r["frequencies_hz"]) for r in results.values())
+    rows = []
     for k in range(n):
         row = [str(k + 1)]
-        for r in results.values():
-            if k >= len(r["frequencies_hz"]):
-                row.append("")
-                continue
-            z = r["damping_ratio"][k]
-            zeta = f"{100 * z:4.1f}%" if abs(z) >= 5e-4 else "     "
-            row.append(f"{r['frequencies_hz'][k]:8.4f} {zeta} {r['labels'][k]}")
-        table.add_row(*row)
-    return table
+        for r, damped in columns:
+            have = k < len(r["frequencies_hz"])
+            row.append(f"{r['frequencies_hz'][k]:.4f}" if have else "")
+            if damped:
+                row.append(f"{100 * r['damping_ratio'][k]:.2f}" if have else "")
+            row.append(r["labels"][k] if have else "")
+        rows.append(row)
+    print_table(console, title, headers, rows,
+                justify=["right"] + [("left" if h.endswith(" label") else "right") for h in headers[1:]])
 
 
 @app.command()
@@ -131,7 +137,7 @@ def solve(case: str = typer.Argument(..., help="built-in case (cantilever_strip,
                 deck = read_bdf(case, units=system, unsupported="warn" if allow_unsupported else "error",
                                 cbar_torsional_inertia=cbar_torsional_inertia)
             for w in caught:
-                console.print(f"[yellow]note:[/] {w.message}")
+                console.print(f"[yellow]note:[/] {escape(str(w.message))}")
             model, configurations, title = deck.model, deck.configurations, Path(case).name
             methods = deck.methods
         else:
@@ -166,12 +172,12 @@ def solve(case: str = typer.Argument(..., help="built-in case (cantilever_strip,
             for w in caught:
                 if str(w.message) not in st.cautions + md.cautions:
                     console.print(f"  [yellow]note:[/] {escape(str(w.message))}")
-        console.print(_modes_table(f"{title}: pre-stressed modes", results))
+        _modes_table(f"{title}: pre-stressed modes", results)
         if out is not None:
             _write_figures(out, title, states, mode_sets)
         if json_path is not None:
             json_path.write_text(json.dumps({"case": title, "configurations": results}, indent=2))
-            console.print(f"results written to {json_path}")
+            console.print(f"results written to {json_path}", markup=False, highlight=False)
     except FlexGVTError as exc:
         _fail(exc)
 
@@ -188,7 +194,7 @@ def _write_figures(out: Path, title: str, states: dict, mode_sets: dict) -> list
         fig = plots.mode_shapes(md, 6, f"{title} - {name}")
         files.append(out / f"modes_{name}.png")
         fig.savefig(files[-1], dpi=120)
-    console.print("figures: " + ", ".join(str(f) for f in files))
+    console.print("figures: " + ", ".join(str(f) for f in files), markup=False, highlight=False)
     return files
 
 
@@ -196,43 +202,48 @@ def _write_figures(out: Path, title: str, states: dict, mode_sets: dict) -> list
 def demo(out: Path = typer.Option(Path("demo-output"), help="folder for the project, its data and results"),
          json_path: Optional[Path] = typer.Option(None, "--json", help="write per-mode prediction errors as JSON"),
          seed: int = typer.Option(7, help="seed of the as-built airframe and of the measurement noise"),
-         report: bool = typer.Option(True, help="write the HTML report (--no-report to skip)")):
+         report: bool = typer.Option(True, help="write the HTML report (--no-report to skip)"),
+         fresh: bool = typer.Option(False, "--fresh/--continue", help="--fresh: discard what an earlier demo "
+                                    "in --out stored; --continue (the default): resume from it"),
+         verbose: bool = typer.Option(False, "--verbose", "-v", help="print every optimiser iteration")):
     """The whole method on the X-HALE-like aircraft: synthetic GVT of the as-built airframe in two
     suspension layouts, PolyMAX, updating on both at once (30 variables), suspension removed,
     free-free and 20 m bungee predictions scored against the as-built truth, report."""
     from ..workflow.demo import SCORED_MODES, demo_figures, demo_project
-    from .workflow import prediction_table, run_with_progress
+    from .workflow import print_prediction, run_with_progress
 
-    def job(log):
+    def job(log, iteration):
         from ..report import write_project_report
         from ..workflow import run
         t0 = time.perf_counter()
         project = demo_project(out, seed=seed, progress=log)
         t_data = time.perf_counter() - t0
-        res = run(project, progress=log)
+        res = run(project, progress=log, iterations=iteration, fresh=fresh)
         if report:  # the face renders; the workflow only returns results
             write_project_report(res)
         return demo_figures(res, out, seed, t_data, t0)
     try:
         console.rule("[bold]flexgvt demo: X-HALE-like aircraft, GVT on two suspension layouts[/]")
-        result = run_with_progress(console, job)
+        result = run_with_progress(console, job, verbose)
         for name, c in result["configurations"].items():
             console.print(f"configuration '{name}': rms frequency error {c['initial_rms_error_percent']:.2f} % "
-                          f"(initial model) -> {c['updated_rms_error_percent']:.2f} % (updated), {c['modes']} modes")
+                          f"(initial model) -> {c['updated_rms_error_percent']:.2f} % (updated), {c['modes']} modes",
+                          markup=False, highlight=False)
         for key, rows in result["free_free"].items():
-            console.print(prediction_table(f"free-free prediction of the {key} model against the as-built truth "
-                                           f"(first {SCORED_MODES} elastic modes, paired by MAC)", rows))
+            print_prediction(console, f"free-free prediction of the {key} model against the as-built truth "
+                             f"(first {SCORED_MODES} elastic modes, paired by MAC)", rows)
         for name, by_model in result["bungees"].items():
-            console.print(prediction_table(f"{name} (20 m bungees): updated model against the as-built truth",
-                                           by_model.get("updated", by_model.get("initial"))))
+            print_prediction(console, f"{name} (20 m bungees): updated model against the as-built truth",
+                             by_model.get("updated", by_model.get("initial")))
         worst = result["max_abs_error_percent"]
         console.print("largest free-free error: " + ", ".join(f"{k} model {v:.2f} %" for k, v in worst.items()))
         if "report" in result["files"]:
-            console.print(f"report: {result['files']['report']}")
-        console.print(f"done in {result['timings_s']['total']:.1f} s; everything in {out}/")
+            console.print(f"report: {result['files']['report']}", markup=False, highlight=False)
+        console.print(f"done in {result['timings_s']['total']:.1f} s; everything in {out}/", markup=False,
+                      highlight=False)
         if json_path is not None:
             json_path.write_text(json.dumps(result, indent=1, default=float))
-            console.print(f"results written to {json_path}")
+            console.print(f"results written to {json_path}", markup=False, highlight=False)
     except FlexGVTError as exc:
         _fail(exc)
 

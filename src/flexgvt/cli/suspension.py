@@ -10,19 +10,18 @@ from typing import Optional
 import numpy as np
 import typer
 from rich.console import Console
-from rich.table import Table
+from rich.markup import escape
 
 from ..errors import FlexGVTError
+from .tables import print_table
 
 app = typer.Typer(add_completion=False, no_args_is_help=True,
                   help="Suspension: identify points from block tests, plan layouts.")
-console = Console()
-if not console.is_terminal:
-    console = Console(width=120)
+console = Console()  # 80 columns (or COLUMNS) in a pipe: the tables split to fit
 
 
 def _fail(exc: Exception) -> None:
-    console.print(f"[bold red]error:[/] {exc}")
+    console.print(f"[bold red]error:[/] {escape(str(exc))}", soft_wrap=True)
     raise typer.Exit(code=2)
 
 
@@ -31,7 +30,7 @@ def _write_json(path: Optional[Path], data) -> None:
         from ..updating.result import jsonable
         path.parent.mkdir(parents=True, exist_ok=True)
         path.write_text(json.dumps(jsonable(data), indent=1))
-        console.print(f"results written to {path}")
+        console.print(f"results written to {path}", markup=False, highlight=False)
 
 
 @app.command()
@@ -67,22 +66,21 @@ def identify(mass: float = typer.Option(..., help="block mass [kg]: the mass the
         point = identify_block(mass=mass, **kwargs)
     except FlexGVTError as exc:
         _fail(exc)
-    table = Table(title=f"suspension point from {point.source} "
-                        f"({point.n_tests} test{'s' if point.n_tests > 1 else ''})")
-    for col in ("quantity", "value", "std"):
-        table.add_column(col, justify="right")
+    rows = []
     for name, v, s, fmt in (("block mass [kg]", point.mass, 0.0, ".3f"), ("f_d [Hz]", point.damped_frequency_hz,
                              None, ".4f"), ("f_n [Hz]", point.frequency_hz, point.frequency_std_hz, ".4f"),
                             ("zeta [-]", point.damping_ratio, point.damping_ratio_std, ".4f"),
                             ("K [N/m]", point.stiffness, point.stiffness_std, ".4g"),
                             ("C [N s/m]", point.damping, point.damping_std, ".4g")):
-        table.add_row(name, format(v, fmt), "" if s is None else format(s, ".2g"))
-    console.print(table)
+        rows.append([name, format(v, fmt), "" if s is None else format(s, ".2g")])
+    print_table(console, f"suspension point from {point.source} ({point.n_tests} test"
+                f"{'s' if point.n_tests > 1 else ''})", ["quantity", "value", "std"], rows,
+                justify=["left", "right", "right"])
     if out is not None:
         from ..report.plots import suspension_response
         out.mkdir(parents=True, exist_ok=True)
         suspension_response(point).savefig(out / "suspension_point.png", dpi=120)
-        console.print(f"figure: {out / 'suspension_point.png'}")
+        console.print(f"figure: {out / 'suspension_point.png'}", markup=False, highlight=False)
     _write_json(json_path, point.to_dict())
 
 
@@ -113,22 +111,21 @@ def plan(case: str = typer.Argument("strip_366", help="built-in case to hang"),
         results = plan_suspension(c.model, layouts, n_modes=modes)
     except FlexGVTError as exc:
         _fail(exc)
-    table = Table(title=f"{c.name}: suspension layouts, best first")
-    for col in ("layout", "suspension modes [Hz]", "1st elastic [Hz]", "separation", "contaminated", "problems"):
-        table.add_column(col)
-    records = []
+    rows, records = [], []
     for r in results:
         first = next((e["suspended_hz"] for e in r.elastic if e.get("suspended_hz")), None)
         bad = [e["label"] for e in r.elastic if e.get("contaminated")]
-        table.add_row(r.layout.name, ", ".join(f"{f:.3g}" for f in r.suspension_hz), f"{first:.3g}" if first else "-",
-                      f"{r.separation:.2f}", ", ".join(bad) or "-", "\n".join(r.problems) or "ok")
+        rows.append([r.layout.name, ", ".join(f"{f:.3g}" for f in r.suspension_hz), f"{first:.3g}" if first else "-",
+                     f"{r.separation:.2f}", ", ".join(bad) or "-", "\n".join(r.problems) or "ok"])
         records.append({"layout": r.layout.name, "acceptable": r.acceptable, "separation": r.separation,
                         "suspension_hz": r.suspension_hz.tolist(), "cord_tension_N": r.tensions.tolist(),
                         "elastic": r.elastic, "problems": r.problems})
-    console.print(table)
+    print_table(console, f"{c.name}: suspension layouts, best first",
+                ["layout", "suspension modes [Hz]", "1st elastic [Hz]", "separation", "contaminated", "problems"],
+                rows, justify=["left"] * 6)
     if out is not None:
         from ..report.plots import hung_shapes
         out.mkdir(parents=True, exist_ok=True)
         hung_shapes(c.name, results, xyz).savefig(out / "hung_shapes.png", dpi=120)
-        console.print(f"figure: {out / 'hung_shapes.png'}")
+        console.print(f"figure: {out / 'hung_shapes.png'}", markup=False, highlight=False)
     _write_json(json_path, {"case": c.name, "layouts": records})

@@ -8,7 +8,6 @@ from typing import Optional
 
 import typer
 from rich.console import Console
-from rich.table import Table
 
 from ..errors import FlexGVTError
 
@@ -33,32 +32,55 @@ def _fmt(v, digits: int = 4) -> str:
     return str(v)
 
 
-def prediction_table(title: str, rows: list[dict]) -> Table:
-    """The free-flying prediction as a rich table (the columns the rows hold)."""
-    table = Table(title=title)
+def prediction_rows(rows: list[dict]) -> tuple[list[str], list[list[str]]]:
+    """The free-flying prediction's headers (with units) and formatted cells (the columns the rows
+    hold; frequencies to 4 decimals, percentages to 2)."""
+    from .tables import header
     keys: list[str] = []
     for r in rows:
         keys += [k for k in r if k not in keys and not k.endswith("_mac") and k != "reference_label"]
-    for k in keys:
-        table.add_column(k.replace("_percent", " [%]").replace("_hz", " [Hz]").replace("_", " "), justify="right")
-    for r in rows:
-        table.add_row(*[_fmt(r.get(k), 2 if k.endswith("percent") else 4) for k in keys])
-    return table
+    return ([header(k) for k in keys],
+            [[_fmt(r.get(k), 2 if k.endswith("percent") else 4) for k in keys] for r in rows])
 
 
-def run_with_progress(console: Console, job):
-    """Run ``job(log)`` under a live status line (spinner, current step, elapsed time); every log
-    line is also printed above it, so the record stays in the terminal and in logs."""
-    from rich.progress import Progress, SpinnerColumn, TextColumn, TimeElapsedColumn
+def print_prediction(console: Console, title: str, rows: list[dict]) -> None:
+    """The free-flying prediction as console tables no wider than the console (split by columns,
+    mode and label repeated in each part)."""
+    from .tables import print_table
+    headers, cells = prediction_rows(rows)
+    print_table(console, title, headers, cells, key=2 if len(headers) > 1 and headers[1] == "label" else 1,
+                justify=["left" if h == "label" else "right" for h in headers])
 
-    with Progress(SpinnerColumn(), TextColumn("{task.description}"), TimeElapsedColumn(), console=console,
-                  transient=True) as bar:
-        task = bar.add_task("starting", total=None)
+
+def run_with_progress(console: Console, job, verbose: bool = False):
+    """Run ``job(log, iteration)`` under a live progress line (spinner, current step, a bar while the
+    updating iterates, the current objective, elapsed time) on a terminal, none in a pipe or log.
+    Every log line is printed above it, so the record stays; the optimiser's iterations are printed
+    one line each only when ``verbose``. Ctrl-C: the interruption's message (where the run
+    stopped, that a rerun resumes), exit status 130."""
+    from rich.progress import BarColumn, Progress, SpinnerColumn, TextColumn, TimeElapsedColumn
+
+    with Progress(SpinnerColumn(), TextColumn("{task.description}"), BarColumn(bar_width=20),
+                  TextColumn("{task.fields[objective]}"), TimeElapsedColumn(), console=console, transient=True,
+                  disable=not console.is_terminal) as bar:
+        task = bar.add_task("starting", total=None, objective="")
 
         def log(line: str) -> None:
             console.print(line, markup=False, highlight=False)
-            bar.update(task, description=str(line).strip().splitlines()[0][:90])
-        return job(log)
+            bar.update(task, description=str(line).strip().splitlines()[0][:40], objective="")
+
+        def iteration(row: dict) -> None:
+            text = f"iteration {row.get('iteration', '?')}: objective {row['objective']:.6g}"
+            if verbose:
+                console.print("  " + text, markup=False, highlight=False)
+            bar.update(task, description="updating", objective=text)
+        try:
+            return job(log, iteration)
+        except KeyboardInterrupt as exc:
+            bar.stop()
+            what = getattr(exc, "message", None) or "interrupted; a rerun resumes from the results store"
+            console.print(f"stopped (Ctrl-C): {what}", markup=False, highlight=False, soft_wrap=True)
+            raise typer.Exit(code=130) from None
 
 
 def register(app: typer.Typer, console: Console) -> None:
@@ -66,11 +88,17 @@ def register(app: typer.Typer, console: Console) -> None:
     def run(project: Path = typer.Argument(..., help="project file (TOML); `flexgvt init` writes an example"),
             out: Optional[Path] = typer.Option(None, help="output folder (default: the project's outputs.directory)"),
             json_path: Optional[Path] = typer.Option(None, "--json", help="write the results as JSON"),
-            report: bool = typer.Option(True, help="write the HTML report (--no-report to skip)")):
+            report: bool = typer.Option(True, help="write the HTML report (--no-report to skip)"),
+            fresh: bool = typer.Option(False, "--fresh/--continue",
+                                       help="--fresh: discard the stored identification and updating and start "
+                                       "again; --continue (the default): resume from the results store"),
+            verbose: bool = typer.Option(False, "--verbose", "-v", help="print every optimiser iteration")):
         """Identify, update on every configuration at once, remove the suspension, predict, report.
 
-        Resumable: a second run reads the identified modes and the finished optimisation back from
-        the project's results store."""
+        Resumes by default: a rerun reads the identified modes and the updating back from the
+        project's results store (outputs.directory/store); an interrupted updating continues
+        where it stopped, and one stopped at its limits continues when max_iterations or the
+        tolerance are raised. --fresh starts again."""
         from ..workflow import load_project, run as run_project
         try:
             p = load_project(project)
@@ -83,19 +111,20 @@ def register(app: typer.Typer, console: Console) -> None:
             from rich.markup import escape
             console.rule(f"[bold]{escape(p.spec.project.name)}[/]")
 
-            def job(log):
-                res = run_project(p, progress=log)
+            def job(log, iteration):
+                res = run_project(p, progress=log, iterations=iteration, fresh=fresh)
                 if report:  # --report (the default) as before: the face renders, the workflow only returns results
                     from ..report import write_project_report
                     write_project_report(res)
                 return res
-            res = run_with_progress(console, job)
+            res = run_with_progress(console, job, verbose)
             for key, pred in res.predictions.items():
-                console.print(prediction_table(f"free-flying prediction, {key} model", pred.rows))
-            console.print(f"outputs in {p.output}/: " + ", ".join(Path(f).name for f in res.files.values()))
+                print_prediction(console, f"free-flying prediction, {key} model", pred.rows)
+            console.print(f"outputs in {p.output}/: " + ", ".join(Path(f).name for f in res.files.values()),
+                          markup=False, highlight=False)
             if json_path is not None:
                 json_path.write_text(json.dumps(res.to_dict(), indent=1))
-                console.print(f"results written to {json_path}")
+                console.print(f"results written to {json_path}", markup=False, highlight=False)
         except (FlexGVTError, OSError) as exc:
             fail(console, exc)
 
@@ -112,10 +141,12 @@ def register(app: typer.Typer, console: Console) -> None:
             if path.exists() and not force:
                 raise FlexGVTError(f"{path} exists; use --force to overwrite it")
             if data:
-                files = write_example(folder, progress=console.print)
-                console.print(f"synthetic GVT written: {', '.join(Path(f).name for f in files)}")
+                files = write_example(folder, progress=lambda s: console.print(s, markup=False))
+                console.print(f"synthetic GVT written: {', '.join(Path(f).name for f in files)}", markup=False,
+                              highlight=False)
             else:
                 path.write_text(example_project())
-            console.print(f"example project written to {path}; run it with `flexgvt run {path}`")
+            console.print(f"example project written to {path}; run it with `flexgvt run {path}`", markup=False,
+                          highlight=False)
         except (FlexGVTError, OSError) as exc:
             fail(console, exc)

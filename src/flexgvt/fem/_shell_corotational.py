@@ -49,7 +49,8 @@ class CorotationalShells:
     K (n, 6p, 6p) the linear stiffness in E0 (element DOFs [u, v, w, rx, ry, rz] per corner);
     with the initial-stress term: GN (n, 3, 6p) the element's mean membrane resultants [Nx, Ny, Nxy]
     (kernel axes) as a linear function of d, KS (n, 3, 6p, 6p) the initial-stress matrices of unit
-    Nx, Ny, Nxy in E0 (shell_geometric); None without."""
+    Nx, Ny, Nxy in E0 (shell_geometric); None without. M (n, 6p, 6p): the element mass matrices in
+    E0 when asked for (they turn with the corotated frame), else None."""
 
     X: np.ndarray
     E0: np.ndarray
@@ -57,6 +58,7 @@ class CorotationalShells:
     K: np.ndarray
     GN: np.ndarray | None = None
     KS: np.ndarray | None = None
+    M: np.ndarray | None = None
 
 
 @dataclass(frozen=True)
@@ -144,14 +146,16 @@ class _Frame:
 
 
 def corotational_setup(X: np.ndarray, C: np.ndarray, drill_factor: float = DRILL_FACTOR,
-                       ids: np.ndarray | None = None, initial_stress: bool = False) -> CorotationalShells:
+                       ids: np.ndarray | None = None, initial_stress: bool = False,
+                       mass: np.ndarray | None = None, lumped=False) -> CorotationalShells:
     """Constants of corotational quads (X (n, 4, 3)) or triangles (X (n, 3, 3)) [m] with sections
     C (n, 8, 8) (see shell_matrices): the linear local stiffness turned into the corotated frame.
     initial_stress: add the local energy 1/2 N(d) . (d^T K_sigma d) (the membrane resultants acting on
     the element's own deformational slopes; the frame's rigid rotation is not in d, so nothing is
-    counted twice), which plate buckling within coarse meshes needs."""
+    counted twice), which plate buckling within coarse meshes needs. mass (n, 3), lumped: the
+    element masses (see shell_matrices), turned into E0 as the stiffness."""
     X = np.ascontiguousarray(X, dtype=float)
-    lin = shell_matrices(X, C, drill_factor=drill_factor, ids=ids, local=True)
+    lin = shell_matrices(X, C, mass, lumped, drill_factor=drill_factor, ids=ids, local=True)
     fr = _Frame(X)
     E0 = fr.E
     Tr = np.einsum("nji,njk->nik", E0, lin.frames)  # kernel frame -> corotated frame (about e3)
@@ -163,9 +167,10 @@ def corotational_setup(X: np.ndarray, C: np.ndarray, drill_factor: float = DRILL
     for b in range(2 * p):
         Tb[:, 3 * b:3 * b + 3, 3 * b:3 * b + 3] = Tr
     K = Tb @ lin.K @ np.transpose(Tb, (0, 2, 1))
+    M = None if lin.M is None else np.ascontiguousarray(Tb @ lin.M @ np.transpose(Tb, (0, 2, 1)))
     Xl = np.einsum("nji,npj->npi", E0, X - X.mean(axis=1, keepdims=True))
     if not initial_stress:
-        return CorotationalShells(X, *(np.ascontiguousarray(a) for a in (E0, Xl, K)))
+        return CorotationalShells(X, *(np.ascontiguousarray(a) for a in (E0, Xl, K)), M=M)
     TbT = np.transpose(Tb, (0, 2, 1))
     GN = np.einsum("nij,njk,nkl->nil", np.ascontiguousarray(C)[:, :3, :3], _mean_strain(lin.coords), TbT)
     Tg = np.zeros_like(Tb)
@@ -176,7 +181,12 @@ def corotational_setup(X: np.ndarray, C: np.ndarray, drill_factor: float = DRILL
         unit = np.zeros((len(X), 3))
         unit[:, j] = 1.0
         KS[:, j] = Tg @ shell_geometric(X, unit) @ np.transpose(Tg, (0, 2, 1))
-    return CorotationalShells(X, *(np.ascontiguousarray(a) for a in (E0, Xl, K, GN, KS)))
+    return CorotationalShells(X, *(np.ascontiguousarray(a) for a in (E0, Xl, K, GN, KS)), M=M)
+
+
+def corotated_frames(x: np.ndarray) -> np.ndarray:
+    """(n, 3, 3) corotated frames (columns e1, e2, e3) of elements with corners x (n, p, 3) [m]."""
+    return _Frame(np.asarray(x, dtype=float)).E
 
 
 def _mean_strain(coords):

@@ -37,7 +37,7 @@ class Modes:
     labels: tuple[str, ...] = ()
     complex_shapes: np.ndarray | None = None
     eigenvalues: np.ndarray | None = None  # lambda = omega^2 [rad^2/s^2] (real) or s [rad/s] (complex)
-    energy_fractions: np.ndarray | None = None  # (n_modes, 5): OOP, IP, T, EXT, rigid/suspension
+    energy_fractions: np.ndarray | None = None  # (n_modes, 6): OOP, IP, T, EXT, rigid/suspension, local
     state: State | None = field(default=None, repr=False, compare=False)
     cautions: tuple[str, ...] = ()  # what makes these modes doubtful (see mode_cautions)
 

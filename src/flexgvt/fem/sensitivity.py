@@ -252,7 +252,9 @@ def modal_state_terms(system, x: np.ndarray, R: np.ndarray, lam: float, phi: np.
     # Steps of 1e-4 of the shortest element (translations) and 1e-4 rad: the stretch of a short
     # element changes its axial force at EA/L, so a step scaled on the structure's size would
     # strain it by percents.
-    lengths = system.cm.beams.L0
+    lengths = np.concatenate([system.cm.beams.L0] + [
+        np.linalg.norm(np.diff(s.corotational.X, axis=1, append=s.corotational.X[:, :1]), axis=2).ravel()
+        for s in system.cm.shells])
     h_t = 1e-4 * (float(lengths.min()) if len(lengths) else max(float(np.ptp(system.cm.xyz, axis=0).max()), 1e-3))
     h_r = 1e-4
     gK = np.zeros((n, 6, m))

@@ -16,13 +16,15 @@ from typing import Callable
 import numpy as np
 import scipy.sparse as sp
 
-from ..errors import ConvergenceError, FlexGVTWarning, ModelError, SingularModelError, SolverError
-from ..model import Configuration, Model
+from ..errors import ConvergenceError, FlexGVTWarning, InstabilityError, ModelError, SingularModelError, SolverError
+from ..model import Configuration, Model, NodalLoad
 from ..model.configuration import parse_dofs
 from .checks import check_connected
 from .eigen import real_modes
+from .arclength import trace
 from .rotations import logm_so3, scaled_increment
 from .linsolve import HAVE_CHOLMOD, CholmodCache, serial_blas, superlu
+from .stability import BUCKLING_MODES, Instability, locate, negative_eigenvalues
 from .system import Evaluation, System
 
 
@@ -61,6 +63,7 @@ class State:
     system: System | None = field(default=None, repr=False, compare=False)
     cautions: tuple[str, ...] = ()  # physically doubtful features of the solution (see check_state)
     steps: tuple[State, ...] = field(default=(), repr=False, compare=False)  # states at solve_static's load_factors
+    instability: Instability | None = None  # where the load path lost stability (see StaticSettings.buckling)
 
     @property
     def displacements(self) -> np.ndarray:
@@ -108,6 +111,13 @@ class StaticSettings:
     after each step. cord_strain_limit: the stretch beyond a cord's design length, as a fraction of
     its unstretched length, past which the state reports it as stretched beyond any real spring
     (see check_state): 1.0 (100 %, about rubber shock cord's rated elongation) by default.
+    buckling: what an unstable final state (a negative tangent eigenvalue: a buckled skin, a limit
+    point) does: "ignore" (no check), "warn" (default: locate the loss of stability along the path,
+    State.instability, a caution), "stop" (raise InstabilityError with the last stable state) or
+    "continue" (solve again with a small geometric imperfection in the buckling shape, which takes
+    the structure onto its post-buckled path; the returned state's configuration carries it as
+    Configuration.imperfection); imperfection: its largest offset [m] (0: a tenth of the thinnest
+    buckled shell's thickness, or 1e-4 of the structure's size).
     """
 
     increments: int = 20
@@ -123,6 +133,11 @@ class StaticSettings:
     desired_iterations: int = 5
     cholmod: bool = True  # use CHOLMOD when scikit-sparse is installed (else SuperLU)
     cord_strain_limit: float = 1.0  # a cord stretched past its design length by this x its unstretched one: warned
+    buckling: str = "warn"  # an unstable final state: "ignore", "warn", "stop" or "continue" (see solve_static)
+    imperfection: float = 0.0  # [m] the post-buckled path's imperfection; 0: a tenth of the buckled shells' thickness
+    control: str = "load"  # "load" (load stepping) or "arc-length" (past limit points: fem.arclength)
+    arc_length: float = 0.0  # [m] first arc-length step (0: the tangent predictor of a 1/increments load step)
+    max_arc_steps: int = 500  # arc-length steps before giving up
 
 
 # Pseudo-dynamic stabilisation [rad^2/s^2]: (2 pi 1 mHz)^2 times the mass matrix is added to the
@@ -344,13 +359,110 @@ def solve_static(model: Model, configuration: Configuration, *, settings: Static
     be reached, SingularModelError for under-constrained models.
     """
     settings = settings or StaticSettings()
-    state = check_state(_solve_static(model, configuration, settings=settings, start=start,
-                                      load_factors=load_factors, progress=progress), settings)
+    if settings.buckling not in BUCKLING_MODES:
+        raise ModelError(f"StaticSettings.buckling='{settings.buckling}' must be one of {BUCKLING_MODES}")
+    if settings.control not in ("load", "arc-length"):
+        raise ModelError(f"StaticSettings.control='{settings.control}' must be 'load' or 'arc-length'")
+    trail = _Trail() if settings.buckling != "ignore" else None
+    state = _solve_static(model, configuration, settings=settings, start=start, load_factors=load_factors,
+                          progress=progress, trail=trail)
+    if trail is not None:
+        state = _stability(state, trail, settings, load_factors, progress)
+    state = check_state(state, settings)
     if keep_steps:  # shown once per calling line by the warnings filter's registry
         warnings.warn("solve_static(keep_steps=True) is deprecated: the states at load_factors are in the "
                       "result's .steps (solve_static(...).steps)", DeprecationWarning, stacklevel=3)
         return state, list(state.steps)
     return state
+
+
+class _Trail(list):
+    """The converged increments (load factor, x, R) of a load ramp, and the run that made them."""
+
+    run = None
+
+
+def _stability(state: State, trail: _Trail, settings: StaticSettings, load_factors, progress) -> State:
+    """The state after settings.buckling's check of a ramped solve (a warm start's path is not
+    known: its modes say whether it is stable): where the path lost stability, if it did. Not with
+    applied nodal moments: fixed in direction, they are not conservative under large rotations, and
+    the tangent's symmetric part is then no stability test (it has two negative eigenvalues on
+    Sze, Liu & Lo's strip rolled into a full circle by end moments, whose stability under such
+    moments is not a question that test asks)."""
+    if len(trail) < 2 or trail.run is None or trail[-1][0] < 1.0 - 1e-12:
+        return state
+    if any(np.any(np.asarray(load.moment, float)) for load in state.configuration.forces):
+        return state
+    run = trail.run
+
+    def resolve(lam: float, k: int):
+        got = _newton(run, *run.system.impose(trail[k][1], trail[k][2], lam), lam, 0, predicted=False)
+        if got is None:
+            raise ConvergenceError(f"configuration '{state.configuration.name}': locating the loss of stability, "
+                                   f"Newton did not converge at load factor {lam:.4g}", state=state)
+        return got[0], got[1]
+
+    event = locate(run.system, trail, resolve)
+    if event is None:
+        return state
+    name = state.configuration.name
+    if event.recovered and settings.buckling != "continue":  # left the unstable path by itself: stable
+        note = (f"configuration '{name}': the load path passed a {event.describe()}; the final equilibrium is on "
+                "a stable (post-buckled) branch, reached without a chosen imperfection: which branch round-off "
+                "picked is not controlled (StaticSettings(buckling='stop') stops before it)")
+        if settings.buckling == "stop":
+            event = dataclasses.replace(event, recovered=False)
+        else:
+            warnings.warn(note, FlexGVTWarning, stacklevel=4)
+            return dataclasses.replace(state, instability=event, cautions=state.cautions + (note,))
+    if settings.buckling == "stop":
+        k = max(i for i, t in enumerate(trail) if t[0] <= event.bracket[0] + 1e-12)
+        lam, x, R = trail[k]
+        stable = run.state(x, R, lam, run.system.evaluate(x, R, lam, tangent=False), state.stabilised_mechanism)
+        raise InstabilityError(f"configuration '{name}': the structure loses stability by {event.describe()}; the "
+                               f"last stable equilibrium (load factor {lam:.4g}) is in the error's .state and the "
+                               "instability in .instability. Lower the loads, stiffen the structure there, or solve "
+                               "with StaticSettings(buckling='continue') to follow the post-buckled path",
+                               state=stable, history=tuple(run.history), instability=event)
+    if settings.buckling == "continue":
+        amplitude = settings.imperfection or _default_imperfection(run.system, event)
+        for attempt in range(3):
+            size = amplitude * 10.0**attempt
+            shape = event.shape[:, :3]
+            rows = np.flatnonzero(np.linalg.norm(shape, axis=1) > 1e-6)
+            offsets = {int(state.node_ids[i]): tuple(size * shape[i]) for i in rows}
+            perturbed = dataclasses.replace(state.configuration, imperfection=offsets)
+            again = _solve_static(state.model, perturbed, settings=settings, load_factors=load_factors,
+                                  progress=progress)
+            if negative_eigenvalues(again.system, again.positions, again.rotations, 1.0) == 0:
+                note = (f"configuration '{name}': {event.describe()}; followed onto the post-buckled path with an "
+                        f"imperfection of {size:.3g} m in the buckling shape (configuration.imperfection)")
+                warnings.warn(note, FlexGVTWarning, stacklevel=4)
+                return dataclasses.replace(again, instability=event, cautions=again.cautions + (note,))
+            state = again
+    note = (f"configuration '{name}': the load path loses stability: {event.describe()}. The equilibrium found is "
+            "unstable (its lowest modes are labelled 'unstable'); StaticSettings(buckling='continue') follows the "
+            "post-buckled path instead, buckling='stop' stops at the last stable state")
+    warnings.warn(note, FlexGVTWarning, stacklevel=4)
+    return dataclasses.replace(state, instability=event, cautions=state.cautions + (note,))
+
+
+def _default_imperfection(system: System, event: Instability) -> float:
+    """A tenth of the thinnest shell thickness among the elements the buckling shape moves most, else
+    1e-4 of the structure's size [m]."""
+    moving = np.flatnonzero(np.linalg.norm(event.shape[:, :3], axis=1) >= 0.5)
+    thick = [t for family in system.families for t in (getattr(family, "thickness_at", lambda nodes: None)(moving),)
+             if t is not None]
+    if thick:
+        return 0.1 * min(thick)
+    return 1e-4 * float(np.linalg.norm(np.ptp(system.cm.xyz, axis=0)))
+
+
+def _with_loads(configuration: Configuration, loads: np.ndarray, model: Model) -> Configuration:
+    """The configuration with nodal loads (n_nodes, 6) [N, N m] added (storage order of model)."""
+    rows = np.flatnonzero(np.any(loads != 0.0, axis=1))
+    extra = tuple(NodalLoad(int(model.node_ids[i]), tuple(loads[i, :3]), tuple(loads[i, 3:])) for i in rows)
+    return dataclasses.replace(configuration, forces=tuple(configuration.forces) + extra)
 
 
 @dataclass
@@ -369,6 +481,7 @@ class _Run:
     load_ref: float
     length: float
     history: list[IterationRecord] = field(default_factory=list)
+    trail: list | None = None  # the converged increments (load factor, x, R), when asked for
 
     def state(self, x, R, lam: float, ev: Evaluation, stabilised: bool) -> State:
         return State(self.model, self.configuration, self.system.cm.node_ids, x.copy(), R.copy(), lam,
@@ -386,8 +499,10 @@ class _Run:
 
 def _solve_static(model: Model, configuration: Configuration, *, settings: StaticSettings | None = None,
                   start: State | None = None, load_factors: np.ndarray | None = None,
-                  progress: Callable[[float], None] | None = None, _warm_only: bool = False) -> State:
-    """solve_static without the plausibility check of its final state (check_state)."""
+                  progress: Callable[[float], None] | None = None, _warm_only: bool = False,
+                  trail: list | None = None) -> State:
+    """solve_static without the plausibility check of its final state (check_state). trail: a list
+    that receives the converged increments (load factor, x, R) of a load ramp."""
     t0 = time.perf_counter()
     settings = settings or StaticSettings()
     # A warm start on the same model object (values possibly changed since, as an optimiser's
@@ -403,7 +518,9 @@ def _solve_static(model: Model, configuration: Configuration, *, settings: Stati
     ev0 = system.evaluate(x, R, 1.0, tangent=False)
     load_ref = max(np.linalg.norm(ev0.external), np.linalg.norm(ev0.internal), 1e-12)
     length = np.abs(system.cm.xyz).max() + 1.0  # correction energies |du . r| are per (load x length) [m]
-    run = _Run(model, configuration, system, settings, t0, mass, cholmod, load_ref, length)
+    run = _Run(model, configuration, system, settings, t0, mass, cholmod, load_ref, length, trail=trail)
+    if trail is not None:
+        trail.run = run
     # The tangent with the full load at the undeformed state: loaded cords already give their
     # pendulum stiffness there (a tilted cord pulls sideways and restrains that motion too).
     pushed = None if _warm_only else _pushed_rigid_motion(system, lambda: system.evaluate(x, R, 1.0).tangent,
@@ -429,6 +546,13 @@ def _solve_static(model: Model, configuration: Configuration, *, settings: Stati
         # Nothing loads the structure: the undeformed state is the equilibrium.
         state = run.state(x, R, 1.0, system.evaluate(x, R, 1.0, tangent=False), False)
         return dataclasses.replace(state, steps=(state,) * len(levels))
+    if settings.control == "arc-length":
+        path = trace(system, x, R, levels, settings, mass, progress)
+        run.history.extend(IterationRecord(*h, 0.0, 0.0) for h in path.history)
+        saved = [run.state(xk, Rk, lk, system.evaluate(xk, Rk, lk, tangent=False), False)
+                 for lk, xk, Rk in path.levels + [path.final]]
+        return dataclasses.replace(saved[-1], steps=tuple(saved[:-1] if 1.0 not in levels else saved),
+                                   instability=path.limits[0] if path.limits else None)
     return _ramp(run, x, R, levels, progress)
 
 
@@ -448,6 +572,8 @@ def _ramp(run: _Run, x: np.ndarray, R: np.ndarray, levels: list[float],
     last = run.state(x, R, 0.0, converged, False)
     if levels and levels[0] <= 0.0:
         saved.append(last)
+    if run.trail is not None:
+        run.trail.append((0.0, x, R))
     while lam < 1.0 - 1e-12:
         target = min(1.0, lam + increment)
         nxt = [lv for lv in levels if lam + 1e-12 < lv < target - 1e-12]
@@ -476,6 +602,8 @@ def _ramp(run: _Run, x: np.ndarray, R: np.ndarray, levels: list[float],
         converged = ev
         lam = target
         last = run.state(x, R, lam, ev, stab or last.stabilised_mechanism)
+        if run.trail is not None:
+            run.trail.append((lam, last.positions, last.rotations))
         if any(abs(lam - lv) < 1e-12 for lv in levels):
             saved.append(last)
         if progress is not None:

@@ -15,6 +15,7 @@ from __future__ import annotations
 import copy
 import threading
 import weakref
+from collections.abc import Mapping
 from dataclasses import dataclass
 from functools import cached_property
 
@@ -26,9 +27,10 @@ from ..errors import ModelError
 from ..model import Configuration, Model, RodSection, end_properties, parse_dofs
 from .assembly import Pattern
 from .checks import check_coordinates, check_values
+from ._shell_model import ShellArrays, compile_shells
 from .beam import BeamData, element_coefficients, element_frames, local_mass_matrices
 from .families import (SPRING_CLAMP_RATIO, SPRING_WARN_RATIO, BeamFamily, CordFamily, Cords, ElementTerms,
-                       Family, PointMassFamily, PointMasses, SpringFamily, Springs, element_dofs)
+                       Family, PointMassFamily, PointMasses, ShellFamily, SpringFamily, Springs, element_dofs)
 from .interpolation import InterpolationData, compile_interpolations, fit, geometric_block, jacobian
 from .linsolve import CholmodCache
 from .rotations import expm_so3, skew, spin, step_nodes
@@ -64,6 +66,7 @@ class CompiledModel:
     interp: InterpolationData
     mpc_dependent: np.ndarray  # (c,) full DOF index of each linear constraint's dependent DOF
     mpc_terms: tuple[tuple[np.ndarray, np.ndarray], ...]  # per constraint: (full DOFs, weights) with u_d = w . u
+    shells: tuple[ShellArrays, ...] = ()  # quads, then triangles (those present)
 
 
 # Compiled arrays per model, weakly keyed (an entry lives as long as its model) and tagged with the
@@ -72,22 +75,25 @@ _COMPILED: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 _COMPILED_LOCK = threading.Lock()
 
 
-def compile_model(model: Model) -> CompiledModel:
-    """Compile the model's arrays, cached in fem (weakly keyed by the model) against its revision."""
+def compile_model(model: Model, imperfection: Mapping[int, tuple] | None = None) -> CompiledModel:
+    """Compile the model's arrays, cached in fem (weakly keyed by the model) against its revision.
+    imperfection: {node id: (dx, dy, dz)} offsets of the stress-free geometry [m] (a configuration's
+    imperfect article), compiled and cached beside the perfect one."""
+    key = None
+    if imperfection:
+        key = tuple(sorted((int(k), tuple(map(float, v))) for k, v in imperfection.items()))
     with _COMPILED_LOCK:
         cached = _COMPILED.get(model)
-    if cached is not None and cached[0] == model.revision:
-        return cached[1]
+    if cached is not None and cached[0] == model.revision and key in cached[1]:
+        return cached[1][key]
     if model.n_nodes == 0:
         raise ModelError(f"model '{model.name}' has no nodes; add nodes and elements first")
     xyz = model.xyz
+    if key is not None:
+        xyz = xyz.copy()
+        nodes = model.index_of([k for k, _ in key], "configuration imperfection")
+        xyz[nodes] += np.array([v for _, v in key])
     check_coordinates(model.node_ids, xyz, f"model '{model.name}'")
-    if model.shells:  # until a shell family (fem/families) assembles them: issue 30
-        groups = [g.name for g in model.shells]
-        raise ModelError(f"model '{model.name}': {model.n_shells} shell elements (groups {groups[:5]}"
-                         f"{' ...' if len(groups) > 5 else ''}) are read but not yet solved by flexgvt: the shell "
-                         "family is being built. Solve a model without them (a beam-stick model of the same "
-                         "structure), or keep them for writing back with write_bdf")
     nodes, E0, L0, stiff, rhoA, rhoI, lumped, eids, names, arch = [], [], [], [], [], [], [], [], [], []
     lumped_axial = []
     for group in model.beams:
@@ -151,9 +157,13 @@ def compile_model(model: Model) -> CompiledModel:
                              "independent DOFs")
     compiled = CompiledModel(model.node_ids, xyz, beams, local_mass_matrices(beams), cat(eids, (0,)).astype(int),
                              cat(names, (0,)), _masses(model, model.masses), Springs.of(model, model.springs), links,
-                             link_dofs, interp, mpc_dep, tuple(mpc_terms))
+                             link_dofs, interp, mpc_dep, tuple(mpc_terms), compile_shells(model, xyz))
     with _COMPILED_LOCK:
-        _COMPILED[model] = (model.revision, compiled)
+        entry = _COMPILED.get(model)
+        if entry is None or entry[0] != model.revision:
+            entry = (model.revision, {})
+            _COMPILED[model] = entry
+        entry[1][key] = compiled
     return compiled
 
 
@@ -275,7 +285,7 @@ class System:
         the DOF numbering and the sparsity pattern built on them are left alone."""
         self.model = model
         self.config = config
-        self.cm = cm = compile_model(model)
+        self.cm = cm = compile_model(model, config.imperfection)
         self._revision = model.revision
         n = len(cm.xyz)
         self.n_nodes = n
@@ -286,7 +296,8 @@ class System:
         self.families: tuple[Family, ...] = (
             BeamFamily(cm.beams, cm.beam_local_mass, cm.beam_element_ids, cm.beam_group_names),
             PointMassFamily.build(masses, gvec), cords,
-            SpringFamily(cm.springs.merged(Springs.of(model, config.springs)), cm.xyz))
+            SpringFamily(cm.springs.merged(Springs.of(model, config.springs)), cm.xyz),
+            *(ShellFamily.build(arrays) for arrays in cm.shells))
         self._family_index = {family.name: k for k, family in enumerate(self.families)}
         # Applied loads at load factor 1 (fixed direction): the families' (lumped weight, distributed
         # loads, the hanging share of heavy cords), then the nodal loads.
@@ -303,7 +314,7 @@ class System:
 
     # ------------------------------------------------------------------ families
     def family(self, name: str) -> Family:
-        """The element family called ``name`` ("beam", "mass", "cord", "spring")."""
+        """The element family called ``name`` ("beam", "mass", "cord", "spring", "shell4", "shell3")."""
         return self.families[self._family_index[name]]
 
     @property

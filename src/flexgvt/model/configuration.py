@@ -40,7 +40,9 @@ class Configuration:
     ``gravity_direction`` with ``g`` [m/s^2]; forces and distributed loads are fixed in direction
     and scaled by the same load factor ramp. support: {node id: components} reference DOFs of a
     free structure (Nastran SUPORT): they hold nothing (the structure is solved free-free, its
-    rigid-body modes at 0 Hz) and are kept for the analyses that need them.
+    rigid-body modes at 0 Hz) and are kept for the analyses that need them. imperfection: {node id:
+    (dx, dy, dz)} offsets of the stress-free geometry in this test [m] (an imperfect article: the
+    small buckling-shape imperfection that takes a perfect one onto its post-buckled path).
     """
 
     name: str
@@ -55,6 +57,7 @@ class Configuration:
     distributed: tuple[DistributedLoad, ...] = ()
     prescribed: Mapping[int, Mapping[int, float]] = field(default_factory=dict)
     support: Mapping[int, str] = field(default_factory=dict)
+    imperfection: Mapping[int, tuple[float, float, float]] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "suspension", tuple(self.suspension))
@@ -89,6 +92,14 @@ class Configuration:
                                      "one free axis are not defined")
             prescribed[int(node)] = items
         object.__setattr__(self, "prescribed", prescribed)
+        imperfection = {}
+        for node, offset in dict(self.imperfection).items():
+            v = tuple(float(c) for c in offset)
+            if len(v) != 3 or not all(math.isfinite(c) for c in v):
+                raise ModelError(f"configuration '{self.name}': imperfection[{node}] must be three finite offsets "
+                                 f"(dx, dy, dz) [m], got {offset!r}")
+            imperfection[int(node)] = v
+        object.__setattr__(self, "imperfection", imperfection)
         direction = np.asarray(self.gravity_direction, dtype=float)
         if not np.all(np.isfinite(np.r_[direction, self.gravity, self.g])) or np.linalg.norm(direction) == 0:
             raise ModelError(f"configuration '{self.name}': gravity, g and a non-zero gravity_direction must be finite")

@@ -201,7 +201,7 @@ class Model:
         a solid isotropic plate (ShellProperty.isotropic). theta: material angle [deg] from the
         element x axis (one or (n,)); material_axis: instead, one or (n, 3) basic vectors projected
         on the element (Nastran MCID). zoffs: reference-plane offset [m] along the normal (one or
-        (n,)); corner_thickness: (n, p) thickness [m] at each node (None: the property's).
+        (n,)); corner_thickness: (n, p) thickness [m] at each node, >= 0 and not all zero (None: the property's).
         mass: 'lumped' or 'consistent'. name: the group's tag for design variables and reports.
         """
         where = f"add_shells{f' ({name})' if name else ''}"
@@ -246,8 +246,12 @@ class Model:
             if np.any(np.linalg.norm(axis, axis=1) == 0):
                 raise ModelError(f"{where}: material_axis has a zero vector; give a direction")
         z = per_element(zoffs, (n,), "zoffs")
-        corners = None if corner_thickness is None else per_element(corner_thickness, (n, p), "corner_thickness",
-                                                                    positive=True)
+        corners = None if corner_thickness is None else per_element(corner_thickness, (n, p), "corner_thickness")
+        if corners is not None and (np.any(corners < 0) or np.any(corners.max(axis=1) <= 0)):
+            # Nastran's T1-T4 are >= 0: a tapered edge (HA145E's plate) has zero thickness at its corners
+            k = int(np.flatnonzero(np.any(corners < 0, axis=1) | (corners.max(axis=1) <= 0))[0])
+            raise ModelError(f"{where}: corner_thickness of element {k + 1} (nodes {nodes[k].tolist()}) is "
+                             f"{corners[k].tolist()}; each must be >= 0 and at least one positive")
         if corners is None and property.thickness is None:
             raise ModelError(f"{where}: property '{property.name}' has no thickness; give corner_thickness or a "
                              "thickness on the property")

@@ -6,10 +6,10 @@ script can build one. `plots` holds matplotlib helpers taking solver objects (st
 `write_project_report(result)` writes the report of a flexgvt.workflow run (report.project).
 """
 
-from .content import ConfigurationSection, Geometry, ModeShape, ReportContent, StabilisationData
+from .content import ConfigurationSection, FRFComparison, Geometry, ModeShape, ReportContent, StabilisationData
 from .html import format_value, render, table_html, write_csv, write_report
 
-__all__ = ["ConfigurationSection", "Geometry", "ModeShape", "ReportContent", "StabilisationData",
+__all__ = ["ConfigurationSection", "FRFComparison", "Geometry", "ModeShape", "ReportContent", "StabilisationData",
            "build_report_content", "format_value", "render", "table_html", "write_csv", "write_project_report",
            "write_report"]
 

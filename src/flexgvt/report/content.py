@@ -154,6 +154,38 @@ class StabilisationData:
 
 
 @dataclass(frozen=True)
+class FRFComparison:
+    """Measured FRFs against those synthesised from the identified modes, for one reference.
+
+    reference: its name (e.g. "10+Z"); frequencies_hz (nf,); measured, synthesised: (nf, k) complex
+    curves named by labels (k,) (the sum of |H| over the outputs, the driving point...);
+    mif_measured, mif_synthesised: (nf,) the reference's mode indicator function (dips at modes);
+    fit: rows of the synthesis quality per output (any columns, e.g. output, frac), or empty;
+    modes_hz: the identified modes [Hz] (marked on the plot)."""
+
+    reference: str
+    frequencies_hz: np.ndarray
+    measured: np.ndarray
+    synthesised: np.ndarray
+    labels: list[str]
+    mif_measured: np.ndarray | None = None
+    mif_synthesised: np.ndarray | None = None
+    fit: list[dict[str, Any]] = field(default_factory=list)
+    modes_hz: np.ndarray = field(default_factory=lambda: np.zeros(0))
+
+    def __post_init__(self):
+        where = f"[{self.reference!r}]"
+        nf = len(_array(self, "frequencies_hz", (None,), where=where))
+        k = len(self.labels)
+        _array(self, "measured", (nf, k), dtype=complex, where=where)
+        _array(self, "synthesised", (nf, k), dtype=complex, where=where)
+        for name in ("mif_measured", "mif_synthesised"):
+            if getattr(self, name) is not None:
+                _array(self, name, (nf,), where=where)
+        _array(self, "modes_hz", (None,), where=where)
+
+
+@dataclass(frozen=True)
 class ConfigurationSection:
     """Everything reported for one test configuration (suspension layout, load case...).
 
@@ -161,6 +193,13 @@ class ConfigurationSection:
     initial_error_percent, updated_error_percent, mac_initial, mac_updated (None allowed; extra
     keys become extra columns). mac_initial, mac_updated: (n_measured, n_analytical) or None, rows
     labelled by measured_labels and columns by analytical_labels.
+    role: "update" (the model was updated on it) or "check" (only compared).
+    test_modes: rows of the identified modes' quality (damping, its standard deviation, MPC, MPD...).
+    auto_mac: (n_measured, n_measured) MAC of the test modes with themselves, labelled by
+    measured_labels, or None. comac: rows per sensor DOF (point, direction, node, comac...).
+    setup: the test set-up as {table title: rows} (suspension points, added masses, sensors).
+    frfs: measured against synthesised FRFs, one FRFComparison per reference.
+    notes: lines under the section (unpaired modes and why...).
     """
 
     name: str
@@ -173,6 +212,13 @@ class ConfigurationSection:
     analytical_labels: list[str] = field(default_factory=list)
     stabilisation: StabilisationData | None = None
     modes: list[ModeShape] = field(default_factory=list)
+    role: str = "update"
+    test_modes: list[dict[str, Any]] = field(default_factory=list)
+    auto_mac: np.ndarray | None = None
+    comac: list[dict[str, Any]] = field(default_factory=list)
+    setup: dict[str, list[dict[str, Any]]] = field(default_factory=dict)
+    frfs: list[FRFComparison] = field(default_factory=list)
+    notes: list[str] = field(default_factory=list)
 
     def __post_init__(self):
         where = f"[{self.name!r}]"
@@ -187,6 +233,11 @@ class ConfigurationSection:
                         _set(self, "analytical_labels", [f"FE {j + 1}" for j in range(m.shape[-1])])
                     shape = (len(self.measured_labels), len(self.analytical_labels))
                 _array(self, name, shape, where=where)
+        if self.auto_mac is not None:
+            n = np.shape(self.auto_mac)[0]
+            if not self.measured_labels:
+                _set(self, "measured_labels", [f"test {i + 1}" for i in range(n)])
+            _array(self, "auto_mac", (len(self.measured_labels),) * 2, where=where)
         n = len(self.deformed.xyz)
         for mode in self.modes:
             if len(mode.displacement) != n:
@@ -206,6 +257,8 @@ class ReportContent:
     or None (frequencies versus load).
     prediction: rows of the free-flying prediction table, any columns (mode, label, free_hz,
     truth_hz, error_percent, bungee_hz...).
+    prediction_modes: {configuration: rows} the full mode list of each predicted configuration,
+    shown as a table each under the prediction table.
     """
 
     title: str
@@ -217,6 +270,7 @@ class ReportContent:
     prediction: list[dict[str, Any]] = field(default_factory=list)
     prediction_title: str = "Free-flying prediction"
     notes: list[str] = field(default_factory=list)
+    prediction_modes: dict[str, list[dict[str, Any]]] = field(default_factory=dict)
 
     def __post_init__(self):
         names = [c.name for c in self.configurations]

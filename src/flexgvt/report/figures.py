@@ -10,7 +10,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .content import ConfigurationSection, StabilisationData
+from .content import ConfigurationSection, FRFComparison, StabilisationData
 
 BLUE, GREY, RED, ORANGE, PURPLE = "#1f5fbf", "#999999", "#d62728", "#ff7f0e", "#9467bd"
 
@@ -163,22 +163,178 @@ def frequency_errors(rows: list[dict], title: str):
     return fig
 
 
+def variable_bars(rows: list[dict]) -> dict:
+    """What the design-variable chart draws, as plain data (the PNG and the HTML figure share it).
+
+    Per variable: name (with its unit), change [%], std [%] and the std drawn: clipped at the
+    variable's bound half-range (a one-sigma band wider than the bounds says only that the data do
+    not pin the variable inside them) and at twice the largest change, so one huge sigma cannot
+    squash the others; clipped bars are annotated with their sigma. status: 'identifiable',
+    'at bound', 'sigma > bounds' (wider than its bounds) or 'not identifiable' (the data cannot see
+    it: identifiable False, or no finite sigma). range: the change axis [%] (the bars and their
+    drawn sigmas, padded)."""
+    change = np.array([np.nan if r.get("change_percent") is None else float(r["change_percent"]) for r in rows])
+    std = np.array([np.nan if r.get("std_percent") is None else float(r["std_percent"]) for r in rows])
+    core = max(float(np.nanmax(np.abs(change), initial=0.0)), 5.0)
+    status, clip, names = [], [], []
+    for r, s in zip(rows, std):
+        bounds = r.get("bounds")
+        half = 100 * (float(bounds[1]) - float(bounds[0])) / 2 if bounds is not None and len(bounds) == 2 else np.inf
+        clip.append(min(half, 2 * core))
+        if r.get("identifiable") is False or not np.isfinite(s):
+            status.append("not identifiable")
+        elif s > half:
+            status.append("sigma > bounds")
+        elif r.get("at_bound"):
+            status.append("at bound")
+        else:
+            status.append("identifiable")
+        unit = r.get("unit")
+        names.append(f"{r.get('name', len(names) + 1)}" + (f" [{unit}]" if unit else ""))
+    clip = np.asarray(clip)
+    shown = np.where(np.isfinite(std), np.minimum(std, clip), 0.0)
+    clipped = np.isfinite(std) & (std > clip)
+    c = np.nan_to_num(change)
+    lo, hi = min(float((c - shown).min(initial=0.0)), 0.0), max(float((c + shown).max(initial=0.0)), 0.0)
+    pad = 0.15 * max(hi - lo, core)
+    written = 0.35 * max(hi - lo, core) if clipped.any() or "not identifiable" in status else 0.0  # room for text
+    return {"names": names, "change": change, "std": std, "shown": shown, "clipped": clipped,
+            "status": status, "range": (lo - pad, hi + pad + written)}
+
+
+def sigma_text(v: float) -> str:
+    """A standard deviation [%] as written on a clipped bar: 'σ 2434 %', 'σ 31.5 %'."""
+    return f"\u03c3 {v:.0f} %" if abs(v) >= 100 else f"\u03c3 {v:.3g} %"
+
+
+STATUS_COLOURS = {"identifiable": BLUE, "at bound": ORANGE, "sigma > bounds": "#8fb3e6",
+                  "not identifiable": "#bbbbbb"}
+
+
 def design_variables(rows: list[dict]):
-    """Bars of the design-variable changes [%] with one-sigma error bars."""
+    """Bars of the design-variable changes [%] with one-sigma error bars on a readable scale
+    (variable_bars: clipped bars annotated with their sigma), coloured by status."""
     if not rows:
         return None
-    fig = _figure((max(6.0, 0.5 * len(rows) + 2), 4))
+    from matplotlib.patches import Patch
+
+    d = variable_bars(rows)
+    fig = _figure((max(6.0, 0.5 * len(rows) + 2), 4.6))
     ax = fig.add_subplot()
     x = np.arange(len(rows))
-    change = [np.nan if r.get("change_percent") is None else float(r["change_percent"]) for r in rows]
-    std = [0.0 if r.get("std_percent") is None else float(r["std_percent"]) for r in rows]
-    ax.bar(x, change, color=BLUE, yerr=std if any(s > 0 for s in std) else None, capsize=3,
-           error_kw=dict(lw=1))
-    ax.set_xticks(x, [str(r.get("name", i + 1)) for i, r in enumerate(rows)], rotation=30, ha="right", fontsize=8)
+    colours = [STATUS_COLOURS[s] for s in d["status"]]
+    hatches = ["//" if s == "not identifiable" else "" for s in d["status"]]
+    bars = ax.bar(x, np.nan_to_num(d["change"]), color=colours, edgecolor="#555555", linewidth=0.5)
+    for b, h in zip(bars, hatches):
+        b.set_hatch(h)
+    ok = d["shown"] > 0
+    ax.errorbar(x[ok], np.nan_to_num(d["change"])[ok], yerr=d["shown"][ok], fmt="none", ecolor="#222222",
+                capsize=3, lw=1)
+    for k in np.flatnonzero(d["clipped"]):
+        top = np.nan_to_num(d["change"][k]) + d["shown"][k]
+        ax.annotate(sigma_text(d["std"][k]), (k, top), (0, 3), textcoords="offset points", ha="center",
+                    va="bottom", fontsize=6.5, rotation=90, color="#222222")
+    for k, st in enumerate(d["status"]):
+        if st == "not identifiable":  # written upwards from the bar's top (or from 0)
+            ax.annotate("not identifiable", (k, max(np.nan_to_num(d["change"][k]), 0.0)), (0, 4),
+                        textcoords="offset points", ha="center", va="bottom", fontsize=6.5, rotation=90,
+                        color="#666666")
+    ax.set_ylim(*d["range"])
+    ax.set_xticks(x, d["names"], rotation=35, ha="right", fontsize=7.5)
     ax.axhline(0, color="#444", lw=0.8)
-    ax.set_ylabel("change [%]")
-    ax.set_title("Design-variable changes (± one standard deviation)")
+    ax.set_ylabel("change from the initial value [%]")
+    ax.set_title("Design-variable changes, \u00b1 one standard deviation\n(a \u03c3 wider than the bounds or twice "
+                 "the largest change is clipped and written)", fontsize=9)
+    present = [s for s in STATUS_COLOURS if s in d["status"]]
+    ax.legend([Patch(facecolor=STATUS_COLOURS[s], edgecolor="#555555", hatch="//" if s == "not identifiable"
+                     else "") for s in present], present, fontsize=7, loc="upper right", ncol=len(present))
     ax.grid(alpha=0.3, axis="y")
+    return fig
+
+
+def _heatmap(ax, m, row_labels, col_labels, title):
+    im = ax.imshow(m, vmin=0, vmax=1, cmap="Blues")
+    if m.size <= 400:
+        for (i, j), v in np.ndenumerate(m):
+            ax.text(j, i, f"{v:.2f}", ha="center", va="center", fontsize=7, color="white" if v > 0.6 else "black")
+    ax.set_xticks(range(m.shape[1]), col_labels, rotation=45, ha="right", fontsize=8)
+    ax.set_yticks(range(m.shape[0]), row_labels, fontsize=8)
+    ax.set_title(title)
+    return im
+
+
+def auto_mac(section: ConfigurationSection):
+    """The auto-MAC of the test modes (measured x measured) with its values."""
+    m = section.auto_mac
+    if m is None:
+        return None
+    n = m.shape[0]
+    size = min(max(3.5 + 0.42 * n, 4.5), 10.0)
+    fig = _figure((size + 1.0, size))
+    ax = fig.add_subplot()
+    labels = section.measured_labels
+    im = _heatmap(ax, m, labels, labels, f"{section.name}: auto-MAC of the test modes")
+    ax.set_xlabel("test mode")
+    ax.set_ylabel("test mode")
+    fig.colorbar(im, ax=ax, shrink=0.8, label="MAC")
+    return fig
+
+
+def comac(rows: list[dict], name: str):
+    """COMAC per sensor DOF (bars, low values red)."""
+    if not rows:
+        return None
+    v = np.array([np.nan if r.get("comac") is None else float(r["comac"]) for r in rows])
+    fig = _figure((max(6.0, 0.16 * len(rows) + 2), 3.8))
+    ax = fig.add_subplot()
+    ax.bar(np.arange(len(rows)), v, color=[RED if c < 0.8 else BLUE for c in np.nan_to_num(v, nan=1.0)])
+    ax.set_xticks(np.arange(len(rows)), [str(r.get("sensor", k + 1)) for k, r in enumerate(rows)], rotation=90,
+                  fontsize=6.5)
+    ax.axhline(0.8, color="#444", lw=0.8, ls=":")
+    ax.set_ylim(0, 1.02)
+    ax.set_ylabel("COMAC")
+    ax.set_xlabel("sensor (test point and direction)")
+    ax.set_title(f"{name}: COMAC per sensor over the paired modes (below 0.8 in red)", fontsize=10)
+    ax.grid(alpha=0.3, axis="y")
+    return fig
+
+
+def frf_comparison(comps: list[FRFComparison], name: str):
+    """Per reference (one column each): measured (solid) against synthesised (dashed) FRF magnitudes,
+    and the MIF below; the identified modes as dotted lines."""
+    if not comps:
+        return None
+    has_mif = any(c.mif_measured is not None for c in comps)
+    n = len(comps)
+    fig = _figure((min(6.5 * n, 16.0), 6.2 if has_mif else 4.2))
+    axes = fig.subplots(2 if has_mif else 1, n, sharex=True, squeeze=False,
+                        gridspec_kw=dict(height_ratios=(2, 1)) if has_mif else None)
+    colours = [BLUE, RED, "#2ca02c", PURPLE, ORANGE]
+    for col, comp in enumerate(comps):
+        f = comp.frequencies_hz
+        top = axes[0, col]
+        for k, lab in enumerate(comp.labels):
+            c = colours[k % len(colours)]
+            top.semilogy(f, np.abs(comp.measured[:, k]), color=c, lw=1, label=f"{lab} measured")
+            top.semilogy(f, np.abs(comp.synthesised[:, k]), color=c, lw=1, ls="--", label="synthesised")
+        top.set_title(f"reference {comp.reference}", fontsize=10)
+        top.legend(fontsize=6.5, ncol=2)
+        if has_mif and comp.mif_measured is not None:
+            low = axes[1, col]
+            low.plot(f, comp.mif_measured, color="#333333", lw=1, label="measured")
+            if comp.mif_synthesised is not None:
+                low.plot(f, comp.mif_synthesised, color="#333333", lw=1, ls="--", label="synthesised")
+            low.set_ylim(-0.02, 1.02)
+            low.legend(fontsize=7)
+        for ax in axes[:, col]:
+            for fm in comp.modes_hz:
+                ax.axvline(fm, color=GREY, lw=0.6, ls=":")
+            ax.grid(alpha=0.3)
+        axes[-1, col].set_xlabel("frequency [Hz]")
+    axes[0, 0].set_ylabel("|H|")
+    if has_mif:
+        axes[1, 0].set_ylabel("MIF")
+    fig.suptitle(f"{name}: measured (solid) and synthesised (dashed) FRFs, MIF below")
     return fig
 
 

@@ -5,13 +5,19 @@ figures and CSV tables beside it.
     path = write_report(content, "out/report")     # out/report/report.html, figures/*.png, tables/*.csv
 
 Layout written to out_dir:
-    report.html                               summary, per configuration: deformed shape,
-                                              stabilisation, MAC, frequency errors + table, animated
-                                              modes; design variables, history, frequency vs load,
+    report.html                               summary, per configuration (updated on or checked):
+                                              test set-up, deformed shape, stabilisation, test modes
+                                              (damping, MPC, MPD), measured against synthesised FRFs
+                                              with the MIF, auto-MAC, MAC, COMAC, frequency errors +
+                                              table (damping, unpaired modes and why), animated modes;
+                                              design variables, history, frequency vs load,
                                               prediction, notes
-    figures/<config>_deformed.png, <config>_stabilisation.png, <config>_mac.png,
+    figures/<config>_deformed.png, <config>_stabilisation.png, <config>_frfs.png,
+            <config>_auto_mac.png, <config>_mac.png, <config>_comac.png,
             <config>_frequency_errors.png, design_variables.png, history.png, frequency_vs_load.png
-    tables/<config>_frequencies.csv, design_variables.csv, prediction.csv
+    tables/<config>_setup_<table>.csv, <config>_test_modes.csv, <config>_frf_fit_<reference>.csv,
+           <config>_comac.csv, <config>_frequencies.csv, design_variables.csv, prediction.csv
+           (numbers rounded to what they support: flexgvt.workflow.outputs.round_value)
 All text is HTML-escaped; empty parts (None, empty lists) are left out.
 """
 
@@ -50,9 +56,13 @@ tr:nth-child(even) td { background: #f8f9fb; }
 table.summary th { text-align: left; }
 .plot { margin: 6px 0 14px; min-height: 200px; }
 .note { font-size: 12px; color: #555; }
+details { margin: 6px 0 12px; font-size: 13px; }
+summary { cursor: pointer; color: #1f5fbf; }
 """
 
-_UNITS = (("_hz", " [Hz]"), ("_percent", " [%]"), ("_m", " [m]"))
+_UNITS = (("_hz", " [Hz]"), ("_percent", " [%]"), ("_deg", " [deg]"), ("_ns_per_m", " [N s/m]"),
+          ("_n_per_m", " [N/m]"), ("_kg", " [kg]"), ("_m", " [m]"))  # longest suffix first
+_SIGNED = ("error", "change", "shift")  # percentages shown with their sign
 
 
 def _slug(text: str, taken: set[str]) -> str:
@@ -78,7 +88,9 @@ def _is_number(value: Any) -> bool:
 
 def format_value(key: str, value: Any) -> str:
     """A table cell as text: None/NaN as an en dash, frequencies to 4 decimals below 100 Hz,
-    percentages signed to 2 decimals, MAC to 3 decimals, other floats to 4 significant digits."""
+    standard deviations to 2 significant digits, percentages to 2 decimals (errors, changes and
+    shifts signed), MAC-like measures (mac, comac,
+    mpc, frac) to 3 decimals, angles (*_deg) to 0.1, other floats to 4 significant digits."""
     if value is None:
         return "\u2013"
     if isinstance(value, (bool, np.bool_)):
@@ -93,12 +105,16 @@ def format_value(key: str, value: Any) -> str:
     if not math.isfinite(v):
         return "\u2013" if math.isnan(v) else str(v)
     k = key.lower()
+    if "_std" in k or k.startswith("std"):  # a standard deviation: 2 significant digits
+        return f"{v:.2g}"
     if k.endswith("_hz"):
         return f"{v:.4f}" if abs(v) < 100 else f"{v:.2f}"
     if k.endswith("percent"):
-        return f"{v:+.2f}"
-    if k.startswith("mac"):
+        return f"{v:+.2f}" if any(w in k for w in _SIGNED) else f"{v:.2f}"
+    if any(m in k.split("_") for m in ("mac", "comac", "mpc", "frac")):
         return f"{v:.3f}"
+    if k.endswith("_deg"):
+        return f"{v:.1f}"
     if v != 0 and (abs(v) >= 1e5 or abs(v) < 1e-3):
         return f"{v:.4e}"
     return f"{v:.4g}"
@@ -168,10 +184,32 @@ def _save_png(maker, args, figs_dir: Path | None, name: str, written: list[Path]
         written.append(figures.save(fig, figs_dir / f"{name}.png"))
 
 
+def _csv(rows: list[dict], path: Path) -> Path:
+    """A report table as CSV, numbers rounded to what they support (flexgvt.workflow.outputs.round_rows)."""
+    from ..workflow.outputs import round_rows
+
+    return write_csv(round_rows(rows), path)
+
+
+def _table(page: _Page, rows: list[dict], tabs_dir, name: str, written: list[Path], fold: str = "") -> None:
+    """A table (folded under ``fold`` when it has more than 12 rows) and its CSV."""
+    if fold and len(rows) > 12:
+        page.add(f"<details><summary>{_esc(fold)} ({len(rows)} rows)</summary>{table_html(rows)}</details>")
+    else:
+        page.add(table_html(rows))
+    if tabs_dir is not None and rows:
+        written.append(_csv(rows, tabs_dir / f"{name}.csv"))
+
+
 def _configuration(page: _Page, sec: ConfigurationSection, slug: str, figs_dir, tabs_dir, written) -> None:
     from . import figures, interactive
 
-    page.section(f"cfg-{slug}", f"Configuration: {sec.name}")
+    check = sec.role == "check"
+    page.section(f"cfg-{slug}", f"Configuration: {sec.name}" + (" (check: not used in updating)" if check else ""))
+    for title, rows in sec.setup.items():
+        if rows:
+            page.add(f"<h3>Test set-up: {_esc(title)}</h3>")
+            _table(page, rows, tabs_dir, f"{slug}_setup_{_slug(title, set())}", written, fold=f"show the {title}")
     page.add("<h3>Static deformed shape</h3>")
     page.figure(interactive.deformed_shape(sec))
     _save_png(figures.deformed_shape, (sec,), figs_dir, f"{slug}_deformed", written)
@@ -180,19 +218,53 @@ def _configuration(page: _Page, sec: ConfigurationSection, slug: str, figs_dir, 
         title = f"{sec.name}: stabilisation diagram"
         page.figure(interactive.stabilisation(sec.stabilisation, title))
         _save_png(figures.stabilisation, (sec.stabilisation, title), figs_dir, f"{slug}_stabilisation", written)
+    if sec.test_modes:
+        page.add("<h3>Test modes</h3><p class=\"note\">Identified modes with their standard deviations where "
+                 "known; MPC (modal phase collinearity, 1 for a real normal mode) and MPD (mean phase deviation, "
+                 "0 deg for a real mode) measure how complex each measured shape is.</p>")
+        _table(page, sec.test_modes, tabs_dir, f"{slug}_test_modes", written)
+    if sec.frfs:
+        page.add("<h3>Measured and synthesised FRFs</h3><p class=\"note\">Per reference: the measured FRFs "
+                 "against those synthesised from the identified modes (residues fitted by least squares, with "
+                 "lower and upper residual terms for the modes outside the band), and the mode indicator "
+                 "function (MIF, dips at the modes the reference excites). FRAC: the correlation of a "
+                 "synthesised FRF with the measured one over the band (1 = the same curve); a low FRAC where "
+                 "the synthesis misses a peak points at a mode the identification did not find.</p>")
+        _save_png(figures.frf_comparison, (sec.frfs, sec.name), figs_dir, f"{slug}_frfs", written)
+        for comp in sec.frfs:
+            page.figure(interactive.frf_comparison(comp, sec.name))
+            if comp.fit:
+                _table(page, comp.fit, tabs_dir, f"{slug}_frf_fit_{_slug(comp.reference, set())}", written)
+    if sec.auto_mac is not None:
+        page.add("<h3>Auto-MAC of the test modes</h3><p class=\"note\">Off-diagonal values near 1 flag test "
+                 "modes the sensors cannot tell apart (spatial aliasing, too few or badly placed sensors).</p>")
+        page.figure(interactive.auto_mac(sec))
+        _save_png(figures.auto_mac, (sec,), figs_dir, f"{slug}_auto_mac", written)
     if sec.mac_initial is not None or sec.mac_updated is not None:
         page.add("<h3>MAC matrices</h3>")
         page.figure(interactive.mac_matrices(sec))
         _save_png(figures.mac_matrices, (sec,), figs_dir, f"{slug}_mac", written)
+    if sec.comac:
+        page.add("<h3>COMAC per sensor</h3><p class=\"note\">Coordinate MAC of each sensor DOF over the paired "
+                 "modes (updated model): a low value points at a sensor in the wrong place or direction, or a "
+                 "region the model gets wrong. Table: tables/" + _esc(slug) + "_comac.csv.</p>")
+        page.figure(interactive.comac(sec.comac, sec.name))
+        _save_png(figures.comac, (sec.comac, sec.name), figs_dir, f"{slug}_comac", written)
+        if tabs_dir is not None:
+            written.append(_csv(sec.comac, tabs_dir / f"{slug}_comac.csv"))
     if sec.frequency_table:
-        page.add("<h3>Frequencies</h3>")
+        page.add("<h3>Frequencies and damping</h3>")
+        if any("model_damping_percent" in r for r in sec.frequency_table):
+            page.add("<p class=\"note\">model damping: the damping ratio of the paired mode of the updated model "
+                     "from the dampers it carries (suspension cords, springs); the model has no structural "
+                     "damping, so this is the suspension's share of the measured damping.</p>")
         title = f"{sec.name}: frequency errors before and after updating"
         page.figure(interactive.frequency_errors(sec.frequency_table, title))
         _save_png(figures.frequency_errors, (sec.frequency_table, title), figs_dir, f"{slug}_frequency_errors",
                   written)
-        page.add(table_html(sec.frequency_table))
-        if tabs_dir is not None:
-            written.append(write_csv(sec.frequency_table, tabs_dir / f"{slug}_frequencies.csv"))
+        _table(page, sec.frequency_table, tabs_dir, f"{slug}_frequencies", written)
+    if sec.notes:
+        page.add("<ul>" + "".join(f"<li>{_esc(n)}</li>" for n in sec.notes) + "</ul>")
     if sec.modes:
         page.add("<h3>Mode shapes</h3><p class=\"note\">Pick a mode in the menu to play it; the "
                  "analytical shape (blue) oscillates about the deformed geometry (grey), the measured "
@@ -220,9 +292,7 @@ def render(content: ReportContent, figs_dir: Path | None = None, tabs_dir: Path 
         page.section("variables", "Design variables")
         page.figure(interactive.design_variables(content.variables))
         _save_png(figures.design_variables, (content.variables,), figs_dir, "design_variables", written)
-        page.add(table_html(content.variables))
-        if tabs_dir is not None:
-            written.append(write_csv(content.variables, tabs_dir / "design_variables.csv"))
+        _table(page, content.variables, tabs_dir, "design_variables", written)
         page.end()
     if content.history:
         page.section("history", "Optimiser history")
@@ -236,9 +306,12 @@ def render(content: ReportContent, figs_dir: Path | None = None, tabs_dir: Path 
         page.end()
     if content.prediction:
         page.section("prediction", content.prediction_title)
-        page.add(table_html(content.prediction))
-        if tabs_dir is not None:
-            written.append(write_csv(content.prediction, tabs_dir / "prediction.csv"))
+        _table(page, content.prediction, tabs_dir, "prediction", written)
+        taken: set[str] = set()
+        for name, rows in content.prediction_modes.items():
+            page.add(table_html(rows, caption=f"{name}: every mode"))
+            if tabs_dir is not None:
+                written.append(write_csv(rows, tabs_dir / f"prediction_modes_{_slug(name, taken)}.csv"))
         page.end()
     if content.notes:
         page.section("notes", "Notes")

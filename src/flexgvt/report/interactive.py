@@ -273,19 +273,121 @@ def mode_animation(section: ConfigurationSection, amplitude_fraction: float = 0.
 
 
 def design_variables(rows: list[dict]):
-    """Bars of the design-variable changes [%] with one-sigma error bars (std_percent)."""
+    """Bars of the design-variable changes [%] with one-sigma error bars on a readable scale, coloured
+    by status (report.figures.variable_bars: clipped bars annotated with their sigma; the hover
+    gives every sigma in full)."""
+    go = _go()
+    from .figures import STATUS_COLOURS, sigma_text, variable_bars
+
+    if not rows:
+        return None
+    d = variable_bars(rows)
+    names = [_esc(n) for n in d["names"]]
+    x = list(range(len(rows)))
+    change = [float(v) if np.isfinite(v) else 0.0 for v in d["change"]]
+    sigma = [f"{v:.3g} %" if np.isfinite(v) else "none (not identifiable)" for v in d["std"]]
+    traces = []
+    for st, colour in STATUS_COLOURS.items():
+        ks = [k for k in x if d["status"][k] == st]
+        if not ks:
+            continue
+        traces.append(go.Bar(
+            x=ks, y=[change[k] for k in ks], name=st, marker=dict(
+                color=colour, line=dict(color="#555555", width=0.5),
+                pattern=dict(shape="/" if st == "not identifiable" else "")),
+            error_y=dict(type="data", array=[float(d["shown"][k]) for k in ks], color="#333333", thickness=1.2,
+                         visible=True),
+            customdata=[[names[k], sigma[k]] for k in ks],
+            hovertemplate="%{customdata[0]}: %{y:.2f} % (\u03c3 %{customdata[1]})<extra>" + st + "</extra>"))
+    notes = [dict(x=k, y=change[k] + float(d["shown"][k]), text=sigma_text(d["std"][k]), showarrow=False,
+                  yshift=6, textangle=-90, yanchor="bottom", font=dict(size=10)) for k in np.flatnonzero(d["clipped"])]
+    notes += [dict(x=k, y=max(change[k], 0.0), text="not identifiable", showarrow=False, yshift=6, textangle=-90,
+                   yanchor="bottom", font=dict(size=10, color="#666666"))
+              for k in x if d["status"][k] == "not identifiable"]
+    fig = go.Figure(traces)
+    _layout(fig, "Design-variable changes, \u00b1 one standard deviation (a \u03c3 wider than the bounds or twice "
+            "the largest change is clipped and written)", 480,
+            barmode="overlay", annotations=notes,
+            xaxis=dict(tickvals=x, ticktext=names, tickangle=-35),
+            yaxis=dict(title="change from the initial value [%]", zeroline=True, zerolinecolor="#444",
+                       range=list(d["range"])),
+            legend=dict(orientation="h", y=1.1, x=0.99, xanchor="right"))
+    return fig
+
+
+def auto_mac(section: ConfigurationSection):
+    """Heatmap of the auto-MAC of the test modes."""
+    go = _go()
+    m = section.auto_mac
+    if m is None:
+        return None
+    labels = [_esc(s) for s in section.measured_labels]
+    idx = list(range(len(labels)))
+    fig = go.Figure(go.Heatmap(z=m, x=idx, y=idx, zmin=0, zmax=1, colorscale="Blues", texttemplate="%{z:.2f}",
+                               textfont=dict(size=10),
+                               hovertemplate="test %{y}, test %{x}: MAC %{z:.3f}<extra></extra>"))
+    fig.update_xaxes(tickvals=idx, ticktext=labels, title="test mode")
+    fig.update_yaxes(tickvals=idx, ticktext=labels, autorange="reversed", title="test mode")
+    _layout(fig, f"{section.name}: auto-MAC of the test modes", min(320 + 28 * max(len(idx), 4), 900),
+            width=min(420 + 40 * max(len(idx), 4), 1100))
+    return fig
+
+
+def comac(rows: list[dict], name: str):
+    """COMAC per sensor DOF (bars, below 0.8 red)."""
     go = _go()
     if not rows:
         return None
-    names = [_esc(r.get("name", i + 1)) for i, r in enumerate(rows)]
-    change = [np.nan if r.get("change_percent") is None else float(r["change_percent"]) for r in rows]
-    std = [0.0 if r.get("std_percent") is None else float(r["std_percent"]) for r in rows]
-    err = dict(type="data", array=std, visible=any(s > 0 for s in std), color="#333333", thickness=1.2)
-    fig = go.Figure(go.Bar(x=list(range(len(rows))), y=change, error_y=err, marker_color="#1f5fbf",
-                           customdata=std, hovertemplate="%{y:.2f} % ± %{customdata:.2f} %<extra></extra>"))
-    _layout(fig, "Design-variable changes (± one standard deviation)", 420,
-            xaxis=dict(tickvals=list(range(len(rows))), ticktext=names, tickangle=-30),
-            yaxis=dict(title="change [%]", zeroline=True, zerolinecolor="#444"))
+    v = [np.nan if r.get("comac") is None else float(r["comac"]) for r in rows]
+    labels = [_esc(r.get("sensor", k + 1)) for k, r in enumerate(rows)]
+    fig = go.Figure(go.Bar(x=list(range(len(rows))), y=v, marker_color=["#d62728" if c < 0.8 else "#1f5fbf"
+                                                                         for c in np.nan_to_num(v, nan=1.0)],
+                           customdata=labels, hovertemplate="%{customdata}: COMAC %{y:.3f}<extra></extra>"))
+    _layout(fig, f"{name}: COMAC per sensor over the paired modes (below 0.8 in red)", 380,
+            xaxis=dict(tickvals=list(range(len(rows))), ticktext=labels, tickangle=-90, tickfont=dict(size=9),
+                       title="sensor (test point and direction)"),
+            yaxis=dict(title="COMAC", range=[0, 1.02]),
+            shapes=[dict(type="line", xref="paper", x0=0, x1=1, y0=0.8, y1=0.8, line=dict(dash="dot", width=1))])
+    return fig
+
+
+def _round_curve(y: np.ndarray) -> list:
+    """Magnitudes as JSON-light numbers (4 significant digits)."""
+    return [float(f"{v:.4g}") for v in y]
+
+
+def frf_comparison(comp, name: str):
+    """Measured (solid) against synthesised (dashed) FRF magnitudes of one reference on a log axis,
+    and its MIF below; the identified modes as dotted lines."""
+    go = _go()
+    from plotly.subplots import make_subplots
+
+    has_mif = comp.mif_measured is not None
+    fig = make_subplots(2 if has_mif else 1, 1, shared_xaxes=True, vertical_spacing=0.06,
+                        row_heights=[0.68, 0.32] if has_mif else None)
+    colours = ["#1f5fbf", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e"]
+    f = [float(v) for v in comp.frequencies_hz]
+    for k, lab in enumerate(comp.labels):
+        c = colours[k % len(colours)]
+        for data, kind, dash in ((comp.measured, "measured", None), (comp.synthesised, "synthesised", "dash")):
+            fig.add_trace(go.Scatter(x=f, y=_round_curve(np.abs(data[:, k])), mode="lines",
+                                     name=_esc(f"{lab} {kind}"), line=dict(color=c, width=1.2, dash=dash),
+                                     hovertemplate="%{x:.4g} Hz: %{y:.3g}<extra>" + _esc(kind) + "</extra>"), 1, 1)
+    if has_mif:
+        for data, kind, dash in ((comp.mif_measured, "MIF measured", None),
+                                 (comp.mif_synthesised, "MIF synthesised", "dash")):
+            if data is not None:
+                fig.add_trace(go.Scatter(x=f, y=_round_curve(data), mode="lines", name=kind,
+                                         line=dict(color="#333333", width=1, dash=dash)), 2, 1)
+        fig.update_yaxes(title="MIF", range=[-0.02, 1.02], row=2, col=1)
+        fig.update_xaxes(title="frequency [Hz]", row=2, col=1)
+    else:
+        fig.update_xaxes(title="frequency [Hz]", row=1, col=1)
+    fig.update_yaxes(title="|H|", type="log", exponentformat="e", row=1, col=1)
+    shapes = [dict(type="line", xref="x", yref="paper", x0=float(fm), x1=float(fm), y0=0, y1=1,
+                   line=dict(color="#999999", dash="dot", width=1)) for fm in comp.modes_hz]
+    _layout(fig, f"{name}: reference {comp.reference}, measured and synthesised FRFs", 560 if has_mif else 420,
+            shapes=shapes, legend=dict(orientation="h", y=-0.12))
     return fig
 
 

@@ -9,12 +9,12 @@
 
 from .identify import SuspensionPoint, identify_block, modulus_from_tip_load
 from .networks import Bungee, Line, LineElement, parallel, series
-from .planning import (Attachment, Layout, LayoutResult, driving_point, effective_independence, layout_configuration,
-                       place_sensors, plan_suspension)
+from .planning import (Attachment, Layout, LayoutResult, assess, driving_point, driving_residues,
+                       effective_independence, layout_configuration, place_sensors, plan_suspension, rank)
 from .removal import Removal, remove_suspension
 from .support import SupportCorrection, support_correction, two_mass_model
 
-__all__ = ["Attachment", "Bungee", "Layout", "LayoutResult", "Line", "LineElement", "Removal", "driving_point",
-           "effective_independence", "layout_configuration", "place_sensors", "plan_suspension", "SupportCorrection",
-           "SuspensionPoint", "identify_block", "modulus_from_tip_load", "parallel", "remove_suspension", "series",
-           "support_correction", "two_mass_model"]
+__all__ = ["Attachment", "Bungee", "Layout", "LayoutResult", "Line", "LineElement", "Removal", "assess",
+           "driving_point", "driving_residues", "effective_independence", "rank", "layout_configuration",
+           "place_sensors", "plan_suspension", "SupportCorrection", "SuspensionPoint", "identify_block",
+           "modulus_from_tip_load", "parallel", "remove_suspension", "series", "support_correction", "two_mass_model"]

@@ -53,17 +53,53 @@ class LayoutResult:
     separation: float = 0.0
     problems: list[str] = field(default_factory=list)
     tensions: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    modes: Modes | None = None
+    suspension_labels: list[str] = field(default_factory=list)
 
     @property
     def acceptable(self) -> bool:
         return not self.problems
 
+    @property
+    def name(self) -> str:
+        return self.layout.name
 
-def layout_configuration(model: Model, layout: Layout, gravity: float = 1.0) -> Configuration:
+    @property
+    def n_contaminated(self) -> int:
+        """Elastic modes the suspension contaminates (or all reported ones when the test was not solved)."""
+        return sum(bool(e.get("contaminated")) for e in self.elastic) if self.state is not None else 10**6
+
+    @property
+    def max_shift_percent(self) -> float:
+        """The largest |shift| [%] of a paired elastic mode from free-free (inf when not solved)."""
+        shifts = [abs(e["suspended_shift_percent"]) for e in self.elastic if e.get("suspended_shift_percent")
+                  is not None]
+        return max(shifts) if shifts else (0.0 if self.state is not None else float("inf"))
+
+    @property
+    def first_elastic_hz(self) -> float | None:
+        """The hung structure's lowest elastic frequency [Hz] (None when not solved)."""
+        if self.modes is None:
+            return None
+        f = self.modes.frequencies_hz[self.modes.energy_fractions[:, 4] <= 0.5]
+        return float(f.min()) if len(f) else None
+
+
+def layout_configuration(model: Model, layout: Layout, gravity: float = 1.0,
+                         base: Configuration | None = None) -> Configuration:
     """The Configuration that hangs ``model`` on ``layout`` (cords sized to carry their share of the
-    weight at the undeformed attachment points)."""
+    weight at the undeformed attachment points). ``base``: a configuration whose extra masses, loads,
+    springs and gravity direction the hung test keeps (its own suspension is replaced; its load
+    factor is used when it has one, else ``gravity``)."""
     from ..fem import mass_properties
-    weight = mass_properties(model).mass * 9.80665 * gravity
+    base = base if base is not None else Configuration(layout.name)
+    if base.fixed:
+        raise ModelError(f"layout '{layout.name}' on configuration '{base.name}': the configuration fixes DOFs "
+                         f"(nodes {sorted(base.fixed)}); a suspension hangs a free structure: plan on a "
+                         "configuration without supports")
+    gravity = base.gravity if base.gravity else gravity
+    g = abs(gravity) * base.g
+    weight = mass_properties(model, base.with_(suspension=())).mass * g
     xyz = model.xyz
     shares = np.array([a.share if a.share is not None else 1.0 / len(layout.attachments) for a in layout.attachments])
     cords = []
@@ -73,56 +109,81 @@ def layout_configuration(model: Model, layout: Layout, gravity: float = 1.0) -> 
             cords.append(a.line.cord(a.node, a.anchor, attach, share * weight, offset=a.offset))
         except ModelError as exc:
             raise ModelError(f"layout '{layout.name}', attachment at node {a.node}: {exc}") from None
-    return Configuration(layout.name, suspension=tuple(cords), gravity=gravity)
+    return base.with_(name=layout.name, suspension=tuple(cords), gravity=gravity)
+
+
+def assess(model: Model, configuration: Configuration, layout: Layout | None = None, n_modes: int = 10,
+           energy_limit: float = 0.1, shift_limit_percent: float = 1.0) -> LayoutResult:
+    """One hung test predicted (``configuration`` with its suspension; ``layout``: the candidate it
+    was built from, None for a suspension given as cords): its static state, suspension modes,
+    separation, each elastic mode's shift from free-free and share of energy in the suspension
+    (see plan_suspension), and its problems."""
+    layout = layout if layout is not None else Layout(configuration.name, ())
+    res = LayoutResult(layout, configuration, None)
+    try:
+        state = solve_static(model, configuration)
+    except (ConvergenceError, SingularModelError) as exc:
+        res.problems.append(f"the hung static solution failed: {exc}")
+        return res
+    res.state = state
+    res.tensions = np.asarray(state.cord_tension, float)
+    for a, T in zip(layout.attachments, res.tensions):
+        res.problems += [f"node {a.node}: {p}" for p in a.line.check(float(T))]
+    modes = solve_modes(state, n_modes + len(configuration.suspension) + 6, damped=False)
+    res.modes = modes
+    susp = modes.energy_fractions[:, 4] > 0.5
+    res.suspension_hz = modes.frequencies_hz[susp]
+    res.suspension_labels = [modes.labels[k] for k in np.flatnonzero(susp)] if modes.labels else []
+    removal = remove_suspension(model, configuration, n_modes=n_modes)
+    elastic_hz = modes.frequencies_hz[~susp]
+    res.separation = float(elastic_hz.min() / res.suspension_hz.max()) if len(res.suspension_hz) and len(
+        elastic_hz) else float("inf")
+    for row in removal.rows:
+        j = row.get("suspended_mode")
+        share = float(modes.energy_fractions[j - 1, 4]) if j else None
+        # A free mode no hung mode resembles (MAC below the pairing floor) is changed past recognition.
+        res.elastic.append({**row, "suspension_energy": share, "unpaired": not j,
+                            "contaminated": bool(not j or abs(row["suspended_shift_percent"]) > shift_limit_percent
+                                                 or share > energy_limit)})
+    if res.separation < 2.0:
+        k = int(np.flatnonzero(susp)[np.argmax(modes.frequencies_hz[susp])])
+        res.problems.append(f"suspension mode '{modes.labels[k]}' ({modes.frequencies_hz[k]:.3g} Hz) sits within "
+                            f"2x of the first elastic mode ({elastic_hz.min():.3g} Hz): soften the lines (plunge, "
+                            "roll) or lengthen them (pendulum), or move the attachments")
+    return res
 
 
 def plan_suspension(model: Model, layouts: Iterable[Layout], n_modes: int = 10, energy_limit: float = 0.1,
-                    shift_limit_percent: float = 1.0) -> list[LayoutResult]:
-    """Predict each layout's hung test and rank them: acceptable layouts first, then by separation.
+                    shift_limit_percent: float = 1.0, base: Configuration | None = None) -> list[LayoutResult]:
+    """Predict each layout's hung test and rank them (see rank): acceptable layouts first, then
+    those that contaminate fewer elastic modes, then those that move them less, then by separation.
 
     Every elastic mode gets its frequency shift from free-free and the share of its energy in the
     suspension (docs/method.md: a separation below 10x always contaminates very flexible aircraft; the
     row says by how much): 'contaminated' when that share passes ``energy_limit`` or the shift
-    ``shift_limit_percent``. A line loaded or stretched past its allowance is a problem of the layout
-    (a spring that would yield), not an error."""
+    ``shift_limit_percent``, or when no hung mode pairs with it ('unpaired': MAC below 0.6). A line
+    loaded or stretched past its allowance is a problem of the layout (a spring that would yield), not
+    an error. ``base``: the configuration hung (its masses and loads kept, see layout_configuration);
+    default the bare structure in 1 g.
+    """
     results = []
     for layout in layouts:
         try:
-            cfg = layout_configuration(model, layout)
+            cfg = layout_configuration(model, layout, base=base)
         except ModelError as exc:  # a line too soft for its anchor: a finding of the plan
+            if base is not None and base.fixed:
+                raise
             results.append(LayoutResult(layout, None, None, problems=[str(exc)]))
             continue
-        res = LayoutResult(layout, cfg, None)
-        try:
-            state = solve_static(model, cfg)
-        except (ConvergenceError, SingularModelError) as exc:
-            res.problems.append(f"the hung static solution failed: {exc}")
-            results.append(res)
-            continue
-        res.state = state
-        res.tensions = np.asarray(state.cord_tension, float)
-        for a, T in zip(layout.attachments, res.tensions):
-            res.problems += [f"node {a.node}: {p}" for p in a.line.check(float(T))]
-        modes = solve_modes(state, n_modes + len(cfg.suspension) + 6, damped=False)
-        susp = modes.energy_fractions[:, 4] > 0.5
-        res.suspension_hz = modes.frequencies_hz[susp]
-        removal = remove_suspension(model, cfg, n_modes=n_modes)
-        elastic_hz = modes.frequencies_hz[~susp]
-        res.separation = float(elastic_hz.min() / res.suspension_hz.max()) if len(res.suspension_hz) and len(
-            elastic_hz) else float("inf")
-        for row in removal.rows:
-            j = row.get("suspended_mode")
-            share = float(modes.energy_fractions[j - 1, 4]) if j else None
-            res.elastic.append({**row, "suspension_energy": share,
-                                "contaminated": bool(j and (abs(row["suspended_shift_percent"]) > shift_limit_percent
-                                                            or share > energy_limit))})
-        if res.separation < 2.0:
-            k = int(np.flatnonzero(susp)[np.argmax(modes.frequencies_hz[susp])])
-            res.problems.append(f"suspension mode '{modes.labels[k]}' ({modes.frequencies_hz[k]:.3g} Hz) sits within "
-                                f"2x of the first elastic mode ({elastic_hz.min():.3g} Hz): soften the lines (plunge, "
-                                "roll) or lengthen them (pendulum), or move the attachments")
-        results.append(res)
-    return sorted(results, key=lambda r: (not r.acceptable, -r.separation))
+        results.append(assess(model, cfg, layout, n_modes, energy_limit, shift_limit_percent))
+    return rank(results)
+
+
+def rank(results: Iterable[LayoutResult]) -> list[LayoutResult]:
+    """Acceptable first, then fewer contaminated elastic modes, then the smaller largest shift of an
+    elastic mode from free-free (to 0.01 %), then the larger separation."""
+    return sorted(results, key=lambda r: (not r.acceptable, r.n_contaminated, round(r.max_shift_percent, 2),
+                                          -r.separation))
 
 
 def effective_independence(shapes: np.ndarray, n_sensors: int) -> np.ndarray:
@@ -156,16 +217,24 @@ def place_sensors(modes: Modes, n_sensors: int, candidates: Sensors | None = Non
     return chosen, auto_mac(Phi[keep].T)
 
 
+def driving_residues(modes: Modes, candidates: Sensors | None = None,
+                     mode_indices: Sequence[int] | None = None) -> np.ndarray:
+    """(n_candidates, n_targets) driving-point residues phi_r(p)^2 of each candidate exciter point
+    for each target mode, normalised by the mode's largest over the candidates (1: the best point
+    for that mode, 0: a node of it)."""
+    idx = np.arange(modes.n_modes) if mode_indices is None else np.asarray(mode_indices, int)
+    cand = candidates if candidates is not None else Sensors.triaxial(modes.node_ids)
+    Phi = np.asarray(cand.matrix(modes.node_ids, modes.state) @ modes.matrix()[:, idx])
+    return Phi**2 / np.maximum((Phi**2).max(axis=0, keepdims=True), 1e-300)
+
+
 def driving_point(modes: Modes, candidates: Sensors | None = None,
                   mode_indices: Sequence[int] | None = None) -> tuple[int, np.ndarray]:
     """The candidate sensor/exciter point that drives every target mode best: it maximises the
     smallest driving-point residue phi_r(p)^2, each mode's residues normalised by their largest.
     Returns (index into candidates, the normalised residues of that point per mode)."""
-    from ..correlation import Sensors
     idx = np.arange(modes.n_modes) if mode_indices is None else np.asarray(mode_indices, int)
-    cand = candidates if candidates is not None else Sensors.triaxial(modes.node_ids)
-    Phi = np.asarray(cand.matrix(modes.node_ids, modes.state) @ modes.matrix()[:, idx])
-    res = Phi**2 / np.maximum((Phi**2).max(axis=0, keepdims=True), 1e-300)
+    res = driving_residues(modes, candidates, idx)
     best = int(np.argmax(res.min(axis=1)))
     if res[best].min() < 1e-3:
         weak = idx[np.argmin(res[best])]

@@ -7,13 +7,14 @@
 
 from .derivatives import StateDerivatives, eigenvalue_derivatives, eigenvector_derivatives, state_derivatives
 from .problem import ConfigurationPoint, DesignPointFailure, Point, UpdatingProblem
-from .settings import OptimiserSettings
+from .settings import OptimiserSettings, UncertaintySettings
 from .targets import MassTarget, Measured, Objective
-from .variables import Parametrisation, Variable, beam, case_variables, cord, mass, spring
+from .variables import Parametrisation, Variable, beam, case_variables, cord, mass, shell, spring
 
 __all__ = ["ConfigurationPoint", "DesignPointFailure", "MassTarget", "Measured", "Objective", "OptimiserSettings",
+           "UncertaintySettings",
            "Parametrisation", "Point", "StateDerivatives", "UpdatingProblem", "Variable", "beam", "case_variables",
-           "cord", "eigenvalue_derivatives", "eigenvector_derivatives", "mass", "spring", "state_derivatives"]
+           "cord", "eigenvalue_derivatives", "eigenvector_derivatives", "mass", "shell", "spring", "state_derivatives"]
 from .result import UpdateResult  # noqa: E402
 from .runner import update  # noqa: E402
 

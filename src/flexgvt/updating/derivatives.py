@@ -51,7 +51,7 @@ from ..fem.sensitivity import (ValueChange, closed_form_links, groups_derivative
                                modal_state_terms, value_derivative)
 from ..fem.system import compile_model, group_values
 from ..model import RectangularSection
-from .variables import Parametrisation
+from .variables import Parametrisation, shell_property
 
 _EXACT_STEP = 0.25  # normalised step of the two-point rule where the assembly is linear or quadratic
 _SECTION_STEP = 1e-3  # of the four-point rule on a beam group's values (section properties are not linear)
@@ -263,6 +263,16 @@ def value_change(par: Parametrisation, model, x: np.ndarray, k: int, configurati
     v = b.variable
     if v.kind == "beam":
         return _beam_changes(par, model, x, [k])[k]
+    if v.kind == "shell":
+        # A four-point rule in the property value: the sections are polynomial in thickness (t, t^3)
+        # and rational in E and G (through nu), so the rule is exact to round-off for t, rho, nsm.
+        h = _SECTION_STEP
+        item = {}
+        for g, p0 in zip(b.indices, b.initial):
+            current = model.shells[g].property
+            item[g] = [(shell_property(current, {v.attribute: float(p0 * (x[k] + off))}), w / h)
+                       for off, w in zip((2 * h, h, -h, -2 * h), (-1 / 12, 8 / 12, -8 / 12, 1 / 12))]
+        return ValueChange(others={"shells": item})
     if v.kind == "mass" and v.per_configuration:
         mine = [i for c, i in b.indices if c == configuration]
         if not mine:

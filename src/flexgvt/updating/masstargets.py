@@ -15,6 +15,9 @@ from .targets import MassTarget, Objective
 from .variables import Parametrisation
 
 
+_ROUND_OFF_CG = 1e-9  # [m]
+
+
 class MassResiduals:
     """Mass, cg and inertia of the working model ``work`` (set to each design point) against
     ``target``: relative residuals weighted by ``objective``, the +-mass_limits constraints, and
@@ -46,7 +49,9 @@ class MassResiduals:
             refs.append(t.mass)
         if t.cg is not None:
             for a, c0 in zip("xyz", t.cg):
-                scale = abs(c0) if abs(c0) > 0 else t.cg_scale
+                # A reference cg within a nanometre of zero is a symmetry plane's round-off (the
+                # wingbox's 5e-20 m): it takes the absolute scale, not itself.
+                scale = abs(c0) if abs(c0) > _ROUND_OFF_CG else t.cg_scale
                 vals.append(w.cg * (mp.cg["xyz".index(a)] - c0) / scale)
                 names.append(f"cg_{a}")
                 refs.append(scale)

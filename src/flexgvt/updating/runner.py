@@ -221,11 +221,12 @@ def _run(problem, model, *, method, starts, seed, max_iterations, tolerance, sto
     if store is not None:
         store.bind(fingerprint(problem, method))
     runs = []
+    limits = {"max_iterations": int(max_iterations), "tolerance": float(tolerance)}  # a change continues the run
     points = starting_points(problem, max(1, starts), seed)
     if start is not None:
         points[0] = start
     for run, x0 in enumerate(points):
-        done = store.finished(run) if store is not None else None
+        done = store.finished(run, limits) if store is not None else None
         if done is not None:  # finished before: its answer, evaluated from where the run evaluated it
             ref = reference if done["reference"] is None else as_reference(problem, unpack(done["reference"]))
             problem.set_pairing_reference(ref)
@@ -256,7 +257,7 @@ def _run(problem, model, *, method, starts, seed, max_iterations, tolerance, sto
         if store is not None:
             store.finish(run, out["x"], out["objective"], out["method"], str(out["message"]),
                          reference=pack(reference_arrays(out["reference"])), iterations=len(out["history"]),
-                         success=bool(out["success"]))
+                         success=bool(out["success"]), limits=limits)
             out["history"] = store.history(run)
         runs.append(out)
     for run, item in enumerate(runs):
@@ -269,7 +270,7 @@ def _run(problem, model, *, method, starts, seed, max_iterations, tolerance, sto
             out["objective"] = problem.evaluate(out["x"]).objective
             out["resumed"] = False
             if store is not None:
-                store.finish(run, out["x"], out["objective"], out["method"], str(out["message"]))
+                store.finish(run, out["x"], out["objective"], out["method"], str(out["message"]), limits=limits)
             runs[run] = out
     best = min(runs, key=lambda r: r["objective"])
     if not np.isfinite(best["objective"]):

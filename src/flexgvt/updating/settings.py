@@ -92,3 +92,39 @@ class OptimiserSettings:
     def to_dict(self) -> dict:
         """The settings as keywords of flexgvt.updating.update."""
         return asdict(self)
+
+
+UNCERTAINTY_METHODS = ("linear", "mcmc", "none")
+
+
+@dataclass(frozen=True)
+class UncertaintySettings:
+    """Confidence bounds of the predicted frequencies (the project file's [prediction.uncertainty]
+    table; flexgvt.updating.uncertainty)."""
+
+    method: str = setting("linear", "linear: the updated variables' covariance (Laplace approximation, the "
+                          "Jacobian's) through the predictions' exact sensitivities; mcmc: posterior samples "
+                          "of the same residuals (emcee, pip install 'flexgvt[mcmc]'); none: no bounds",
+                          choices=UNCERTAINTY_METHODS)
+    confidence: float = setting(0.95, "level of the two-sided interval", gt=0, le=0.999)
+    prior: str = setting("bounds", "bounds: each variable's prior is uniform on its bounds (the linear route "
+                         "uses its variance), so directions the data do not see keep that spread; none: "
+                         "data only (a prediction that depends on an unseen direction is unbounded)",
+                         choices=("bounds", "none"))
+    scale_to_fit: bool = setting(True, "widen the measured standard deviations by chi^2 per degree of freedom "
+                                 "of the fit when the residual is larger than they explain")
+    walkers: int = setting(32, "mcmc: ensemble walkers (at least 2 n_variables + 2 are used)", ge=2)
+    steps: int = setting(400, "mcmc: steps of each walker (each step solves every updated configuration "
+                         "once per walker)", ge=2)
+    burn: int = setting(200, "mcmc: steps discarded as burn-in", ge=0)
+    thin: int = setting(10, "mcmc: keep every thin-th step of the chain", ge=1)
+    samples: int = setting(100, "mcmc: posterior samples whose predictions give the interval", ge=2)
+    seed: int = setting(0, "mcmc: seed of the walkers' start and moves")
+
+    def __post_init__(self) -> None:
+        check_settings(self, "uncertainty settings")
+        if self.steps <= self.burn:
+            raise ModelError(f"uncertainty settings: steps ({self.steps}) must exceed burn ({self.burn})")
+
+    def to_dict(self) -> dict:
+        return asdict(self)

@@ -14,6 +14,13 @@ computes on: the trajectory, the iteration budget and the answer are those of an
 A finished run keeps the continuation its answer was evaluated from, so reading it back evaluates
 the same numbers (frequencies, Jacobian, uncertainties) as the run that computed them.
 
+A finished run is returned as it is only when asked for with the limits it ran under
+(max_iterations, tolerance: ``finished(run, limits)``); under other limits it is continued: the
+optimiser starts again, its evaluations are answered from the record without solving, and it
+computes on from where the stored run stopped (or stops earlier, under a tighter budget).
+``progress`` (a callable taking one line) hears which of these happens, and ``status()`` says
+how far the bound problem got (for the message of an interrupted run).
+
 The store is locked (an OS file lock on ``<store>.lock``, released by the system when its process
 ends, also on a kill) for as long as it is open: a second process gets StoreLockedError at once.
 """
@@ -54,6 +61,8 @@ CREATE TABLE IF NOT EXISTS iterations (
 CREATE TABLE IF NOT EXISTS evaluations (
     problem TEXT NOT NULL, run INTEGER NOT NULL, seq INTEGER NOT NULL, x BLOB NOT NULL, gradient INTEGER NOT NULL,
     data BLOB NOT NULL, continuation BLOB, PRIMARY KEY (problem, run, seq));
+CREATE TABLE IF NOT EXISTS limits (problem TEXT NOT NULL, run INTEGER NOT NULL, data TEXT NOT NULL,
+    PRIMARY KEY (problem, run));
 CREATE TABLE IF NOT EXISTS finals (problem TEXT NOT NULL, run INTEGER NOT NULL, reference BLOB NOT NULL,
     success INTEGER NOT NULL, PRIMARY KEY (problem, run));
 """
@@ -103,8 +112,9 @@ class ResultsStore:
     otherwise); lock=False opens it without the lock, to read a store a run is writing (use
     history() only: a second writer would interleave with the run)."""
 
-    def __init__(self, path: str | Path, lock: bool = True):
+    def __init__(self, path: str | Path, lock: bool = True, progress=None):
         self.path = Path(path)
+        self.progress = progress or (lambda line: None)
         self._lock = acquire_lock(Path(f"{self.path}.lock"), self.path) if lock else None
         try:
             self._db = sqlite3.connect(str(self.path), isolation_level=None, timeout=30.0)
@@ -189,10 +199,17 @@ class ResultsStore:
                              (self.problem, run, iteration))
 
     def finish(self, run: int, x: np.ndarray, objective: float, method: str, message: str,
-               reference: bytes | None = None, iterations: int | None = None, success: bool = True) -> None:
+               reference: bytes | None = None, iterations: int | None = None, success: bool = True,
+               limits: dict | None = None) -> None:
         """The run's answer, and the continuation it is evaluated from (``reference``, packed), so
-        that reading it back computes the same numbers; iterates beyond ``iterations`` are dropped."""
+        that reading it back computes the same numbers; iterates beyond ``iterations`` are dropped.
+        limits: what the run stopped under ({'max_iterations': .., 'tolerance': ..}); finished()
+        returns the answer only for these."""
         with self._db:
+            self._db.execute("DELETE FROM limits WHERE problem = ? AND run = ?", (self.problem, run))
+            if limits is not None:
+                self._db.execute("INSERT INTO limits VALUES (?, ?, ?)",
+                                 (self.problem, run, json.dumps(limits, sort_keys=True)))
             if reference is not None:
                 self._db.execute("INSERT OR REPLACE INTO finals VALUES (?, ?, ?, ?)",
                                  (self.problem, run, reference, int(success)))
@@ -206,15 +223,51 @@ class ResultsStore:
                              (time.time(), json.dumps(np.asarray(x).tolist()), objective, method, message,
                               self.problem, run))
 
-    def finished(self, run: int) -> dict | None:
+    def finished(self, run: int, limits: dict | None = None) -> dict | None:
+        """The stored answer of ``run`` (x, objective, method, message, reference, success), or None:
+        when it never finished, or when ``limits`` are given and differ from those it finished under
+        (then the caller runs it again and the record answers up to where it stopped). Says on
+        ``progress`` which it is when there is a record."""
         row = self._db.execute("SELECT x_final, objective, method, message FROM runs WHERE problem = ? AND run = ? "
                                "AND finished IS NOT NULL", (self.problem, run)).fetchone()
+        done = self.status(run)
+        if row is not None and limits is not None:
+            stored = self._db.execute("SELECT data FROM limits WHERE problem = ? AND run = ?",
+                                      (self.problem, run)).fetchone()
+            before = None if stored is None else json.loads(stored[0])
+            if before != json.loads(json.dumps(limits, sort_keys=True)):
+                was = "unknown limits" if before is None else _limits_text(before)
+                self.progress(f"updating{_run_text(run)}: the stored run stopped under {was} at objective "
+                              f"{row[1]:.6g}; continuing it under {_limits_text(limits)} ({done['evaluations']} "
+                              "stored evaluations answered without solving)")
+                return None
         if row is None:
+            if done["evaluations"]:
+                best = "" if done["best_objective"] is None else f", best objective {done['best_objective']:.6g}"
+                self.progress(f"updating{_run_text(run)}: resuming the interrupted run from the store "
+                              f"({done['evaluations']} evaluations{best}; answered without solving)")
             return None
+        self.progress(f"updating{_run_text(run)}: the finished run read back from the store (same problem, data "
+                      "and limits; `flexgvt run --fresh` computes it again)")
         ref = self._db.execute("SELECT reference, success FROM finals WHERE problem = ? AND run = ?",
                                (self.problem, run)).fetchone()
         return {"x": np.array(json.loads(row[0]), float), "objective": row[1], "method": row[2], "message": row[3],
                 "reference": None if ref is None else bytes(ref[0]), "success": True if ref is None else bool(ref[1])}
+
+    def status(self, run: int | None = None) -> dict:
+        """How far the bound problem got (one run, or all): evaluations stored, accepted iterates and
+        the best objective among them (None before the first)."""
+        where, args = ("problem = ?", (self.problem,)) if run is None else \
+            ("problem = ? AND run = ?", (self.problem, run))
+        n = self._db.execute(f"SELECT COUNT(*) FROM evaluations WHERE {where}", args).fetchone()[0]
+        k, best = self._db.execute(f"SELECT COUNT(*), MIN(objective) FROM iterations WHERE {where}", args).fetchone()
+        return {"evaluations": int(n), "iterations": int(k), "best_objective": None if best is None else float(best)}
+
+    def clear(self) -> None:
+        """Forget every stored problem and run (a fresh start)."""
+        with self._db:
+            for table in ("problems", "runs", "iterations", "evaluations", "finals", "limits"):
+                self._db.execute(f"DELETE FROM {table}")
 
     def history(self, run: int = 0) -> list[dict]:
         rows = self._db.execute("SELECT iteration, x, objective, frequencies, mac FROM iterations WHERE problem = ? "
@@ -236,6 +289,14 @@ class ResultsStore:
 
     def __exit__(self, *exc) -> None:
         self.close()
+
+
+def _run_text(run: int) -> str:
+    return "" if run == 0 else f" (start {run + 1})"
+
+
+def _limits_text(limits: dict) -> str:
+    return ", ".join(f"{k} = {v:g}" if isinstance(v, float) else f"{k} = {v}" for k, v in sorted(limits.items()))
 
 
 def acquire_lock(lock: Path, what: Path):

@@ -22,23 +22,27 @@ from ..cases.case import Case
 from ..model import BeamGroup, Configuration, Material, Model, TaperedSection
 from ..model.section import Section
 from ..model.components import ConcentratedMass, find_items
+from ..model.shells import Laminate
 from .settings import renamed
 
-KINDS = ("beam", "mass", "spring", "cord")
+KINDS = ("beam", "mass", "spring", "cord", "shell")
 MATERIAL_ATTRIBUTES = ("E", "G", "rho")
 MASS_ATTRIBUTES = ("mass", "offset_x", "offset_y", "offset_z")
 SPRING_ATTRIBUTES = tuple(f"k{i}" for i in range(1, 7)) + tuple(f"c{i}" for i in range(1, 7)) + ("stiffness", "damping")
 CORD_ATTRIBUTES = ("stiffness", "damping", "offset_x", "offset_y", "offset_z", "along")
+SHELL_ATTRIBUTES = ("thickness", "E", "G", "rho", "nsm")
 SECTION_ALIASES = {"thickness": "height"}  # a RectangularSection's height is a strip's or skin's thickness
 # Normalised bounds of a variable that gives none, by kind (the factories, Variable and project files).
-DEFAULT_BOUNDS = {"beam": (0.9, 1.1), "mass": (0.9, 1.1), "spring": (0.5, 2.0), "cord": (0.8, 1.2)}
+DEFAULT_BOUNDS = {"beam": (0.9, 1.1), "mass": (0.9, 1.1), "spring": (0.5, 2.0), "cord": (0.8, 1.2),
+                  "shell": (0.9, 1.1)}
 
 
 @dataclass(frozen=True)
 class Variable:
     """One design variable.
 
-    kind: 'beam' (a material or section attribute of beam groups), 'mass', 'spring' or 'cord';
+    kind: 'beam' (a material or section attribute of beam groups), 'mass', 'spring', 'cord' or
+    'shell' (a property attribute of shell groups: SHELL_ATTRIBUTES);
     attribute: E, G, rho, or a section field (width, height, thickness, A, Iy, ...) for beams;
     mass, offset_x/y/z for masses; k1..k6, c1..c6, stiffness, damping for springs; stiffness,
     damping for cords. targets: beam group names or fnmatch patterns ('region*'), mass or spring
@@ -72,9 +76,9 @@ class Variable:
         targets = tuple(self.targets)
         ids = tuple(self.ids)
         named = self.kind in ("mass", "spring")
-        if self.kind == "beam":
+        if self.kind in ("beam", "shell"):
             bad = [t for t in targets if not isinstance(t, str)]
-            what = "beam group names or patterns (strings, e.g. \"wing_*\")"
+            what = f"{self.kind} group names or patterns (strings, e.g. \"wing_*\")"
         else:
             bad = [t for t in targets if isinstance(t, (bool, np.bool_))
                    or not isinstance(t, (int, np.integer) + ((str,) if named else ()))]
@@ -113,6 +117,15 @@ def beam(name: str, groups: str | Iterable[str], attribute: str,
     beam groups named by ``groups`` (names or fnmatch patterns, see Model.add_beams(name=...))."""
     groups = (groups,) if isinstance(groups, str) else tuple(groups)
     return Variable(name, "beam", SECTION_ALIASES.get(attribute, attribute), groups, bounds)
+
+
+def shell(name: str, groups: str | Iterable[str], attribute: str,
+          bounds: tuple[float, float] | None = None) -> Variable:
+    """A property attribute of the shell groups named by ``groups`` (names or fnmatch patterns, see
+    Model.add_shells(name=...)): thickness (a PSHELL's T, or every ply of a laminate), E, G, rho
+    (of the property's materials: every MAT1 it uses; rho also of a laminate's plies) or nsm."""
+    groups = (groups,) if isinstance(groups, str) else tuple(groups)
+    return Variable(name, "shell", attribute, groups, bounds)
 
 
 def _named(kind: str, targets, ids) -> tuple[tuple, tuple[int, ...]]:
@@ -219,6 +232,17 @@ class Parametrisation:
                                  f"groups: {sorted(set(names))}")
             initial = [self._beam_value(m.beams[k], v, where) for k in idx]
             return Binding(v, tuple(idx), np.array(initial))
+        if v.kind == "shell":
+            names = [g.name for g in m.shells]
+            idx = sorted({k for pat in v.targets for k, n in enumerate(names) if fnmatch.fnmatchcase(n, pat)})
+            missing = [pat for pat in v.targets if not any(fnmatch.fnmatchcase(n, pat) for n in names)]
+            if missing or not v.targets:
+                raise ModelError(f"{where}: no shell group named {missing or '(none given)'} in model '{m.name}'; "
+                                 f"groups: {sorted(set(names))}")
+            if v.attribute not in SHELL_ATTRIBUTES:
+                raise ModelError(f"{where}: attribute '{v.attribute}' of a shell group must be one of "
+                                 f"{SHELL_ATTRIBUTES}")
+            return Binding(v, tuple(idx), np.array([shell_value(m.shells[k], v.attribute, where) for k in idx]))
         if v.kind == "mass" and v.configurations is not None:
             return self._bind_configuration_masses(v, where)
         if v.kind in ("mass", "spring"):
@@ -371,6 +395,7 @@ class Parametrisation:
         cords: dict[str, list] = {}
         own_masses: dict[str, list] = {}
         springs: dict[tuple[int, str], np.ndarray] = {}
+        shells: dict[int, dict] = {}
         base = self.model
         for b, xi in zip(self.bindings, x):
             v = b.variable
@@ -379,6 +404,8 @@ class Parametrisation:
                 if v.kind == "beam":
                     mat, sec = beams.setdefault(idx, ({}, {}))
                     (mat if v.attribute in MATERIAL_ATTRIBUTES else sec)[v.attribute] = float(value)
+                elif v.kind == "shell":
+                    shells.setdefault(idx, {})[v.attribute] = float(value)
                 elif v.kind == "mass" and v.per_configuration:
                     c, i = idx
                     lst = own_masses.setdefault(c, list(configs[c].masses))
@@ -419,6 +446,8 @@ class Parametrisation:
                     material = replace(material, G=g)
             section = replace(group.section, **sec) if sec else group.section
             model.set_beam_group(k, material=material, section=section)
+        for k, values in shells.items():
+            model.set_shell_group(k, property=shell_property(base.shells[k].property, values))
         for c, lst in cords.items():
             configs[c] = configs[c].with_(suspension=tuple(lst))
         for c, lst in own_masses.items():
@@ -462,6 +491,63 @@ def _positions(v: Variable, items, where: str, absent: str | None = None) -> tup
     for i in v.ids:
         out += find_items(items, i, where, kind)
     return tuple(dict.fromkeys(out))
+
+
+def _materials(prop) -> list:
+    """The distinct materials of a shell property (its MIDs, or its plies')."""
+    found = [p.material for p in prop.plies] if isinstance(prop, Laminate) else \
+        [prop.membrane, prop.bending, prop.shear, prop.coupling]
+    return list({id(m): m for m in found if m is not None}.values())
+
+
+def shell_value(group, attribute: str, where: str) -> float:
+    """The value of a shell group's property ``attribute`` (SHELL_ATTRIBUTES) that a variable scales."""
+    prop = group.property
+    if attribute == "thickness":
+        if group.corner_thickness is not None:
+            raise ModelError(f"{where}: shell group '{group.name}' gives corner thicknesses (T1-T4), which a "
+                             "thickness variable cannot scale; use E, G or rho, or give the group its property's "
+                             "thickness")
+        value = prop.thickness
+    elif attribute == "nsm":
+        value = prop.nsm
+    else:
+        mats = _materials(prop)
+        usable = [m for m in mats if isinstance(m, Material)] if attribute in ("E", "G") else mats
+        if attribute in ("E", "G") and len(usable) != len(mats):
+            raise ModelError(f"{where}: shell group '{group.name}' uses anisotropic or orthotropic materials (MAT2, "
+                             f"MAT8), whose '{attribute}' is not one value; use thickness or rho")
+        values = {float(m.shear_modulus if attribute == "G" else getattr(m, attribute)) for m in usable}
+        if len(values) != 1:
+            raise ModelError(f"{where}: shell group '{group.name}' uses materials with different {attribute} "
+                             f"({sorted(values)}); a variable scales one value: give the group one material")
+        value = values.pop()
+    if not isinstance(value, (int, float)) or not value > 0:
+        raise ModelError(f"{where}: {attribute} of shell group '{group.name}' is {value!r}; only a positive number "
+                         "can be scaled")
+    return float(value)
+
+
+def shell_property(prop, values: dict):
+    """The shell property ``prop`` with the attributes in ``values`` (SHELL_ATTRIBUTES) set."""
+    values = dict(values)
+    swap: dict[int, Material] = {}
+    for m in _materials(prop):
+        changed = {a: values[a] for a in ("E", "G", "rho") if a in values}
+        if "G" in changed:
+            changed["nu"] = None  # G given: nu follows from E and G
+        if changed and (isinstance(m, Material) or set(changed) == {"rho"}):
+            swap[id(m)] = replace(m, **changed)
+
+    def mat(m):
+        return swap.get(id(m), m) if m is not None else None
+    if isinstance(prop, Laminate):
+        ratio = values["thickness"] / prop.thickness if "thickness" in values else 1.0
+        plies = tuple(replace(p, material=mat(p.material), thickness=p.thickness * ratio) for p in prop.plies)
+        return replace(prop, plies=plies, nsm=values.get("nsm", prop.nsm))
+    return replace(prop, thickness=values.get("thickness", prop.thickness), nsm=values.get("nsm", prop.nsm),
+                   membrane=mat(prop.membrane), bending=mat(prop.bending), shear=mat(prop.shear),
+                   coupling=mat(prop.coupling))
 
 
 def _set_mass(item: ConcentratedMass, attribute: str, value: float) -> ConcentratedMass:

@@ -20,9 +20,10 @@ from .settings import renamed
 from ..fem import mass_properties, solve_modes, solve_static
 from .runner import update
 from .targets import MassTarget, Measured, Objective
-from .variables import Parametrisation, beam
+from ..fem.static import StaticSettings
+from .variables import Parametrisation, beam, shell
 
-CASES = ("cantilever",)
+CASES = ("cantilever", "wingbox")
 
 
 @dataclass
@@ -84,6 +85,38 @@ def _cantilever_setup():
     return case, sensors, variables, train, unseen, int(case.references["tip_node"])
 
 
+def _wingbox_setup(element_size: float = 0.2):
+    """The shell wingbox (fg.cases.wingbox): 5 variables (density, E, rib, skin and spar thickness),
+    training configurations unloaded, -1 g and 2.5 g, unseen the combined case. The loaded cases are
+    post-buckled: each carries the imperfection in its buckling shape that takes the reference onto
+    its post-buckled path (solve_static's buckling='continue'), as a test article has its own.
+    Sensors: vertical accelerometers at both spars' top corners every 2 m and chordwise ones at the
+    front spar, as a GVT of a wing instruments it."""
+    from ..cases import wingbox
+    from ..correlation import Sensors
+    case = wingbox(element_size=element_size)
+    model = case.model
+    xyz = model.xyz
+    top = xyz[:, 2] > 0.079
+    stations = np.arange(2.0, 16.01, 2.0)
+    pick = [int(np.argmin(np.where(top, np.hypot(xyz[:, 0] - x, xyz[:, 1] - y), np.inf)))
+            for y in stations for x in (0.0, 1.0)]
+    corners = model.node_ids[pick]
+    z = Sensors.uniaxial(corners, (0.0, 0.0, 1.0))
+    x = Sensors.uniaxial(corners[::2], (1.0, 0.0, 0.0))
+    sensors = Sensors(list(z) + list(x))
+    variables = [shell("rho", "*", "rho"), shell("E", "*", "E"), shell("t_ribs", "ribs", "thickness"),
+                 shell("t_skins", "skin_*", "thickness"), shell("t_spars", "spar_*", "thickness")]
+    train = []
+    for name in ("unloaded", "minus_1g", "plus_2_5g"):
+        cfg = case.configurations[name]
+        if cfg.gravity:
+            cfg = solve_static(model, cfg, settings=StaticSettings(buckling="continue")).configuration
+        train.append(cfg)
+    unseen = solve_static(model, case.configurations["combined"], settings=StaticSettings(buckling="continue"))
+    return case, sensors, variables, train, unseen.configuration, int(case.references["tip_spar_nodes"][0])
+
+
 def _surrogate(model, configs, sensors, n_modes, tip):
     data = []
     for cfg in configs:
@@ -98,13 +131,15 @@ def _surrogate(model, configs, sensors, n_modes, tip):
 
 
 def verify(case: str = "cantilever", seed: int = 1, n_modes: int = 8, method: str = "least_squares",
-           mistuning: float = 0.05, bounds: float = 0.10) -> Verification:
+           mistuning: float = 0.05, bounds: float = 0.10, element_size: float = 0.2) -> Verification:
     """Run the protocol on a built-in case ('cantilever': docs/method.md section 5 case 3, 150 beams, 12 variables,
-    training configurations unloaded, self-weight and 3 g, unseen 2 g)."""
+    training configurations unloaded, self-weight and 3 g, unseen 2 g; 'wingbox': the shell box of case 4
+    meshed at ``element_size`` [m], 5 variables, training unloaded, -1 g and 2.5 g, unseen the combined case)."""
     if case not in CASES:
         raise ModelError(f"verify: unknown case '{case}'; choose one of {CASES}")
     t0 = time.perf_counter()
-    ref, sensors, variables, train, unseen, tip = _cantilever_setup()
+    ref, sensors, variables, train, unseen, tip = (_cantilever_setup() if case == "cantilever"
+                                                   else _wingbox_setup(element_size))
     variables = [type(v)(v.name, v.kind, v.attribute, v.targets, (1 - bounds, 1 + bounds)) for v in variables]
     rng = np.random.default_rng(seed)
     x_m = 1.0 + rng.uniform(-mistuning, mistuning, len(variables))

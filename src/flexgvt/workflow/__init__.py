@@ -12,11 +12,12 @@ from .deck import SubcaseResult, solve_deck
 from .identification import Identified, identify, identify_configuration, measured, read_modes
 from .outputs import write_outputs
 from .project import Project, ProjectError, load_project
-from .runner import RunResult, identify_all, run
+from .runner import RunInterrupted, RunResult, identify_all, run
 from .steps import Prediction, check, objective, predict, score, update_model
 from .template import example_project, write_example
 
-__all__ = ["Identified", "Prediction", "Project", "ProjectError", "RunResult", "check", "example_project",
-           "write_example", "identify", "identify_all", "identify_configuration", "measured", "load_project",
+__all__ = ["Identified", "Prediction", "Project", "ProjectError", "RunInterrupted", "RunResult", "check",
+           "example_project", "write_example", "identify", "identify_all", "identify_configuration", "measured",
+           "load_project",
            "objective", "predict", "read_modes", "run", "score", "SubcaseResult", "solve_deck", "update_model",
            "write_outputs"]

@@ -105,10 +105,49 @@ def write_outputs(res, out: Path) -> dict[str, str]:
             files[f"prediction {key}"] = str(_atomically(write_modes_uff, pred.free,
                                                          out / f"predicted-free-free-{key}.uff"))
     for key, pred in res.predictions.items():
-        # flexgvt.report's CSV: None as an empty cell, floats in full
-        path = _atomically(lambda p, pred=pred: write_csv(pred.rows, p), out / f"prediction-{key}.csv")
+        # flexgvt.report's CSV: None as an empty cell, numbers rounded to what they support
+        path = _atomically(lambda p, pred=pred: write_csv(round_rows(pred.rows), p), out / f"prediction-{key}.csv")
         files[f"prediction table {key}"] = str(path)
     return files
+
+
+def _significant(v: float, digits: int) -> float:
+    return float(f"{v:.{digits}g}")
+
+
+def round_value(key: str, value, row: dict | None = None):
+    """A table cell rounded to what it supports (for CSV), by its column name: a frequency (*_hz) to
+    two significant digits of its standard deviation (the column <name>_std_hz of the same row) or to
+    5 significant digits without one, a standard deviation to 2 significant digits, MAC-like
+    measures (mac, comac, mpc, frac) to 3 decimals, percentages to 2 decimals, angles (*_deg) to 0.1,
+    other floats to 6 significant digits. Anything not a finite float is returned as it is."""
+    if isinstance(value, (list, tuple)):
+        return type(value)(round_value(key, v, row) for v in value)
+    if isinstance(value, (bool, np.bool_, int, np.integer)) or not isinstance(value, (float, np.floating)):
+        return value
+    v = float(value)
+    if not np.isfinite(v) or v == 0.0:
+        return v
+    k = key.lower()
+    if "_std" in k or k.startswith("std"):
+        return _significant(v, 2)
+    if k.endswith("_hz"):
+        std = (row or {}).get(k[:-3] + "_std_hz")
+        if isinstance(std, (float, np.floating)) and np.isfinite(std) and std > 0:
+            return round(v, max(0, 1 - int(np.floor(np.log10(float(std))))))
+        return _significant(v, 5)
+    if any(m in k.split("_") for m in ("mac", "comac", "mpc", "frac")):
+        return round(v, 3)
+    if k.endswith("percent"):
+        return round(v, 2)
+    if k.endswith("_deg"):
+        return round(v, 1)
+    return _significant(v, 6)
+
+
+def round_rows(rows: list[dict]) -> list[dict]:
+    """Rows with every number rounded by round_value (for CSV files: the report's and the prediction's)."""
+    return [{k: round_value(k, v, r) for k, v in r.items()} for r in rows]
 
 
 def _atomically(writer, *args):

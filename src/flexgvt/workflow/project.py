@@ -47,8 +47,9 @@ def _message(e: dict) -> str:
     return e["msg"].removeprefix("Value error, ")
 
 
-def load_project(path: str | Path) -> Project:
-    """Read and check a project file; raises ProjectError naming the file and key on any problem."""
+def load_project(path: str | Path, pretest: bool = False) -> Project:
+    """Read and check a project file; raises ProjectError naming the file and key on any problem.
+    pretest: for planning the test (`flexgvt plan`): test data are neither needed nor read, nor design variables."""
     from .validate import checked_path
     path = checked_path(Path("."), str(path), "flexgvt", "project file")
     try:
@@ -81,7 +82,7 @@ def load_project(path: str | Path) -> Project:
             raise ProjectError(f"{path}: {lines[0]}") from None
         raise ProjectError(f"{path}: {len(lines)} problems in the project file:\n" + "\n".join(
             "  " + s for s in lines)) from None
-    return resolve(path, spec)
+    return resolve(path, spec, pretest)
 
 
 def _need_file(path: Path, where: str, what: str) -> Path:
@@ -132,7 +133,7 @@ def _read_deck(bdf: Path, spec, where: str):
     return deck
 
 
-def resolve(path: Path, spec: ProjectFile) -> Project:
+def resolve(path: Path, spec: ProjectFile, pretest: bool = False) -> Project:
     """Build the model, configurations and variables a validated spec names, checking every reference."""
     from .validate import check_test_data, checked_path, output_dir, read_reference
     folder = path.parent
@@ -155,7 +156,7 @@ def resolve(path: Path, spec: ProjectFile) -> Project:
     else:
         bdf = _need_file(rel(spec.model.bdf, f"{where}: model.bdf"), f"{where}: model.bdf", "deck")
         deck = _read_deck(bdf, spec.model, where)
-        model, available = deck.model, dict(deck.configurations)
+        model, available = deck.model, deck.configurations  # it also answers a labelled subcase's subcase_<id>
 
     names = [c.name for c in spec.configurations]
     for kind, items in (("configurations", names), ("variables", [v.name for v in spec.variables]),
@@ -173,17 +174,17 @@ def resolve(path: Path, spec: ProjectFile) -> Project:
     for k, c in enumerate(spec.configurations):
         loc = f"{where}: configurations[{k}] ('{c.name}')"
         configurations[c.name] = _configuration(c, available, blocks, model, loc)
-        if c.role == "update" and c.test is None:
+        if c.role == "update" and c.test is None and not pretest:
             raise ProjectError(f"{loc}: no test data: add a [configurations.test] table with 'frfs', 'time' or "
                                "'modes', or set role = \"check\" to only predict this configuration")
-        if c.test is not None:
+        if c.test is not None and not pretest:  # planning comes before the test: its files need not exist
             t = c.test
             for key, files in (("frfs", t.frfs), ("modes", t.modes)):
                 for f in ([files] if isinstance(files, str) else files or []):
                     _need_file(rel(f, f"{loc}.test.{key}"), f"{loc}.test.{key}", "test data file")
             sensors[c.name] = _points(t.points, case, model, lambda s, loc=loc: rel(s, f"{loc}.test.points"),
                                       f"{loc}.test.points")
-    if not spec.variables and any(c.role == "update" for c in spec.configurations):
+    if not spec.variables and not pretest and any(c.role == "update" for c in spec.configurations):
         raise ProjectError(f"{where}: variables: no design variable; add [[variables]] tables (or set every "
                            "configuration's role = \"check\" to only compare and predict)")
     variables = _variables(spec, model, configurations, where)
@@ -196,7 +197,7 @@ def resolve(path: Path, spec: ProjectFile) -> Project:
         read_reference(_need_file(rel(spec.prediction.reference, key), key, "reference file"), key)
     project = Project(path, spec, model, configurations, available, variables, case, deck, sensors)
     for k, c in enumerate(spec.configurations):
-        if c.test is not None:
+        if c.test is not None and not pretest:
             check_test_data(project, k, c, where)
     return project
 

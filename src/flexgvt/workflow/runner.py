@@ -11,6 +11,8 @@ from __future__ import annotations
 
 import hashlib
 import json
+import os
+import shutil
 import time
 import warnings
 from dataclasses import dataclass, field, replace
@@ -61,6 +63,8 @@ class RunResult:
             "updating": None if up is None else {k: v for k, v in up.to_dict().items() if k != "mac"},
             "checks": self.checks,
             "prediction": {k: p.rows for k, p in self.predictions.items()},
+            "prediction_modes": {k: p.modes for k, p in self.predictions.items()},
+            "prediction_uncertainty": {k: p.uncertainty for k, p in self.predictions.items()},
             "files": self.files})
 
     def as_dict(self) -> dict:
@@ -191,11 +195,29 @@ def diagram(item: Identified) -> dict | None:
             "damping_ratio": z, "stable": ok, "selected_hz": item.frequencies_hz.tolist()}
 
 
+class RunInterrupted(KeyboardInterrupt):
+    """A run stopped by Ctrl-C (KeyboardInterrupt): ``message`` says where it stopped (the step; in
+    the updating the evaluations stored and the best objective) and that a rerun resumes."""
+
+    def __init__(self, message: str, step: str, status: dict | None = None):
+        super().__init__(message)
+        self.message, self.step, self.status = message, step, status or {}
+
+
 def run(project: Project | str | Path, progress: Callable[[str], None] | None = None,
-        report: bool | None = None, *, log: Callable[[str], None] | None = None) -> RunResult:
+        report: bool | None = None, *, log: Callable[[str], None] | None = None,
+        iterations: Callable[[dict], None] | None = None, fresh: bool = False) -> RunResult:
     """Run a project end to end; results and outputs go to its output folder. progress: a callable
-    that receives one line per step and per optimiser iteration (the CLI prints them; ``log``: its
-    deprecated name).
+    that receives one line per step and, unless ``iterations`` is given, per optimiser iteration
+    (the CLI prints them; ``log``: its deprecated name); iterations: receives each accepted
+    iterate's history row instead (iteration, objective, ...).
+
+    Resumes by default: identified modes and the updating are read back from the results store
+    (store/ in the output folder) when the data and settings are unchanged; a run stopped at its
+    limits is continued from its stored point when max_iterations or tolerance change; fresh=True
+    discards the store first. The previous run's outputs are moved to ``stale-outputs/`` while the
+    run goes on (removed when it completes), so an interrupted run never leaves them looking
+    current. Ctrl-C raises RunInterrupted (a KeyboardInterrupt) saying where the run stopped.
 
     The report is not written here (the workflow never renders): ``result.report_wanted`` says
     whether the project's [outputs] report asks for one, and flexgvt.report.write_project_report
@@ -224,39 +246,43 @@ def run(project: Project | str | Path, progress: Callable[[str], None] | None = 
     # process dies), so a second run refuses at once instead of interleaving its history.
     lock = acquire_lock(store / "run.lock", out)
     try:
-        return _run_locked(project, out, store, log, report, t_all)
+        if fresh:
+            discard_store(store, log)
+        return _run_locked(project, out, store, log, report, t_all, iterations)
     finally:
         if lock is not None:
             lock.close()
 
 
-def _run_locked(project: Project, out: Path, store: Path, log, report, t_all: float) -> RunResult:
+def _run_locked(project: Project, out: Path, store: Path, log, report, t_all: float, iterations=None) -> RunResult:
     """run() once it holds the project's lock."""
-    from ..updating import ResultsStore
     remove_temporaries(out, store)  # a killed run's; this process holds the lock
+    if project.to_update and project.spec.prediction.free_free:
+        from .bounds import require
+        require(project.spec.prediction.uncertainty, str(project.path))
+    stale = set_aside_outputs(out)
+    if stale is not None:
+        log(f"the previous run's outputs moved to {stale} until this run completes")
     timings: dict[str, float] = {}
     resumed: list[str] = []
 
     t0 = time.perf_counter()
-    identified = identify_all(project, store, log, resumed)
+    try:
+        identified = identify_all(project, store, log, resumed)
+    except KeyboardInterrupt:
+        raise RunInterrupted("interrupted during the identification; the configurations identified so far are "
+                             f"stored in {store}: a rerun resumes from them", "identification") from None
     timings["identification"] = time.perf_counter() - t0
 
     result = None
     if project.to_update:
         t0 = time.perf_counter()
-        db = ResultsStore(store / "updating.sqlite")
-        log(f"updating {len(project.variables)} variables on {project.to_update} "
-            f"({project.spec.optimiser.method})")
-
-        def progress(row):
-            log(f"  iteration {row.get('iteration', '?')}: objective {row['objective']:.6g}")
-        try:
-            result = update_model(project, identified, store=db, progress=progress)
-        finally:
-            db.close()
+        result = _update(project, identified, store, log, iterations)
         if any(s.get("resumed") for s in result.starts):
             resumed.append("updating")
         log(result.summary())
+        if not result.success:
+            log(limit_note(result, project))
         timings["updating"] = time.perf_counter() - t0
 
     t0 = time.perf_counter()
@@ -275,6 +301,11 @@ def _run_locked(project: Project, out: Path, store: Path, log, report, t_all: fl
             predictions["updated"] = predict(project, model, configs)
         log(f"prediction: {len(predictions[list(predictions)[-1]].rows)} free-free elastic modes")
     timings["prediction"] = time.perf_counter() - t0
+    if result is not None and "updated" in predictions and project.spec.prediction.uncertainty.method != "none":
+        from .bounds import add_bounds
+        t0 = time.perf_counter()
+        add_bounds(project, result, predictions["updated"], identified, progress=log)
+        timings["bounds"] = time.perf_counter() - t0
 
     res = RunResult(project, identified, result, checks, predictions, {}, timings, resumed)
     t0 = time.perf_counter()
@@ -284,7 +315,104 @@ def _run_locked(project: Project, out: Path, store: Path, log, report, t_all: fl
     timings["outputs"] = time.perf_counter() - t0
     timings["total"] = time.perf_counter() - t_all
     write_results(res, out)
+    if stale is not None:
+        shutil.rmtree(stale, ignore_errors=True)
     return res
+
+
+def _update(project: Project, identified: dict, store: Path, log, iterations):
+    """The updating step with its results store; Ctrl-C -> RunInterrupted with the store's status."""
+    from ..updating import ResultsStore
+    db = ResultsStore(store / "updating.sqlite", progress=log)
+    opt = project.spec.optimiser
+    log(f"updating {len(project.variables)} variables on {project.to_update} ({opt.method}, at most "
+        f"{opt.max_iterations} evaluations, tolerance {opt.tolerance:g})")
+
+    def progress(row):
+        if iterations is not None:
+            iterations(row)
+        else:
+            log(f"  iteration {row.get('iteration', '?')}: objective {row['objective']:.6g}")
+    try:
+        return update_model(project, identified, store=db, progress=progress)
+    except KeyboardInterrupt:
+        st = db.status() if db.problem else {"evaluations": 0, "iterations": 0, "best_objective": None}
+        best = "" if st["best_objective"] is None else f", best objective {st['best_objective']:.6g}"
+        raise RunInterrupted(f"interrupted in the updating after {st['evaluations']} stored evaluations "
+                             f"({st['iterations']} accepted iterations{best}); they are in {db.path}: a rerun "
+                             "resumes from there (answering them without solving), `--fresh` starts again",
+                             "updating", st) from None
+    finally:
+        db.close()
+
+
+def limit_note(result, project: Project) -> str:
+    """Why an updating stopped before its tolerance, and what to do: the line the run prints."""
+    opt = project.spec.optimiser
+    message = str(result.message).rstrip(".")
+    hist = [r["objective"] for r in result.history]
+    tail = ""
+    if len(hist) > 10 and hist[-11] > 0:
+        tail = (f"; the objective fell {100 * (hist[-11] - hist[-1]) / hist[-11]:.2g} % over the last 10 "
+                "iterations")
+    if "maximum number" in message.lower() or "iteration limit" in message.lower():
+        advice = (f"Raise [optimiser] max_iterations (now {opt.max_iterations}) or the tolerance and rerun: the "
+                  "run continues from its stored point")
+    else:
+        advice = "The answer is the best point reached; see the optimiser's message above"
+    return f"note: the updating stopped before its tolerance ({opt.tolerance:g}): {message}{tail}. {advice}"
+
+
+STALE = "stale-outputs"
+
+
+def set_aside_outputs(out: Path) -> Path | None:
+    """Move the outputs a previous run listed in its results.json (the report's figures/ and tables/
+    with it) into ``out/stale-outputs/`` with a README saying why; returns that folder, or None when
+    there was nothing. A folder left by an interrupted run is kept (its outputs are the last ones)."""
+    out = Path(out)
+    stale = out / STALE
+    results = out / "results.json"
+    if not results.is_file():
+        return stale if stale.is_dir() else None
+    try:
+        files = json.loads(results.read_text(encoding="utf-8")).get("files", {})
+    except (OSError, UnicodeDecodeError, json.JSONDecodeError, AttributeError):
+        files = {}
+    names = {results}
+    for f in files.values() if isinstance(files, dict) else ():
+        path = Path(str(f))
+        path = path if path.is_absolute() else out / path
+        if path.parent.resolve() == out.resolve() and path.is_file():
+            names.add(path)
+    if "report" in files:
+        names |= {out / sub for sub in ("figures", "tables") if (out / sub).is_dir()}
+    if stale.exists():
+        shutil.rmtree(stale, ignore_errors=True)
+    stale.mkdir()
+    for path in names:
+        os.replace(path, stale / path.name)
+    write_text_atomic(stale / "README.txt",
+                      f"These are the outputs of an earlier run. A new run started on "
+                      f"{time.strftime('%Y-%m-%d %H:%M:%S UTC', time.gmtime())} and has not completed, so they "
+                      "may not match the project and its store any more. The folder is removed when a run "
+                      "completes.\n")
+    return stale
+
+
+def discard_store(store: Path, log: Callable[[str], None]) -> None:
+    """--fresh: remove the stored identifications and updating runs (this process holds the run lock)."""
+    gone = [p for p in store.glob("identified-*.json") if p.is_file()]
+    for p in gone:
+        p.unlink()
+    db = store / "updating.sqlite"
+    if db.is_file():
+        from ..updating import ResultsStore
+        with ResultsStore(db) as s:
+            s.clear()
+        gone.append(db)
+    log(f"fresh run: discarded the stored results ({', '.join(p.name for p in gone)})" if gone else
+        "fresh run: nothing stored yet")
 
 
 def write_results(res: RunResult, out: Path | None = None) -> Path:

@@ -7,12 +7,13 @@ strings with units ("17.6 N/m"), checked against the dimension the key expects.
 from __future__ import annotations
 
 from dataclasses import MISSING
-from typing import Annotated, Any, Literal, get_type_hints
+from typing import Annotated, Any, Literal, get_args, get_origin, get_type_hints
 
 from pydantic import AfterValidator, BaseModel, BeforeValidator, ConfigDict, Field, create_model, model_validator
 
-from ..updating import MassTarget, Objective, OptimiserSettings
+from ..updating import MassTarget, Objective, OptimiserSettings, UncertaintySettings
 from ..updating.settings import described
+from .plansettings import PlanSettings
 from .units import DIMENSIONS, quantity, unit_dimensions, unit_system
 
 
@@ -223,19 +224,35 @@ def settings_table(cls: type, name: str, **extra: Any) -> type[BaseModel]:
         md = f.metadata
         kind = hints[f.name]
         optional = f.default is None
+        varying = _variable_tuple(kind)  # tuple[x, ...]: a list of any length, limits on its items
         if md["choices"] is not None:
             kind = Literal[md["choices"]]
         elif md["unit"] or md["size"]:
             item = _q(_dimension(md["unit"])) if md["unit"] else float
-            if md["size"]:
+            if md["size"] or varying:
                 item = Annotated[item, Field(**{k: md[k] for k in ("ge", "gt", "le") if md[k] is not None})]
-                item = Annotated[list[item], Field(min_length=md["size"], max_length=md["size"])]
+                item = Annotated[list[item], Field(min_length=md["size"], max_length=md["size"])] if md["size"] \
+                    else list[item]
             kind = item | None if optional else item
-        limits = {} if md["size"] else {k: md[k] for k in ("ge", "gt", "le") if md[k] is not None}
+        elif varying:
+            kind = _listed(kind)
+        limits = {} if md["size"] or varying else {k: md[k] for k in ("ge", "gt", "le") if md[k] is not None}
         default = f.default if f.default is not MISSING else ...
+        if varying and isinstance(default, tuple):
+            default = [list(v) if isinstance(v, tuple) else v for v in default]  # as the project file writes it
         keys[f.name] = (kind, Field(default, description=md["doc"], json_schema_extra={"unit": md["unit"]},
                                     **limits))
     return create_model(name, __base__=Strict, __doc__=cls.__doc__, **keys, **extra)
+
+
+def _variable_tuple(kind: Any) -> bool:
+    """Whether ``kind`` is tuple[x, ...] (a setting holding any number of values)."""
+    return get_origin(kind) is tuple and get_args(kind)[-1:] == (Ellipsis,)
+
+
+def _listed(kind: Any) -> Any:
+    """tuple[x, ...] as list[x], nested ones too (the project file writes lists)."""
+    return list[_listed(get_args(kind)[0])] if _variable_tuple(kind) else kind
 
 
 def _into(cls: type):
@@ -248,6 +265,13 @@ ObjectiveSpec = settings_table(Objective, "ObjectiveSpec", measured_mass=(
     Annotated[MassTargetSpec, _into(MassTarget)] | None,
     Field(None, description="measured mass properties ([objective.measured_mass])")))
 OptimiserSpec = settings_table(OptimiserSettings, "OptimiserSpec")
+PlanSpec = settings_table(PlanSettings, "PlanSpec")
+UncertaintySpec = settings_table(UncertaintySettings, "UncertaintySpec")
+
+
+def _method_only(value: Any) -> Any:
+    """``uncertainty = "mcmc"`` as the table's method alone."""
+    return {"method": value} if isinstance(value, str) else value
 
 
 class PredictionSpec(Strict):
@@ -259,6 +283,9 @@ class PredictionSpec(Strict):
                                 "(e.g. long bungees)")
     n_modes: int = Field(10, ge=1, le=100, description="free-free modes predicted")
     reference: str | None = Field(None, description="JSON of known free-free frequencies to score against")
+    uncertainty: Annotated[UncertaintySpec, BeforeValidator(_method_only), _into(UncertaintySettings)] = Field(
+        default_factory=UncertaintySettings, description="confidence bounds of the predicted frequencies: "
+        "[prediction.uncertainty], or its method alone (uncertainty = \"mcmc\")")
 
 
 class OutputSpec(Strict):
@@ -283,4 +310,5 @@ class ProjectFile(Strict):
     objective: ObjectiveSpec = Field(default_factory=ObjectiveSpec)
     optimiser: Annotated[OptimiserSpec, _into(OptimiserSettings)] = Field(default_factory=OptimiserSettings)
     prediction: PredictionSpec = Field(default_factory=PredictionSpec)
+    plan: Annotated[PlanSpec, _into(PlanSettings)] = Field(default_factory=PlanSettings)
     outputs: OutputSpec = Field(default_factory=OutputSpec)

@@ -23,6 +23,9 @@ TABLES = (
     ("[objective]", ("objective",), "Defined by flexgvt.updating.Objective (weights, limits and the pairing)."),
     ("[objective.measured_mass]", ("objective", "measured_mass"), "Defined by flexgvt.updating.MassTarget."),
     ("[prediction]", ("prediction",), ""),
+    ("[plan]", ("plan",), "Defined by flexgvt.workflow.plansettings.PlanSettings (pre-test planning, `flexgvt plan`)."),
+    ("[prediction.uncertainty]", ("prediction", "uncertainty"), "Defined by flexgvt.updating.UncertaintySettings "
+     "(docs/updating.md, confidence bounds)."),
     ("[outputs]", ("outputs",), ""),
 )
 

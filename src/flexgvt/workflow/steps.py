@@ -94,12 +94,16 @@ class Prediction:
     """Free-flying prediction of one model: free-free modes (suspension removed, free fall) and each
     proposed configuration's elastic modes paired with them by mass-weighted MAC; rows: one per
     free elastic mode (free_hz, <configuration>_hz, <configuration>_shift_percent, ...,
-    reference_hz and error_percent when a reference was given)."""
+    reference_hz and error_percent when a reference was given; <value>_low_hz and <value>_high_hz,
+    the confidence bounds, when they were computed); modes: {configuration: its full mode list}
+    (configuration_modes); uncertainty: how the bounds were made (flexgvt.workflow.add_bounds), or None."""
 
     model_name: str
     rows: list[dict]
     free: object
     proposed: dict = field(default_factory=dict)
+    modes: dict = field(default_factory=dict)
+    uncertainty: dict | None = None
 
     def frequencies(self) -> np.ndarray:
         """The free-free elastic frequencies [Hz] of the rows."""
@@ -126,6 +130,7 @@ def predict(project: Project, model: Model, configurations: dict[str, Configurat
     rows: dict[int, dict] = {}
     free = None
     proposed = {}
+    modes = {}
     for name, cfg in cases.items():
         try:
             removal = remove_suspension(model, cfg, n_modes=n)
@@ -133,17 +138,38 @@ def predict(project: Project, model: Model, configurations: dict[str, Configurat
             raise ProjectError(f"prediction, configuration '{name}': {exc}") from None
         free = removal.free
         proposed[name] = removal.suspended
+        modes[name] = configuration_modes(removal)
         for r in removal.rows:
             row = rows.setdefault(r["free_mode"], {"free_mode": r["free_mode"], "label": r["label"],
                                                    "free_hz": r["free_hz"]})
             row[f"{name}_hz"] = r["suspended_hz"]
             row[f"{name}_shift_percent"] = r["suspended_shift_percent"]
             row[f"{name}_mac"] = r["suspended_mac"]
-    out = Prediction(model.name, [rows[k] for k in sorted(rows)], free, proposed)
+    out = Prediction(model.name, [rows[k] for k in sorted(rows)], free, proposed, modes)
     if project.spec.prediction.reference is not None:
         from .validate import read_json
         path = project.file(project.spec.prediction.reference)
         score(out, read_json(path, f"{project.path}: prediction.reference"), where=f"{project.path}: {path}")
+    return out
+
+
+def configuration_modes(removal) -> list[dict]:
+    """Every mode (above 0 Hz) of a predicted configuration (a flexgvt.suspension Removal's suspended
+    case): mode number, frequency_hz, label, suspension (its energy mostly in the cords), and the
+    free-free mode it pairs with by mass-weighted MAC (free_mode, free_label, mac), None when it pairs
+    with none (a mode of the suspended aircraft with no free-free partner above the MAC floor)."""
+    modes = removal.suspended
+    partner = {r["suspended_mode"]: r for r in removal.rows if r.get("suspended_mode") is not None}
+    out = []
+    for j, f in enumerate(modes.frequencies_hz):
+        if not f > 0:
+            continue
+        r = partner.get(j + 1)
+        out.append({"mode": j + 1, "frequency_hz": float(f), "label": modes.labels[j] if modes.labels else "",
+                    "suspension": bool(modes.energy_fractions[j, 4] > 0.5),
+                    "free_mode": None if r is None else r["free_mode"],
+                    "free_label": None if r is None else r["label"],
+                    "mac": None if r is None else r["suspended_mac"]})
     return out
 
 

@@ -100,14 +100,23 @@ mac_floor = 0.5            # pairs below this MAC are not paired
 method = "least_squares"   # least_squares (Levenberg-Marquardt, then bounded), dogbox, trf, slsqp,
                            # trust-constr, nelder-mead
 starts = 1                 # multi-start
-max_iterations = 60        # function evaluations (default 100)
-tolerance = 1e-8           # on the cost, step and gradient (default 1e-10)
+max_iterations = 100       # function evaluations (the default)
+tolerance = 1e-4           # relative, on the cost, step and gradient (default 1e-10): 1e-4 is a 0.01 % step
 
 [prediction]               # suspension removed: free-free modes, and proposed suspensions
 free_free = true
 proposed = [{proposed}]
 n_modes = 10
 {reference}
+# [plan]                   # pre-test planning, `flexgvt plan project.toml` (no test data needed yet)
+# stations = [[12, 30]]    # candidate suspension stations: the nodes hung at once
+# stiffness = ["5 N/m", "18 N/m"]   # line rates tried at every station
+# length = ["2 m", "20 m"] # cord lengths (anchor above each attachment)
+# n_modes = 8              # elastic target modes (band_hz = [0.5, 10] to pick them by frequency)
+# sensors = 12             # sensors placed by effective independence
+# directions = "Z"         # sensor directions tried at every node (sensor_nodes = [...] to restrict)
+# exciters = 3             # driving points listed, best first
+
 [outputs]
 directory = "results"      # report.html, updated.bdf, modes as UFF 55, CSV tables, the results store
 # allow_outside = false    # true lets `directory` point outside this project's folder ("../x", "/data/...")

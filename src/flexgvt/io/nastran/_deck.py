@@ -92,7 +92,8 @@ class Parts:
     element id -> flexgvt element id; mass_sources / spring_sources / rigid_sources /
     interpolation_sources: the card behind each model entry, in model order; end_nodes: (card,
     element id, end) -> added node; end_links: EndLinks waiting for the rigid family; shells: shell
-    group name -> ShellSource; options: deck settings kept for the solver (PARAM,K6ROT).
+    group name -> ShellSource; options: deck settings kept for the solver (PARAM,K6ROT; the Guyan
+    reduction sets 'ASET' and 'OMIT', see _reduction).
     """
 
     materials: dict[int, Material] = field(default_factory=dict)

@@ -211,6 +211,34 @@ def _corner_thickness(deck: Deck, elems, prop, p: int) -> np.ndarray | None:
     return out
 
 
+def membrane_rotation_fixes(model: Model) -> dict[int, set[int]]:
+    """Rotations (DOF indices 3-5, basic axes) that no element stiffens at the nodes of membrane-only
+    shells (PSHELL without MID2): those about the axes orthogonal to every membrane normal at the
+    node. The rotation about a membrane's normal is its drilling DOF, part of flexgvt's membrane
+    field: holding it (as Nastran's AUTOSPC may, its membrane having no drilling coupling) would
+    stiffen the membrane. Where those axes do not line up with basic axes, all three rotations are
+    returned (held, as for rods)."""
+    xyz = dict(zip(model.node_ids.tolist(), model.xyz))
+    normals: dict[int, list[np.ndarray]] = {}
+    for g in model.shells:
+        if getattr(g.property, "bending", True) is not None:
+            continue
+        for row in g.nodes.tolist():
+            X = np.array([xyz[n] for n in row])
+            n = np.cross(X[2] - X[0], X[3] - X[1]) if len(row) == 4 else np.cross(X[1] - X[0], X[2] - X[0])
+            for node in row:
+                normals.setdefault(int(node), []).append(n / np.linalg.norm(n))
+    out: dict[int, set[int]] = {}
+    for node, ns in normals.items():
+        _, sv, vt = np.linalg.svd(np.array(ns))
+        span = vt[: int(np.sum(sv > 1e-6 * sv[0]))]
+        Q = np.eye(3) - span.T @ span  # projector on the axes no membrane turns about
+        diag = np.diag(Q)
+        aligned = np.allclose(Q, np.diag(diag), atol=1e-9) and np.allclose(diag, np.round(diag), atol=1e-9)
+        out[node] = {3 + int(i) for i in np.flatnonzero(np.round(diag) == 1)} if aligned else {3, 4, 5}
+    return out
+
+
 def _first_element(deck: Deck, elems, message: str) -> str:
     """'file:line: CARD eid' of the element a model message names ('element k (nodes ...)')."""
     m = re.search(r"element (\d+) \(nodes", message)

@@ -41,7 +41,9 @@ class BdfDeck:
     subcases: configuration -> subcase id; unsupported: card (feature) -> ids that were not read;
     notes: things read with an approximation or ignored on purpose; shells: shell group name ->
     ShellSource (element card, property card and id, Nastran element ids; element_ids maps shell
-    element ids too); options: deck settings kept for the solver (PARAM,K6ROT).
+    element ids too); options: deck settings kept for the solver: 'K6ROT' (PARAM,K6ROT), 'ASET' and
+    'OMIT' (the Guyan reduction sets of ASET/ASET1 and OMIT/OMIT1: {grid id: components in basic axes},
+    not applied by the solver yet).
     """
 
     path: Path

@@ -8,7 +8,7 @@ family reads what earlier ones returned (materials, element ids, end links) from
 
 from __future__ import annotations
 
-from . import _beams, _grids, _masses, _materials, _plates, _rigid, _rods, _springs, _subcases
+from . import _beams, _grids, _masses, _materials, _plates, _reduction, _rigid, _rods, _springs, _subcases
 from ._deck import Family
 
 # Structure families: each adds its entities to the model. The rigid family comes after every
@@ -21,6 +21,7 @@ FAMILIES: tuple[Family, ...] = (
     _masses.FAMILY,
     _springs.FAMILY,
     _rigid.FAMILY,
+    _reduction.FAMILY,
 )
 
 # Bulk cards read outside the families: grids and coordinate systems (the Deck), subcases (after

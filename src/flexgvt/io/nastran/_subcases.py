@@ -15,6 +15,7 @@ from ._common import EigenMethod
 from ._deck import Deck, Findings, Parts
 from ._grids import coord_axes
 from ._limits import MAX_ENFORCED_SIZES
+from ._plates import membrane_rotation_fixes
 
 CARDS = ("SPC", "SPC1", "SPCADD", "MPC", "MPCADD", "SUPORT", "SUPORT1", "LOAD", "FORCE", "MOMENT", "GRAV", "PLOAD1",
          "SPCD")
@@ -32,12 +33,61 @@ class Cases:
     constraint_sources: tuple[int, ...]
 
 
+def _label(sub) -> str:
+    """A case control subcase's LABEL text ('' when none)."""
+    if sub is None or "LABEL" not in sub.params:
+        return ""
+    value = sub.get_parameter("LABEL")[0]
+    return str(value).strip() if value is not None else ""
+
+
+def subcase_names(labels: dict[int, str], inherited: str = "") -> dict[int, str]:
+    """Configuration name per subcase id: the subcase's own LABEL (one the global LABEL, which every
+    subcase inherits, does not explain), else 'subcase_<id>'. A LABEL two subcases share, or one
+    that is another subcase's 'subcase_<id>', falls back to 'subcase_<id>': names stay unique."""
+    own = {sid: lab for sid, lab in labels.items() if lab and lab != inherited}
+    taken = [lab for lab in own.values()]
+    fallback = {f"subcase_{sid}" for sid in labels}
+    return {sid: own[sid] if sid in own and taken.count(own[sid]) == 1 and own[sid] not in fallback
+            else f"subcase_{sid}" for sid in labels}
+
+
+class Named(dict):
+    """A dict keyed by configuration name that also answers a labelled subcase's old name
+    'subcase_<id>' (with a DeprecationWarning naming the new one)."""
+
+    def __init__(self, items=(), aliases: dict[str, str] | None = None):
+        super().__init__(items)
+        self.aliases = dict(aliases or {})
+
+    def _new(self, key):
+        name = self.aliases.get(key) if isinstance(key, str) else None
+        if name is not None and name in self.keys():
+            import warnings
+            warnings.warn(f"configuration '{key}' is now named after its subcase's LABEL: '{name}'",
+                          DeprecationWarning, stacklevel=3)
+        return name
+
+    def __missing__(self, key):
+        name = self._new(key)
+        if name is None:
+            raise KeyError(key)
+        return self[name]
+
+    def __contains__(self, key) -> bool:
+        return super().__contains__(key) or (isinstance(key, str) and self.aliases.get(key) in self.keys())
+
+    def get(self, key, default=None):
+        return self[key] if key in self else default
+
+
 def read_subcases(deck: Deck, model: Model, log: Findings, parts: Parts) -> Cases:
     """The configurations of a model all structure families have read (AUTOSPC needs its elements)."""
     reader = _Subcases(deck, model, log, parts.element_ids)
     reader.read()
-    return Cases(reader.configurations, reader.subcases, reader.methods, reader.n_modes,
-                 tuple(reader.constraint_sources))
+    aliases = {f"subcase_{sid}": name for name, sid in reader.subcases.items() if name != f"subcase_{sid}"}
+    return Cases(*(Named(d, aliases) for d in (reader.configurations, reader.subcases, reader.methods,
+                                               reader.n_modes)), tuple(reader.constraint_sources))
 
 
 class _Subcases:
@@ -53,6 +103,7 @@ class _Subcases:
         self.mpc_set: int | None = None  # the MPC set read into model constraints
         self.autospc: list[int] = []  # nodes without elements, fixed in every configuration
         self.autospc_rotations: list[int] = []  # nodes without rotational stiffness: rotations fixed
+        self.membrane_rotations: dict[int, set[int]] = {}  # membrane-only shell nodes: the rotations fixed
 
     def at(self, name: str, ident) -> str:
         return self.deck.at(name, ident)
@@ -63,7 +114,8 @@ class _Subcases:
         subcases = {} if ccd is None else dict(ccd.subcases)
         numbered = {k: v for k, v in subcases.items() if k > 0}
         if numbered:
-            return [(f"subcase_{sid}", sub, sid) for sid, sub in sorted(numbered.items())]
+            names = subcase_names({sid: _label(sub) for sid, sub in numbered.items()}, _label(subcases.get(0)))
+            return [(names[sid], sub, sid) for sid, sub in sorted(numbered.items())]
         if 0 in subcases and subcases[0].params:
             return [(self.deck.path.stem, subcases[0], 0)]
         return [(self.deck.path.stem, None, 0)]
@@ -141,9 +193,8 @@ class _Subcases:
         self.autospc = sorted(set(bdf.nodes) - connected)
         # Nodes joined only by rods have no rotational stiffness or inertia: their rotations are fixed.
         rod_nodes = {int(n) for g in self.model.beams if isinstance(g.section, RodSection) for n in g.nodes.ravel()}
-        # a membrane (PSHELL without MID2) has no bending stiffness at its nodes either
-        rod_nodes |= {int(n) for g in self.model.shells if getattr(g.property, "bending", True) is None
-                      for n in g.nodes.ravel()}
+        # a membrane (PSHELL without MID2) turns its nodes only about its normal (the drilling DOF)
+        membrane = membrane_rotation_fixes(self.model)
         bending_shells = [g for g in self.model.shells if getattr(g.property, "bending", True) is not None]
         bending = {int(n) for g in self.model.beams if not isinstance(g.section, RodSection) for n in g.nodes.ravel()}
         bending |= {int(n) for g in bending_shells for n in g.nodes.ravel()}
@@ -153,9 +204,10 @@ class _Subcases:
         bending |= {ip.reference for ip in self.model.interpolations if "4" in ip.components}
         loose = {n for link in self.model.rigid_links if "4" not in link.components for n in link.dependents}
         loose |= {n for ip in self.model.interpolations for n in (*ip.nodes, ip.reference)} - bending
-        self.autospc_rotations = sorted((rod_nodes | loose) - bending)
+        self.autospc_rotations = sorted((rod_nodes | loose) - bending - set(membrane))
+        self.membrane_rotations = {n: dofs for n, dofs in sorted(membrane.items()) if n not in bending and dofs}
         if str(self.deck.param("AUTOSPC", "YES")).upper() in ("NO", "N", "-1"):
-            self.autospc, self.autospc_rotations = [], []
+            self.autospc, self.autospc_rotations, self.membrane_rotations = [], [], {}
         if self.autospc:
             self.log.note(f"node(s) {self.autospc[:10]}{' ...' if len(self.autospc) > 10 else ''} have no "
                               "element: fixed in every configuration (as Nastran's AUTOSPC does)")
@@ -164,6 +216,12 @@ class _Subcases:
             self.log.note(f"node(s) {r[:10]}{' ...' if len(r) > 10 else ''} have no rotational stiffness "
                               "(joined only by rods, RBE2s without 456 or RBE3s): their rotations are fixed in every "
                               "configuration (as Nastran's AUTOSPC does)")
+        if self.membrane_rotations:
+            r = list(self.membrane_rotations)
+            self.log.note(f"node(s) {r[:10]}{' ...' if len(r) > 10 else ''} of membrane-only shells (PSHELL "
+                          "without MID2): the rotations about axes in every membrane's plane are fixed in every "
+                          "configuration (no element stiffens them); the drilling rotation about a membrane's "
+                          "normal stays free (flexgvt's membrane uses it)")
         for name, sub, sid in cases:
             self.configuration(name, sub, sid)
 
@@ -206,6 +264,8 @@ class _Subcases:
             fixed.setdefault(int(nid), set()).update(range(6))
         for nid in self.autospc_rotations:
             fixed.setdefault(int(nid), set()).update(range(3, 6))
+        for nid, dofs in self.membrane_rotations.items():
+            fixed.setdefault(int(nid), set()).update(dofs)
         for nid, node in bdf.nodes.items():
             if node.ps:
                 self._fix(fixed, nid, str(node.ps), f"{self.at('GRID', nid)} (PS)")

@@ -1,5 +1,5 @@
 """The one place for cards no family reads: which are ignored on purpose (non-structural, methods,
-reduction sets, DMIG not selected) and which are reported unsupported, with their ids."""
+DMIG not selected) and which are reported unsupported, with their ids."""
 
 from __future__ import annotations
 
@@ -26,8 +26,6 @@ NON_STRUCTURAL = {"AERO", "AEROS", "CAERO1", "CAERO2", "CAERO3", "CAERO4", "CAER
                   "AECOMP", "AECOMPL", "PLOTEL", "UXVEC", "AEDW", "AEFORCE", "AEPRESS", "SPLINRB"}
 # Case control selectors of DMIG matrices (direct matrix input).
 DMIG_SELECTORS = ("K2GG", "M2GG", "B2GG", "K42GG", "K2PP", "M2PP", "B2PP")
-# Static (Guyan) reduction sets: flexgvt solves the full model (named in a note).
-REDUCTION_CARDS = {"ASET", "ASET1", "OMIT", "OMIT1"}
 # Element types flexgvt does not have, with what to use instead (named in read_bdf's one error).
 ELEMENT_HINTS = {
     "CQUAD8": "8-node quads: remesh with CQUAD4", "CTRIA6": "6-node triangles: remesh with CTRIA3",
@@ -87,24 +85,19 @@ def classify_dmig(deck: Deck, log: Findings) -> None:
             log.skip(f"DMIG ({'/'.join(sorted(uses))} on {on}: direct matrix input)", str(name))
 
 def list_other_cards(deck: Deck, log: Findings, read_cards: frozenset[str]) -> None:
-    """Every card no family reads: ignored with a note (non-structural, reduction sets, unused
+    """Every card no family reads: ignored with a note (non-structural, unused
     properties and materials, DMIG not selected) or recorded unsupported with its ids."""
     bdf = deck.bdf
     used_pids = {getattr(e, "pid", None) for e in list(bdf.elements.values()) + list(bdf.masses.values())}
     used_mids = {getattr(p, "mid", None) for p in bdf.properties.values() if getattr(p, "pid", None) in used_pids}
     for p in bdf.properties.values():
         used_mids.update(getattr(p, "mids", []) or [])
-    reduced = sorted(name for name in bdf.card_count if name in REDUCTION_CARDS)
-    if reduced:
-        log.note(f"{'/'.join(reduced)} (Guyan reduction to an analysis set) not applied: flexgvt solves "
-                          "the full model, so the higher modes will differ from Nastran's (the reduced model is "
-                          "stiffer; the lowest modes agree when the set is well chosen)")
     classify_dmig(deck, log)
     skipped = sorted(name for name in bdf.card_count if name in NON_STRUCTURAL)
     if skipped:
         log.note(f"non-structural cards ignored: {', '.join(skipped)}")
     for name, count in bdf.card_count.items():
-        if name in read_cards or name in IGNORED_CARDS or name in NON_STRUCTURAL or name in REDUCTION_CARDS or \
+        if name in read_cards or name in IGNORED_CARDS or name in NON_STRUCTURAL or \
                 name in log.unsupported or name == "DMIG":
             continue
         ids = sorted({ident for (n, ident) in deck.index.places if n == name}, key=_natural)

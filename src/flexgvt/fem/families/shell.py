@@ -1,0 +1,186 @@
+"""The shell family: flat corotational quads or triangles (kernels in fem._shell_kernel, the EICR
+wrapper in fem._shell_corotational, sections compiled in fem._shell_model). One family per corner
+count: "shell4" (quads) and "shell3" (triangles)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+from typing import ClassVar
+
+import numpy as np
+
+from ...errors import ModelError
+from ...model import Configuration
+from .._shell_corotational import CorotationalTerms, corotated_frames, corotational_setup, corotational_terms
+from .._shell_model import ShellArrays, group_sections
+from ..checks import _REMEDY, _bad, _ids
+from ..labels import section_fractions
+from .base import Derivative, ElementTerms, zero_blocks
+
+
+def _blockdiag(E: np.ndarray, p: int) -> np.ndarray:
+    """(n, 6p, 6p) with the frames E (n, 3, 3) on the 2p diagonal 3 x 3 blocks."""
+    out = np.zeros((len(E), 6 * p, 6 * p))
+    for b in range(2 * p):
+        out[:, 3 * b:3 * b + 3, 3 * b:3 * b + 3] = E
+    return out
+
+
+@dataclass(frozen=True, eq=False)
+class ShellFamily:
+    """All shells of one corner count. Output of terms: the CorotationalTerms (frames, local
+    deformations and forces), which a reference evaluation hands back for the stress-dependent
+    part of the tangent."""
+
+    arrays: ShellArrays
+    name: str
+
+    structural: ClassVar[bool] = True
+    translation_invariant: ClassVar[bool] = False
+    value_fields: ClassVar[tuple[str, ...]] = ("shells",)
+    has_damping: ClassVar[bool] = False
+
+    @staticmethod
+    def build(arrays: ShellArrays) -> "ShellFamily":
+        return ShellFamily(arrays, f"shell{arrays.p}")
+
+    @property
+    def nodes(self) -> np.ndarray:
+        return self.arrays.nodes
+
+    @property
+    def p(self) -> int:
+        return self.arrays.p
+
+    def topology(self) -> tuple[np.ndarray, ...]:
+        return (self.arrays.nodes,)
+
+    def terms(self, x, R, lam, tangent, reference: CorotationalTerms | None = None) -> ElementTerms:
+        nodes = self.arrays.nodes
+        t = corotational_terms(self.arrays.corotational, x[nodes], R[nodes], tangent, reference=reference)
+        return ElementTerms(t.forces, t.tangent, t)
+
+    def _global_mass(self, xs: np.ndarray) -> np.ndarray:
+        """The element masses (components in the corotated frame) in global components at corners xs."""
+        B = _blockdiag(corotated_frames(xs), self.p)
+        return B @ self.arrays.corotational.M @ np.transpose(B, (0, 2, 1))
+
+    def mass_values(self, x, R) -> np.ndarray:
+        return self._global_mass(x[self.arrays.nodes])
+
+    def damping_values(self, x, R) -> np.ndarray:
+        return zero_blocks(len(self.arrays.nodes), self.p)
+
+    def add_applied(self, f: np.ndarray, configuration: Configuration, gravity: np.ndarray) -> None:
+        """The weight as the consistent load M g of the undeformed elements, fixed in direction
+        (forces; the moments of offset mass, m1 g, at their undeformed value)."""
+        if not np.any(gravity):
+            return
+        a = self.arrays
+        M = self._global_mass(a.corotational.X)
+        g = np.zeros(6 * self.p)
+        for b in range(self.p):
+            g[6 * b:6 * b + 3] = gravity
+        w = (M @ g).reshape(len(a.nodes), self.p, 6)
+        np.add.at(f, a.nodes.reshape(-1), w.reshape(-1, 6))
+
+    def exploded_terms(self, xs, Rs, lam):
+        t = corotational_terms(self.arrays.corotational, xs, Rs, True)
+        return t.tangent, self._global_mass(xs)
+
+    def strain_energies(self, shapes: np.ndarray, x: np.ndarray, R: np.ndarray) -> np.ndarray:
+        """(n_modes, 5) the shells' strain energy of mode shapes (n_modes, n_nodes, 6) at the state,
+        1/2 phi^T K phi with the symmetric part of their tangent, split into OOP, IP, torsion,
+        extension and local deformation by the motion of the shell nodes' cross-sections
+        (labels.section_fractions)."""
+        a = self.arrays
+        K = self.terms(x, R, 1.0, True).tangent
+        phi = np.asarray(shapes, float)[:, a.nodes].reshape(len(shapes), len(a.nodes), 6 * self.p)
+        energy = 0.5 * np.einsum("mna,nab,mnb->m", phi, K, phi)
+        used = np.unique(a.nodes)
+        M = self.mass_values(x, R)
+        diag = np.diagonal(M, axis1=1, axis2=2).reshape(len(a.nodes), self.p, 6)[:, :, :3].mean(axis=2)
+        mass = np.bincount(a.nodes.reshape(-1), weights=diag.reshape(-1), minlength=len(x))[used]
+        return np.maximum(energy, 0.0)[:, None] * section_fractions(np.asarray(shapes)[:, used], x[used], mass)
+
+    def thickness_at(self, nodes: np.ndarray) -> float | None:
+        """The thinnest shell touching ``nodes`` (storage indices) [m], None when none does."""
+        on = np.isin(self.arrays.nodes, nodes).any(axis=1)
+        return float(self.arrays.thickness[on].min()) if np.any(on) else None
+
+    def check_values(self, where: str, node_ids: np.ndarray) -> None:
+        a = self.arrays
+        bad = _bad(a.C) | _bad(a.mass)
+        if np.any(bad):
+            k = int(np.flatnonzero(bad)[0])
+            raise ModelError(f"{where}: shell element(s) {_ids(a.element_ids[bad])} (group '{a.group_names[k]}') "
+                             f"have section or mass terms that are not finite or too large: check the group's "
+                             f"property (thickness, NSM) and materials; {_REMEDY}")
+
+    def connections(self) -> np.ndarray:
+        nodes = self.arrays.nodes
+        return np.stack([nodes, np.roll(nodes, -1, axis=1)], axis=-1).reshape(-1, 2)
+
+    def held_nodes(self) -> np.ndarray:
+        return np.zeros(0, int)
+
+    def used_nodes(self) -> np.ndarray:
+        return np.zeros(0, int)
+
+    def describe(self, nodes: np.ndarray) -> str:
+        a = self.arrays
+        on = np.isin(a.nodes, nodes).any(axis=1)
+        if not np.any(on):
+            return ""
+        kind = "quad" if self.p == 4 else "triangle"
+        return f"shell {kind}(s) {_ids(a.element_ids[on])} (group(s) {', '.join(sorted(set(a.group_names[on])))})"
+
+    def derivative(self, field, item, x, R, lam, gravity, cache) -> Derivative:
+        """item = {group position in Model.shells: [(property, weight), ...]}: a difference rule in a
+        property value. The element terms are linear in the element constants (the local stiffness,
+        the initial-stress resultants' map, the masses), so their change is the same corotational
+        evaluation with sum weight * constants(property); the constants of each property come from
+        the kernels (the triangle's ANDES scale depends on the section's Poisson ratio, so the
+        kernels are not linear in the section), once per change (kept in ``cache``)."""
+        a = self.arrays
+        groups = np.array(sorted(int(g) for g in item), int)
+        rows = np.flatnonzero(np.isin(a.groups, groups))
+        if not len(rows):
+            return Derivative(rows)
+        key = ("shell", self.name)
+        data = cache.get(key)
+        if data is None:
+            base = a.corotational
+            K, M = np.zeros((len(rows),) + base.K.shape[1:]), np.zeros((len(rows),) + base.K.shape[1:])
+            GN = None if base.GN is None else np.zeros((len(rows),) + base.GN.shape[1:])
+            X = base.X[rows]
+            for g in groups:
+                on = a.groups[rows] == g
+                if not np.any(on):  # a group of the other corner count
+                    continue
+                group = a.shell_groups[g]
+                where = f"shell group '{group.name}'"
+                for prop, weight in item[g]:
+                    C, m, _ = group_sections(replace(group, property=prop), X[on], where)
+                    one = corotational_setup(X[on], C, ids=a.element_ids[rows][on], initial_stress=GN is not None,
+                                             mass=m, lumped=a.lumped[rows][on])
+                    K[on] += weight * one.K
+                    M[on] += weight * one.M
+                    if GN is not None:
+                        GN[on] += weight * one.GN
+            data = cache[key] = replace(base, X=X, E0=base.E0[rows], Xl=base.Xl[rows], K=K, GN=GN,
+                                        KS=None if base.KS is None else base.KS[rows], M=M)
+        nodes = a.nodes[rows]
+        forces = tangent = None
+        if np.any(data.K):
+            t = corotational_terms(data, x[nodes], R[nodes], True)
+            forces, tangent = t.forces, t.tangent
+        mass = applied = None
+        if np.any(data.M):
+            mass = _blockdiag(corotated_frames(x[nodes]), self.p) @ data.M @ np.transpose(
+                _blockdiag(corotated_frames(x[nodes]), self.p), (0, 2, 1))
+            if np.any(gravity):
+                B0 = _blockdiag(data.E0, self.p)
+                g = np.tile(np.r_[gravity, 0.0, 0.0, 0.0], self.p)
+                applied = lam * (B0 @ data.M @ np.transpose(B0, (0, 2, 1)) @ g)
+        return Derivative(rows, forces, applied, tangent, mass)
