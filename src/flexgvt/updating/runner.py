@@ -204,7 +204,22 @@ def _merge(problem: UpdatingProblem, model: Model, stages: list, held: dict[str,
                                                                  "final": r.final.objective},
                    "iterations": len(r.history) - 1, "message": str(r.message), "solves": r.solves}
                   for p, r in stages]
-    return replace(base, x=x, variables=rows, identifiability=ident, history=history,
+    final = base.final
+    if free_index:  # the answer over every variable: the held ones' columns zero (the data do not see them)
+        cols = [free_index.get(n) for n in names]
+
+        def wide(A):
+            if A is None:
+                return None
+            out = np.zeros((A.shape[0], len(names)))
+            for k, c in enumerate(cols):
+                if c is not None:
+                    out[:, k] = A[:, c]
+            return out
+        final = replace(final, x=x.copy(), jacobian=wide(final.jacobian),
+                        constraint_jacobian=wide(final.constraint_jacobian))
+    return replace(base, x=x, variables=rows, identifiability=ident, history=history, final=final,
+                   initial=first.initial,
                    solves=sum(r.solves for _, r in stages), gradients=sum(r.gradients for _, r in stages),
                    stages=stage_rows, warnings=[],
                    unpaired=last.unpaired if base is last else {"initial": first.unpaired.get("initial", {}),
