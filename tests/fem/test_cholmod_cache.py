@@ -25,7 +25,7 @@ def _spd_on_pattern(rng, n, couple):
 def test_zero_entries_are_pruned_and_a_new_nonzero_triggers_a_new_analysis():
     rng = np.random.default_rng(0)
     n = 12
-    cache = CholmodCache()
+    cache = CholmodCache("cholmod")
     b = rng.standard_normal(n)
     A1, D1 = _spd_on_pattern(rng, n, couple=False)
     f = cache.factor(A1)
@@ -49,15 +49,15 @@ def test_indefinite_matrix_is_factorised_and_a_zero_pivot_refused():
     """LDL^T without pivoting: an indefinite matrix with sound pivots solves exactly; a zero pivot
     (singular leading block) gives None so that the caller takes a pivoted LU."""
     A = sp.csc_matrix(np.array([[1.0, 2.0], [2.0, 1.0]]))  # eigenvalues 3 and -1
-    f = CholmodCache().factor(A)
+    f = CholmodCache("cholmod").factor(A)
     np.testing.assert_allclose(A @ f.solve_A(np.array([1.0, 0.0])), [1.0, 0.0], atol=1e-14)
-    assert CholmodCache().factor(sp.csc_matrix(np.array([[1.0, 1.0], [1.0, 1.0]]))) is None
+    assert CholmodCache("cholmod").factor(sp.csc_matrix(np.array([[1.0, 1.0], [1.0, 1.0]]))) is None
 
 
 def test_a_diagonal_entry_missing_from_the_pattern_is_a_zero_pivot():
     A = sp.csc_matrix(np.array([[0.0, 1.0], [1.0, 2.0]]))
     A.eliminate_zeros()  # no stored (0, 0) entry
-    assert CholmodCache().factor(A) is None
+    assert CholmodCache("cholmod").factor(A) is None
 
 
 def test_element_blocks_scattered_into_the_analysed_pattern_match_the_assembled_matrix():
@@ -86,7 +86,7 @@ def test_element_blocks_scattered_into_the_analysed_pattern_match_the_assembled_
         np.testing.assert_allclose(A, A.T)
         return A
 
-    cache = CholmodCache()
+    cache = CholmodCache("cholmod")
     b = rng.standard_normal(n)
     B1 = blocks(couple=False)
     cache.factor_blocks(pattern, [B1], mass, 0.5)  # first call: analysis of the non-zero entries

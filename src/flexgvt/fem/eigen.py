@@ -12,7 +12,7 @@ import scipy.sparse.linalg as spla
 
 from ..errors import ModelError, SolverError
 from .labels import mac_matrix
-from .linsolve import HAVE_CHOLMOD, CholmodCache
+from .linsolve import HAVE_FAST, CholmodCache
 
 DENSE_LIMIT = 200  # reduced DOFs below which dense eigensolvers are used
 
@@ -62,10 +62,10 @@ _RIGID_MARGIN = 1e3
 
 def _cholesky_inverse(K: sp.spmatrix, M: sp.spmatrix, sigma: float,
                       cache: CholmodCache | None = None) -> spla.LinearOperator | None:
-    """(K - sigma M)^-1 through CHOLMOD's LDL^T when it is installed and no pivot is tiny (sigma not
-    at an eigenvalue); None lets eigsh factorise with SuperLU. cache: a symbolic analysis of the
-    pattern to reuse (the system's, from its static solve)."""
-    if not HAVE_CHOLMOD:
+    """(K - sigma M)^-1 through the symmetric LDL^T (PARDISO or CHOLMOD, fem.linsolve) when one is
+    installed and no pivot is tiny (sigma not at an eigenvalue); None lets eigsh factorise with
+    SuperLU. cache: a symbolic analysis of the pattern to reuse (the system's, from its static solve)."""
+    if not HAVE_FAST:
         return None
     # Both triangles: CHOLMOD's simplicial refactorisation reads them faster than the lower one.
     if (sp.isspmatrix_csc(K) and sp.isspmatrix_csc(M) and K.has_sorted_indices and K.nnz == M.nnz

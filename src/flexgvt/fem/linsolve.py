@@ -1,11 +1,15 @@
-"""Sparse factorisations for the Newton solve: CHOLMOD where scikit-sparse is installed (symbolic
-analysis once per sparsity pattern, numeric refactorisation each iteration), SuperLU otherwise.
+"""Sparse factorisations for the Newton solve and the shift-invert eigensolver: a symmetric LDL^T
+with the symbolic analysis done once per sparsity pattern and a numeric refactorisation each
+iteration, SuperLU where no such backend is installed.
 
-CHOLMOD factorises the symmetric part of K + alpha M, which equals the tangent at equilibrium
-(the skew part of the consistent tangent is proportional to the residual, and to applied nodal
-moments), as LDL^T without pivoting (indefinite matrices included); when a pivot is tiny (a
-singular or badly indefinite matrix) the LU of the full non-symmetric matrix is used for that
-iteration.
+Backends (``BACKENDS``, the first is the default): MKL PARDISO (pypardiso and the mkl wheel, a default
+dependency on x86-64: Bunch-Kaufman pivoting inside supernodes, METIS ordering) and CHOLMOD
+(scikit-sparse, optional: needs SuiteSparse headers; simplicial LDL^T without pivoting). Either
+factorises the symmetric part of K + alpha M, which equals the tangent at equilibrium (the skew
+part of the consistent tangent is proportional to the residual, and to applied nodal moments),
+indefinite matrices included; when a pivot is tiny (a singular or badly indefinite matrix: CHOLMOD's
+|d_i| below 1e-12 |a_ii|, PARDISO's perturbed pivots) the LU of the full non-symmetric matrix is used
+for that iteration. docs/benchmarks.md (scale) has the measurements behind the order.
 """
 
 from __future__ import annotations
@@ -17,15 +21,20 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
+from ..errors import SolverError
+
 try:  # optional: pip install scikit-sparse (needs SuiteSparse headers, Debian libsuitesparse-dev)
     from sksparse import cholmod as _cholmod
 except ImportError:  # pragma: no cover - depends on the machine
     _cholmod = None
 
 from .._threads import serial_blas  # noqa: F401  (re-exported: fem.linsolve.serial_blas)
+from ._pardiso import HAVE_PARDISO, PardisoLDL
 from .assembly import scatter_add_symmetric
 
-HAVE_CHOLMOD = _cholmod is not None
+HAVE_CHOLMOD = _cholmod is not None  # scikit-sparse's CHOLMOD
+BACKENDS = tuple(name for name, ok in (("pardiso", HAVE_PARDISO), ("cholmod", HAVE_CHOLMOD)) if ok)
+HAVE_FAST = bool(BACKENDS)  # a symmetric factorisation with a reusable analysis (else SuperLU only)
 _PIVOT_TOLERANCE = 1e-12  # smallest accepted |pivot| of LDL^T relative to its diagonal entry
 
 
@@ -103,16 +112,25 @@ def _same_memory(a: np.ndarray, b: np.ndarray) -> bool:
 
 
 class CholmodCache:
-    """The symbolic analysis of one sparsity pattern, reused by every refactorisation.
+    """The symbolic analysis of one sparsity pattern, reused by every refactorisation (the name is
+    historical: the backend is ``backend``, by default the first of ``BACKENDS``).
 
     Entries that are exactly zero are left out of the analysed pattern while they stay zero: the
     tangent of a structure loaded in its plane of symmetry (a straight wing under self-weight)
     decouples the in-plane from the out-of-plane motions, half of the element pattern is zero
-    and its Cholesky factor half as large. An entry that turns non-zero triggers a new analysis
-    of the grown pattern (a few times at most: the kept set only grows).
+    and its Cholesky factor half as large. An entry that turns non-zero triggers one new analysis,
+    of the whole pattern: under a general load the couplings turn on over the first iterations one
+    group after the other, and analysing each grown pattern cost the 0.1 m wingbox four analyses
+    at -1 g (each about the time of a factorisation) where one suffices.
     """
 
-    def __init__(self):
+    def __init__(self, backend: str | None = None):
+        if backend is None:
+            backend = BACKENDS[0] if BACKENDS else None
+        elif backend not in BACKENDS:
+            raise SolverError(f"sparse factorisation backend '{backend}' is not installed (installed: {BACKENDS}; "
+                             "pardiso: pip install pypardiso; cholmod: pip install scikit-sparse)")
+        self.backend = backend
         self.factor_object = None
         self._full = None  # (shape, indptr, indices) of the full pattern the kept set refers to
         self._keep = None  # bool (nnz,): entries of the full pattern in the analysed one
@@ -139,14 +157,22 @@ class CholmodCache:
             A.data, A.indptr, A.indices, keep)
         self._pruned = sp.csc_matrix((data, indices, indptr), shape=A.shape)
         self._full = (A.shape, A.indptr, A.indices)
-        self.factor_object = _cholmod.analyze(self._pruned, mode="simplicial")
+        if self.backend == "cholmod":
+            self.factor_object = _cholmod.analyze(self._pruned, mode="simplicial")
+        elif np.all(self._diag_idx >= 0):
+            try:
+                self.factor_object = PardisoLDL(indptr, indices, A.shape[0])
+            except SolverError:  # the caller takes SuperLU
+                self.factor_object = _NO_FACTOR
+        else:  # PARDISO needs every diagonal entry stored; a missing one is a zero pivot anyway
+            self.factor_object = _NO_FACTOR
         self._analyses += 1
 
     def factor_blocks(self, pattern, blocks: list[np.ndarray], mass_data: np.ndarray, alpha: float):
         """factor() of the symmetric part of element matrices ``blocks`` assembled on ``pattern``
         (an assembly.Pattern) plus alpha times a matrix with data ``mass_data`` on it, scattered
         straight into the analysed entries while they hold every non-zero (no full matrix)."""
-        if _cholmod is None:
+        if self.backend is None:
             return None
         full = self._full
         if (self.factor_object is not None and full[0] == (pattern.n, pattern.n)
@@ -173,6 +199,8 @@ class CholmodCache:
 
     def _refactor(self):
         """Numeric factorisation of the pruned matrix as it stands; None if a pivot is tiny."""
+        if self.backend != "cholmod":
+            return self.factor_object if self.factor_object.refactor(self._pruned.data) else None
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             try:
@@ -192,9 +220,9 @@ class CholmodCache:
         LU). Pass both triangles where they are at hand: the simplicial factorisation of a
         lower-only matrix is measured 1.8x slower (it transposes).
 
-        The returned object is only valid until the next call.
+        The returned object (``solve_A(b)``) is only valid until the next call.
         """
-        if _cholmod is None:
+        if self.backend is None:
             return None
         if not (sp.isspmatrix_csc(A) and A.has_sorted_indices):
             A = sp.csc_matrix(A)
@@ -202,8 +230,20 @@ class CholmodCache:
         if self.factor_object is None or not self._same_pattern(A):
             self._analyse(A, A.data != 0)
         elif _gather(A.data, self._kept_idx, self._dropped_idx, self._pruned.data):
-            self._analyse(A, self._keep | (A.data != 0))
+            self._analyse(A, np.ones_like(self._keep))
         return self._refactor()
+
+
+class _NoFactor:
+    """An analysis that cannot factorise (a diagonal entry missing from the pattern: a zero pivot; or
+    PARDISO's analysis failed): every refactorisation fails, so the caller takes SuperLU."""
+
+    @staticmethod
+    def refactor(data) -> bool:
+        return False
+
+
+_NO_FACTOR = _NoFactor()
 
 
 def superlu(A: sp.csc_matrix):

@@ -116,7 +116,7 @@ def solve_modes(state: State, n_modes: int = 15, *, damped: bool | None = None, 
 
     damped: complex modes with the viscous dampers of springs and cords (default: when present).
     shift: eigenvalue shift [rad^2/s^2] (default: slightly negative, so rigid-body modes are found).
-    cholmod: use CHOLMOD for the shift-invert where scikit-sparse is installed (else SuperLU), as
+    cholmod: use the symmetric factorisation (PARDISO or CHOLMOD, fem.linsolve) for the shift-invert where
     StaticSettings.cholmod. Rigid-body modes of free structures come out at 0 Hz.
     mass_frame: "deformed" (default, physical: the sections' inertia and offset masses turn with
     the deformed structure) or "undeformed": the mass matrix of the undeformed configuration with

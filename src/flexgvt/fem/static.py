@@ -23,7 +23,7 @@ from .checks import check_connected
 from .eigen import real_modes
 from .arclength import trace
 from .rotations import logm_so3, scaled_increment
-from .linsolve import HAVE_CHOLMOD, CholmodCache, serial_blas, superlu
+from .linsolve import HAVE_FAST, CholmodCache, serial_blas, superlu
 from .stability import BUCKLING_MODES, Instability, locate, negative_eigenvalues
 from .system import Evaluation, System
 
@@ -131,7 +131,7 @@ class StaticSettings:
     min_increment: float = 1e-5
     max_increment_growth: float = 1.5
     desired_iterations: int = 5
-    cholmod: bool = True  # use CHOLMOD when scikit-sparse is installed (else SuperLU)
+    cholmod: bool = True  # use the symmetric factorisation (PARDISO, or CHOLMOD) where installed (else SuperLU)
     cord_strain_limit: float = 1.0  # a cord stretched past its design length by this x its unstretched one: warned
     buckling: str = "warn"  # an unstable final state: "ignore", "warn", "stop" or "continue" (see solve_static)
     imperfection: float = 0.0  # [m] the post-buckled path's imperfection; 0: a tenth of the buckled shells' thickness
@@ -148,14 +148,14 @@ STABILISATION = (2 * np.pi * 1e-3) ** 2
 
 
 class _Factor:
-    """Factorised K + alpha M (CHOLMOD on its symmetric part where available, else SuperLU), with
+    """Factorised K + alpha M (PARDISO or CHOLMOD on its symmetric part where available, else SuperLU), with
     optional iterative refinement on K; a diagonal term is added only if every factorisation fails."""
 
     def __init__(self, system: System, ev: Evaluation, M: sp.csc_matrix, reference: float,
                  cholmod: CholmodCache | None = None):
         self._system, self._ev = system, ev
         self.stabilisation = 0.0
-        if cholmod is not None and HAVE_CHOLMOD:
+        if cholmod is not None and HAVE_FAST:
             chol = system.factor_newton_matrix(ev, M, STABILISATION, cholmod)
             if chol is not None:
                 self._solve = chol.solve_A
