@@ -39,5 +39,5 @@ def test_verify_command_writes_the_documented_json(tmp_path):
     assert set(row) >= {"measured_hz", "initial_hz", "updated_hz", "initial_error_percent", "updated_error_percent",
                         "updated_mac"}
     assert (tmp_path / "fig" / "mac.png").stat().st_size > 10_000
-    bad = CliRunner().invoke(app, ["verify", "wingbox"])
+    bad = CliRunner().invoke(app, ["verify", "fuselage"])
     assert bad.exit_code == 2 and "unknown case" in bad.output

@@ -155,7 +155,12 @@ class _Factor:
                  cholmod: CholmodCache | None = None):
         self._system, self._ev = system, ev
         self.stabilisation = 0.0
-        if cholmod is not None and HAVE_FAST:
+        # Applied nodal moments (fixed in direction) put a skew part in the tangent that does not
+        # vanish at equilibrium: Newton with the symmetric part alone then converges slowly or not at
+        # all (the strip rolled up by end moments: thousands of cut increments), so LU takes the
+        # whole tangent there.
+        moments = any(np.any(np.asarray(load.moment, float)) for load in system.config.forces)
+        if cholmod is not None and HAVE_FAST and not moments:
             chol = system.factor_newton_matrix(ev, M, STABILISATION, cholmod)
             if chol is not None:
                 self._solve = chol.solve_A
