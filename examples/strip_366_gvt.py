@@ -138,7 +138,12 @@ def main(argv=None) -> dict:
           + ", ".join(f"{d:.2f} {e:.2f}" for d, e in scan) + f" -> {inboard_d:.2f} m")
     configs = [with_hardware(c) for c in (case.configurations["outboard"], hung_at(case, "inboard", inboard_d))]
     data = [up.Measured(c.name, gvt[c.name]["undamped_hz"], observed_by=sensors) for c in configs]
-    result = up.update(model, configs, data, variables(), max_iterations=args.max_iterations)
+    # unidentifiable="free": holding the variables the data do not constrain (the default since
+    # issue 32) leaves this strip's inboard layout worse than the initial model (median 2.27 % against
+    # 1.31 % at 10 iterations); until that is understood the example keeps every variable free and
+    # reports their identifiability.
+    result = up.update(model, configs, data, variables(), max_iterations=args.max_iterations,
+                       unidentifiable="free")
     print(result.summary())
 
     tables, summary = {}, {}

@@ -1,4 +1,4 @@
-"""fg.cases.wingbox: the built-up shell box of the original work (METHOD.md section 5 case 4): its
+"""fg.cases.wingbox: the built-up shell box of the original work (docs/method.md section 5 case 4): its
 mass by hand, its first bending and torsion frequencies against closed forms (Euler-Bernoulli
 cantilever; Bredt's torsion constant of the thin-walled box)."""
 

@@ -1,4 +1,4 @@
-"""The built-up shell wingbox of the original work (../METHOD.md section 4 and section 5 case 4): a
+"""The built-up shell wingbox of the original work (docs/method.md section 4 and section 5 case 4): a
 cantilever box of aluminium plates, 16 m span, 1 m chord, 0.16 m deep; skins 8 mm, two spars
 5 mm, ribs 2 mm every 0.5 m.
 

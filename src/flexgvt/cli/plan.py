@@ -52,7 +52,7 @@ def register(app: typer.Typer, console: Console) -> None:
                 out = checked_path(Path("."), str(out), "--out", "output directory")
                 output_dir(out.parent, out.name, True, "--out")
             console.print(f"[bold]{escape(p.spec.project.name)}[/]: pre-test plan")
-            res = run_with_progress(console, lambda log: plan_project(p, out=out, progress=log))
+            res = run_with_progress(console, lambda log, iteration: plan_project(p, out=out, progress=log))
             for name, c in res.configurations.items():
                 if c.layouts:
                     console.print(layouts_table(name, c.layout_rows()))

@@ -12,7 +12,7 @@ import scipy.sparse.linalg as spla
 
 from ..errors import ModelError, SolverError
 from .labels import mac_matrix
-from .linsolve import HAVE_FAST, CholmodCache
+from .linsolve import HAVE_CHOLMOD, CholmodCache
 
 DENSE_LIMIT = 200  # reduced DOFs below which dense eigensolvers are used
 
@@ -64,9 +64,14 @@ def _cholesky_inverse(K: sp.spmatrix, M: sp.spmatrix, sigma: float,
                       cache: CholmodCache | None = None) -> spla.LinearOperator | None:
     """(K - sigma M)^-1 through the symmetric LDL^T (PARDISO or CHOLMOD, fem.linsolve) when one is
     installed and no pivot is tiny (sigma not at an eigenvalue); None lets eigsh factorise with
-    SuperLU. cache: a symbolic analysis of the pattern to reuse (the system's, from its static solve)."""
-    if not HAVE_FAST:
+    SuperLU. cache: a symbolic analysis of the pattern to reuse (the system's, from its static solve).
+    Not PARDISO: its shift-invert operator gave a block with massless rotations wrong modes
+    (tests/suspension/test_heavy_cord.py: 0.7188 Hz for the condensed 0.4497 Hz), so the modes keep
+    CHOLMOD or SuperLU until that is understood; PARDISO serves the Newton solves."""
+    if not HAVE_CHOLMOD:
         return None
+    if cache is not None and getattr(cache, "backend", "cholmod") != "cholmod":
+        cache = None
     # Both triangles: CHOLMOD's simplicial refactorisation reads them faster than the lower one.
     if (sp.isspmatrix_csc(K) and sp.isspmatrix_csc(M) and K.has_sorted_indices and K.nnz == M.nnz
             and np.array_equal(K.indptr, M.indptr) and np.array_equal(K.indices, M.indices)):
@@ -74,7 +79,7 @@ def _cholesky_inverse(K: sp.spmatrix, M: sp.spmatrix, sigma: float,
     else:
         A = (K - sigma * M).tocsc()
     A.sort_indices()
-    factor = (cache or CholmodCache()).factor(A)
+    factor = (cache or CholmodCache("cholmod")).factor(A)
     if factor is None:
         return None
     return spla.LinearOperator(K.shape, matvec=factor.solve_A, dtype=float)

@@ -222,6 +222,8 @@ def _merge(problem: UpdatingProblem, model: Model, stages: list, held: dict[str,
                    initial=first.initial,
                    solves=sum(r.solves for _, r in stages), gradients=sum(r.gradients for _, r in stages),
                    stages=stage_rows, warnings=[],
+                   # every stage's starts: the first (stored, resumable) one says whether the run resumed
+                   starts=[s for _, r in stages for s in r.starts],
                    unpaired=last.unpaired if base is last else {"initial": first.unpaired.get("initial", {}),
                                                                  "updated": first.unpaired.get("initial", {})})
 
