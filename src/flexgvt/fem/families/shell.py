@@ -26,6 +26,17 @@ def _blockdiag(E: np.ndarray, p: int) -> np.ndarray:
     return out
 
 
+def _turned(M: np.ndarray, E: np.ndarray, p: int) -> np.ndarray:
+    """Element matrices M (n, 6p, 6p) with components in the frames E (n, 3, 3), in global components."""
+    B = _blockdiag(E, p)
+    return B @ M @ np.transpose(B, (0, 2, 1))
+
+
+def _weight_direction(gravity: np.ndarray, p: int) -> np.ndarray:
+    """(6p,) the acceleration of gravity on every corner's translations [m/s^2]."""
+    return np.tile(np.r_[gravity, 0.0, 0.0, 0.0], p)
+
+
 @dataclass(frozen=True, eq=False)
 class ShellFamily:
     """All shells of one corner count. Output of terms: the CorotationalTerms (frames, local
@@ -62,8 +73,7 @@ class ShellFamily:
 
     def _global_mass(self, xs: np.ndarray) -> np.ndarray:
         """The element masses (components in the corotated frame) in global components at corners xs."""
-        B = _blockdiag(corotated_frames(xs), self.p)
-        return B @ self.arrays.corotational.M @ np.transpose(B, (0, 2, 1))
+        return _turned(self.arrays.corotational.M, corotated_frames(xs), self.p)
 
     def mass_values(self, x, R) -> np.ndarray:
         return self._global_mass(x[self.arrays.nodes])
@@ -77,11 +87,7 @@ class ShellFamily:
         if not np.any(gravity):
             return
         a = self.arrays
-        M = self._global_mass(a.corotational.X)
-        g = np.zeros(6 * self.p)
-        for b in range(self.p):
-            g[6 * b:6 * b + 3] = gravity
-        w = (M @ g).reshape(len(a.nodes), self.p, 6)
+        w = (self._global_mass(a.corotational.X) @ _weight_direction(gravity, self.p)).reshape(len(a.nodes), self.p, 6)
         np.add.at(f, a.nodes.reshape(-1), w.reshape(-1, 6))
 
     def exploded_terms(self, xs, Rs, lam):
@@ -177,10 +183,7 @@ class ShellFamily:
             forces, tangent = t.forces, t.tangent
         mass = applied = None
         if np.any(data.M):
-            mass = _blockdiag(corotated_frames(x[nodes]), self.p) @ data.M @ np.transpose(
-                _blockdiag(corotated_frames(x[nodes]), self.p), (0, 2, 1))
-            if np.any(gravity):
-                B0 = _blockdiag(data.E0, self.p)
-                g = np.tile(np.r_[gravity, 0.0, 0.0, 0.0], self.p)
-                applied = lam * (B0 @ data.M @ np.transpose(B0, (0, 2, 1)) @ g)
+            mass = _turned(data.M, corotated_frames(x[nodes]), self.p)
+            if np.any(gravity):  # the weight's change, as add_applied: the undeformed elements' M g
+                applied = lam * (_turned(data.M, data.E0, self.p) @ _weight_direction(gravity, self.p))
         return Derivative(rows, forces, applied, tangent, mass)
