@@ -7,16 +7,35 @@ A case function ``func(payload) -> str`` runs inside the worker: it returns a sh
 outcome "clear" for an exception of the ``clear`` classes (flexgvt's own, FlexGVTError), "foreign"
 for anything else, "hang" when no answer came within the timeout (the worker is then killed and
 restarted) and "crash" when the worker died (segfault, out of memory).
+
+The timeout counts the worker's own CPU time on the case (Linux: /proc), not the wall clock, and
+starts once the worker has imported the package: on a loaded machine a case that computes for 2 s
+may take 30 s of wall time, and a restarted worker's imports are not the case's. A case that waits
+without computing (a deadlock) is caught by the wall clock at ``WALL_FACTOR`` times the timeout.
 """
 
 from __future__ import annotations
 
 import json
 import multiprocessing as mp
+import os
+import time
 import traceback
 from pathlib import Path
 
 PACKAGE = "flexgvt"
+WALL_FACTOR = 20.0
+_START_S = 600.0  # the longest a fresh worker may take to import the package
+
+
+def cpu_seconds(pid: int) -> float | None:
+    """CPU time (user + system, all threads) the process ``pid`` has used [s]; None where /proc is
+    not available."""
+    try:
+        fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
+        return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+    except (OSError, ValueError, IndexError):
+        return None
 
 
 def classify(exc: BaseException, clear: tuple = ()) -> dict:
@@ -45,6 +64,11 @@ def _serve(conn, memory_bytes: int | None) -> None:
     if memory_bytes:
         import resource
         resource.setrlimit(resource.RLIMIT_AS, (memory_bytes, memory_bytes))
+    try:
+        __import__(PACKAGE)
+    except BaseException:  # noqa: BLE001 - the case will raise it again and be classified
+        pass
+    conn.send("ready")
     while True:
         try:
             job = conn.recv()
@@ -65,8 +89,8 @@ def _serve(conn, memory_bytes: int | None) -> None:
 class Worker:
     """One worker process (spawned: a clean interpreter) running cases one at a time with a timeout."""
 
-    def __init__(self, timeout: float = 20.0, memory_bytes: int | None = 4 << 30):
-        self.timeout, self.memory_bytes = timeout, memory_bytes
+    def __init__(self, timeout: float = 20.0, memory_bytes: int | None = 4 << 30, wall_factor: float = WALL_FACTOR):
+        self.timeout, self.memory_bytes, self.wall_factor = timeout, memory_bytes, wall_factor
         self._ctx = mp.get_context("spawn")
         self._proc = None
 
@@ -75,20 +99,47 @@ class Worker:
         self._proc = self._ctx.Process(target=_serve, args=(child, self.memory_bytes), daemon=True)
         self._proc.start()
         child.close()
+        if self._conn.poll(_START_S):
+            try:
+                self._conn.recv()
+            except EOFError:
+                pass
+
+    def _answered(self, timeout: float) -> bool | str:
+        """Wait for the answer: True when it came (or the worker died), else the budget that ran out."""
+        pid = self._proc.pid
+        cpu0, wall0 = cpu_seconds(pid), time.monotonic()
+        while not self._conn.poll(0.05):
+            wall = time.monotonic() - wall0
+            cpu = cpu_seconds(pid)
+            if cpu0 is None or cpu is None:
+                if wall > timeout:
+                    return f"{timeout:g} s"
+            elif cpu - cpu0 > timeout:
+                return f"{timeout:g} s of CPU time"
+            elif wall > self.wall_factor * timeout:
+                return f"{self.wall_factor * timeout:g} s (waiting, not computing)"
+            if not self._proc.is_alive():
+                return True
+        return True
 
     def run(self, func, payload, clear: tuple = (), timeout: float | None = None) -> dict:
         if self._proc is None or not self._proc.is_alive():
             self._start()
+        limit = self.timeout if timeout is None else timeout
         self._conn.send((func, payload, clear))
-        if self._conn.poll(self.timeout if timeout is None else timeout):
-            try:
-                return self._conn.recv()
-            except EOFError:
-                pass
+        answered = self._answered(limit)
+        if answered is True:
+            if self._conn.poll():
+                try:
+                    return self._conn.recv()
+                except EOFError:
+                    pass
         else:
             self.close(kill=True)
-            return {"outcome": "hang", "class": "Hang", "site": "",
-                    "message": f"no answer in {timeout or self.timeout} s"}
+            return {"outcome": "hang", "class": "Hang", "site": "", "message": f"no answer in {answered}"}
+        if self._proc is not None:
+            self._proc.join(5)
         code = self._proc.exitcode if self._proc is not None else None
         self.close(kill=True)
         return {"outcome": "crash", "class": "Crash", "site": "", "message": f"worker died (exit code {code})"}
