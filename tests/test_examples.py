@@ -46,6 +46,14 @@ def test_xhale_lab(tmp_path):
     torsion = [m for m in saved["prediction_modes"]["bungee_outboard"] if 6.0 < m["frequency_hz"] < 6.4]
     assert len(torsion) == 1 and torsion[0]["free_mode"] is None and torsion[0]["mac"] is None
     assert torsion[0]["low_hz"] < torsion[0]["frequency_hz"] < torsion[0]["high_hz"]
+    # The heavy bungees' own modes are listed with their labels and no free-free partner; with them
+    # the first bending on the outboard bungees comes out lower than on massless bungees.
+    heavy = saved["prediction_modes"]["bungee_outboard_heavy"]
+    own = [m for m in heavy if "bungee" in m["label"]]
+    assert {m["label"] for m in own} >= {"1 bungee surge", "1 bungee string"}
+    assert all(m["free_mode"] is None for m in own)
+    first = saved["prediction"][0]
+    assert first["bungee_outboard_heavy_hz"] < first["bungee_outboard_hz"]
 
 
 def test_strip_366_gvt(tmp_path):

@@ -168,3 +168,31 @@ def test_case_variables_reject_what_they_cannot_build(case):
         fg.updating.case_variables(bad)
     with pytest.raises(fg.errors.ModelError, match="lists no design variables"):
         fg.updating.case_variables(fg.cases.cantilever_strip(n_elements=6))
+
+
+def test_heavy_bungees_hang_the_aircraft_where_the_massless_ones_do_and_add_their_own_modes(case):
+    """bungee_outboard_heavy: the same bungees with an assumed 20 g/m distributed over 10 members.
+    The crane is raised by the cords' own stretch, so the aircraft hangs where the massless cords
+    hold it; the cords' string (1.06 Hz) and surge (1.72 Hz) modes are labelled as theirs, and below
+    the surge resonance the softened cords lower the first bending (by 3.1 %, measured)."""
+    light = fg.solve_static(case.model, case.configurations["bungee_outboard"])
+    cfg = case.configurations["bungee_outboard_heavy"]
+    assert all(c.segments == 10 and c.mass == pytest.approx(0.4) for c in cfg.suspension)
+    heavy = fg.solve_static(case.model, cfg)
+    n = case.model.n_nodes
+    # within 0.08 mm (measured): a heavy cord's tension grows upward, so sideways it is a little
+    # stiffer than the massless cord's T / L where the wing's sag pulls the junctions inward
+    assert np.abs(heavy.positions[:n] - light.positions).max() < 2e-4
+    assert heavy.positions.shape[0] == n + 2 * 9  # the cords' interior points
+    modes = fg.solve_modes(heavy, 16 + 54, damped=False)
+    labels = list(modes.labels)
+    f = dict(zip(labels, modes.frequencies_hz))
+    assert 1.0 < f["1 bungee string"] < 1.1 and 1.65 < f["1 bungee surge"] < 1.8
+    # Two cords: 9 points each, a surge and two string planes per point.
+    assert sum("bungee" in lab for lab in labels) == 54
+    f_light = fg.solve_modes(light, 10, damped=False)
+    oop = f["1 OOP"] / f_light.frequencies_hz[list(f_light.labels).index("1 OOP")] - 1
+    assert -0.04 < oop < -0.02
+    # The prediction's pairing ignores the cords' own modes.
+    pair = xhale_match_modes(modes, [0.15, 0.95], ["Plunge", "1 OOP"])
+    assert labels[pair[1]] == "1 OOP"

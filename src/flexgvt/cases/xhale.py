@@ -74,6 +74,11 @@ NOMINAL = {
     "tail_chord": 0.12,  # m
     # suspension
     "pendulum_length": 3.0,  # m, Kevlar string from the ceiling pulley to the adapter
+    # the free-flying test's bungees (EA and length published; their mass not): an assumed 20 g/m
+    # (0.4 kg per 20 m cord: a 6 mm braided shock cord), distributed over 10 members in the
+    # *_heavy configurations
+    "bungee_mass_per_length": 0.02,  # kg/m (assumed)
+    "bungee_segments": 10,
 }
 
 
@@ -201,15 +206,19 @@ def _configurations(model: Model, info: dict, p: dict) -> dict[str, Configuratio
             springs.append(Spring.make(node, None, stiffness=[k_lat, k_lat, 0, 0, 0, 0]))
         return tuple(cords), tuple(springs)
 
-    def bungee(y):
+    def bungee(y, mu=0.0, segments=0):
+        """The free-flying test's 20 m bungees from a crane; with mu [kg/m] and segments, each one's
+        own mass distributed over that many members (its surge and string modes in the solve), the
+        crane that much higher that the aircraft hangs where the massless cords hold it."""
         cords = []
         for EA, yy in zip(BUNGEE_EA, (-y, y)):
             node = info["junction"][yy]
             k = EA / BUNGEE_LENGTH
             T = 0.5 * weight
-            height = BUNGEE_LENGTH + T / k
+            m = mu * BUNGEE_LENGTH
+            height = BUNGEE_LENGTH + (T + 0.5 * m * STANDARD_GRAVITY) / k  # stretch under the end load and own weight
             cords.append(Cord(node=node, anchor=tuple(xyz[node] + np.array([0.0, 0.0, height])), stiffness=k,
-                              unstretched_length=BUNGEE_LENGTH))
+                              unstretched_length=BUNGEE_LENGTH, mass=m, segments=segments))
         return tuple(cords)
 
     out = {"free_free": Configuration("free_free")}
@@ -218,6 +227,9 @@ def _configurations(model: Model, info: dict, p: dict) -> dict[str, Configuratio
         out[name] = Configuration(name, suspension=cords, springs=springs, gravity=1.0)
     for name, y in (("bungee_outboard", 2.0), ("bungee_inboard", 1.0)):
         out[name] = Configuration(name, suspension=bungee(y), gravity=1.0)
+        heavy = f"{name}_heavy"
+        out[heavy] = Configuration(heavy, suspension=bungee(y, p["bungee_mass_per_length"], p["bungee_segments"]),
+                                   gravity=1.0)
     return out
 
 
@@ -302,7 +314,10 @@ def xhale(n_per_section: int = 8, as_built: bool = False, seed: int = 0) -> Case
     weight; the spring-and-pulley line is a cord of rate K plus a grounded spanwise/fore-aft spring
     that makes the pendulum arm the 3 m of Kevlar string below the pulley. free_free (no
     suspension, no gravity). bungee_outboard / bungee_inboard: two bungees of 20 m unstretched,
-    EA 92.5 N (left) and 100 N (right), k = EA / 20 m, from a crane, 1 g.
+    EA 92.5 N (left) and 100 N (right), k = EA / 20 m, from a crane, 1 g (stretched to 31 m).
+    bungee_outboard_heavy / bungee_inboard_heavy: the same bungees with their own mass (assumed
+    0.02 kg/m, 0.4 kg each; not published) distributed over 10 members (fg.Cord(segments=10)), so
+    their surge (1.77 Hz) and string (1.06 Hz, ...) modes are in the modal solve.
 
     Tuned (section properties, pod and tail masses, boom length) to the original work's initial
     FE model (references['original_initial_fem_hz']): every listed mode within 4.2 %, 15 of 16
@@ -335,7 +350,9 @@ def xhale(n_per_section: int = 8, as_built: bool = False, seed: int = 0) -> Case
         "tail_nodes": dict(info["tail"]),
         "suspension": {"left": SUSPENSION["left"], "right": SUSPENSION["right"],
                        "pendulum_length_m": p["pendulum_length"], "bungee_EA_N": BUNGEE_EA,
-                       "bungee_length_m": BUNGEE_LENGTH},
+                       "bungee_length_m": BUNGEE_LENGTH,
+                       "bungee_mass_per_length_kg_per_m": p["bungee_mass_per_length"],
+                       "bungee_segments": p["bungee_segments"]},
         "design_variables": variables,
         "as_built_factors": truth,
         "as_built_mass_factors": dict(mass_factors),
@@ -357,7 +374,7 @@ def match_modes(modes: Any, targets_hz: ArrayLike, labels: Sequence[str] = LABEL
     from scipy.optimize import linear_sum_assignment
     f = np.asarray(modes.frequencies_hz)
     fr = modes.energy_fractions
-    rigid = np.array([lab.startswith("RB") for lab in modes.labels])
+    rigid = np.array([lab.startswith("RB") or "bungee" in lab for lab in modes.labels])  # a cord's own: no partner
     main = np.argmax(fr[:, :4], axis=1)
     pools = {"plunge": np.flatnonzero(np.array([lab == "RB plunge" for lab in modes.labels])),
              "oop": np.flatnonzero(~rigid & (main == 0)),

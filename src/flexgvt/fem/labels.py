@@ -124,12 +124,23 @@ def _rigid_name(phi: np.ndarray, x: np.ndarray) -> str:
 
 
 def label_modes(modes):
-    """Label each mode 'k CLASS' (e.g. '1 OOP', '2 T', 'RB plunge') from energy fractions."""
+    """Label each mode 'k CLASS' (e.g. '1 OOP', '2 T', 'RB plunge') from energy fractions; a mode
+    mostly in a distributed cord's interior points 'k bungee surge' or 'k bungee string'."""
     state = modes.state
     fr = energy_fractions(modes, state)
     counts = {c: 0 for c in CLASSES}
     labels = []
+    # A family's own modes (a distributed cord's surge and string modes: family hook mode_kinds)
+    own = [None] * len(fr)
+    for family in state.system.families:
+        kinds = getattr(family, "mode_kinds", None)
+        if kinds is not None:
+            own = [a or b for a, b in zip(own, kinds(modes.shapes, state.positions))]
     for m in range(len(fr)):
+        if own[m] is not None and modes.frequencies_hz[m] != 0.0:
+            counts[own[m]] = counts.get(own[m], 0) + 1
+            labels.append(f"{counts[own[m]]} {own[m]}")
+            continue
         if modes.frequencies_hz[m] == 0.0 or fr[m, 4] > 0.5:
             labels.append("RB " + _rigid_name(modes.shapes[m], state.positions))
             continue

@@ -77,6 +77,37 @@ def cord_forces(xa: np.ndarray, Ra: np.ndarray, xb: np.ndarray, Rb: np.ndarray, 
     return g, K, T, length
 
 
+def member_forces(xa: np.ndarray, Ra: np.ndarray, xb: np.ndarray, Rb: np.ndarray, xc: np.ndarray,
+                  offset0: np.ndarray, anchor: np.ndarray, s: np.ndarray, k: np.ndarray, l0: np.ndarray,
+                  w: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Tension members (a distributed cord's segments) from an end Q = (1 - s) anchor + s x_c (s = 0: a
+    fixed point, s = 1: node c's translation) to an attachment P between nodes a and b as in
+    cord_forces. Tension T = k (length - l0), none when slack; sideways the geometric stiffness T /
+    length. Returns g (n, 18), K (n, 18, 18) over [dx_a, w_a, dx_b, w_b, dx_c, w_c], tension (n,) and
+    length (n,)."""
+    ra, rb, P = _cord_arms(xa, Ra, xb, Rb, offset0, w)
+    sv = s[:, None]
+    d = P - ((1.0 - sv) * anchor + sv * xc)
+    length = np.linalg.norm(d, axis=1)
+    nvec = d / length[:, None]
+    T = k * np.maximum(length - l0, 0.0)
+    taut = (length >= l0).astype(float)
+    gP = T[:, None] * nvec
+    wa, wb = (1.0 - w)[:, None], w[:, None]
+    zero = np.zeros_like(gP)
+    g = np.concatenate([wa * gP, wa * cross(ra, gP), wb * gP, wb * cross(rb, gP), -sv * gP, zero], axis=1)
+    nn = nvec[:, :, None] * nvec[:, None, :]
+    KPP = (k * taut)[:, None, None] * nn + (T / length)[:, None, None] * (np.eye(3) - nn)
+    n = len(w)
+    TD = np.concatenate([_cord_map(ra, rb, w), -s[:, None, None] * np.broadcast_to(np.eye(3), (n, 3, 3)),
+                         np.zeros((n, 3, 3))], axis=2)  # d(P - Q) = TD [dx_a, w_a, dx_b, w_b, dx_c, w_c]
+    K = np.swapaxes(TD, 1, 2) @ KPP @ TD
+    SgP = skew(gP)
+    K[:, 3:6, 3:6] += wa[:, :, None] * (SgP @ skew(ra))
+    K[:, 9:12, 9:12] += wb[:, :, None] * (SgP @ skew(rb))
+    return g, K, T, length
+
+
 def cord_damping(xa, Ra, xb, Rb, offset0, anchor, c, w) -> np.ndarray:
     """(n, 12, 12) viscous damping of cords along their current line of action (see cord_forces)."""
     ra, rb, P = _cord_arms(xa, Ra, xb, Rb, offset0, w)

@@ -29,8 +29,9 @@ from .assembly import Pattern
 from .checks import check_coordinates, check_values
 from ._shell_model import ShellArrays, compile_shells
 from .beam import BeamData, element_coefficients, element_frames, local_mass_matrices
-from .families import (SPRING_CLAMP_RATIO, SPRING_WARN_RATIO, BeamFamily, CordFamily, Cords, ElementTerms,
-                       Family, PointMassFamily, PointMasses, ShellFamily, SpringFamily, Springs, element_dofs)
+from .families import (SPRING_CLAMP_RATIO, SPRING_WARN_RATIO, BeamFamily, CordFamily, Cords, CordSegmentFamily,
+                       ElementTerms, Family, PointMassFamily, PointMasses, ShellFamily, SpringFamily, Springs,
+                       element_dofs)
 from .interpolation import InterpolationData, compile_interpolations, fit, geometric_block, jacobian
 from .linsolve import CholmodCache
 from .rotations import expm_so3, skew, spin, step_nodes
@@ -190,6 +191,18 @@ def _masses(model: Model, items) -> PointMasses:
                        np.array([m.inertia for m in items]))
 
 
+def _with_points(cm: CompiledModel, xyz: np.ndarray) -> CompiledModel:
+    """cm with the points ``xyz`` (p, 3) appended as nodes (ids after the largest) whose rotations are
+    held (a distributed cord's interior points: translations only)."""
+    from dataclasses import replace
+    p = len(xyz)
+    start = int(cm.node_ids.max()) + 1 if len(cm.node_ids) else 1
+    held = np.zeros((p, 6), bool)
+    held[:, 3:] = True
+    return replace(cm, node_ids=np.r_[cm.node_ids, start + np.arange(p)], xyz=np.vstack([cm.xyz, xyz]),
+                   links=np.r_[cm.links, np.full(p, -1)], link_dofs=np.vstack([cm.link_dofs, held]))
+
+
 def _same_configuration(a: Configuration, b: Configuration) -> bool:
     """a == b, where items holding arrays (springs, masses) compare element-wise."""
     if a is b:
@@ -222,11 +235,22 @@ class Evaluation:
 
     @property
     def cord_tension(self) -> np.ndarray:
-        return self.outputs["cord"][0]
+        """(n_cords,) [N] at the attachment (a distributed cord's: its member there)."""
+        return self._cords(0, "attachment_tension")
 
     @property
     def cord_length(self) -> np.ndarray:
-        return self.outputs["cord"][1]
+        """(n_cords,) [m] (a distributed cord's: along its points)."""
+        return self._cords(1, "total_length")
+
+    def _cords(self, k: int, field: str) -> np.ndarray:
+        out = self.outputs["cord"][k]
+        seg = self.outputs.get("cord_segments")
+        if seg is None or not len(seg.rows):
+            return out
+        out = np.array(out, float)
+        out[seg.rows] = getattr(seg, field)
+        return out
 
 
 class System:
@@ -285,19 +309,27 @@ class System:
         the DOF numbering and the sparsity pattern built on them are left alone."""
         self.model = model
         self.config = config
-        self.cm = cm = compile_model(model, config.imperfection)
+        cm = compile_model(model, config.imperfection)
         self._revision = model.revision
-        n = len(cm.xyz)
-        self.n_nodes = n
         gvec = config.gravity_vector
         cords = CordFamily.build(model, config, cm.xyz)
+        # Distributed cords: their interior points are this configuration's nodes, after the model's.
+        segments = CordSegmentFamily.build(config, cords.cords, cm.xyz)
+        distributed = (segments,) if len(segments.w) else ()
+        if len(segments.points):
+            cm = _with_points(cm, segments.point_xyz)
+        self.cm = cm
+        n = len(cm.xyz)
+        self.n_nodes = n
         masses = cm.masses.merged(_masses(model, config.masses)).merged(cords.point_masses())
+        if distributed:
+            masses = masses.merged(segments.point_masses())
         # The families in a fixed order: the pattern's blocks and ValueChange's block indices follow it.
         self.families: tuple[Family, ...] = (
             BeamFamily(cm.beams, cm.beam_local_mass, cm.beam_element_ids, cm.beam_group_names),
             PointMassFamily.build(masses, gvec), cords,
             SpringFamily(cm.springs.merged(Springs.of(model, config.springs)), cm.xyz),
-            *(ShellFamily.build(arrays) for arrays in cm.shells))
+            *(ShellFamily.build(arrays) for arrays in cm.shells), *distributed)
         self._family_index = {family.name: k for k, family in enumerate(self.families)}
         # Applied loads at load factor 1 (fixed direction): the families' (lumped weight, distributed
         # loads, the hanging share of heavy cords), then the nodal loads.

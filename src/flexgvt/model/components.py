@@ -109,7 +109,10 @@ class Cord:
     A taut cord of length L adds the pendulum stiffness T/L sideways. ``mass`` [kg]: the cord's own
     mass (a long bungee's): half its weight hangs on the structure (the tension at the attachment
     is stiffness * stretch - m g / 2) and a third of it moves with the attachment (the Rayleigh
-    mass of a uniform spring).
+    mass of a uniform spring). ``segments`` >= 2 (with a mass): the cord distributed instead, as
+    that many tension members joined at interior points carrying m / segments each, so its own
+    surge and string modes and their coupling with the structure come out of the modal solve
+    (fem.families.segments); 0 (default) or 1: the single cord with the Rayleigh mass above.
     """
 
     node: int
@@ -121,6 +124,7 @@ class Cord:
     node_b: int | None = None
     along: float = 0.0
     mass: float = 0.0
+    segments: int = 0
 
     def __post_init__(self) -> None:
         if not np.all(np.isfinite(np.r_[self.anchor, self.offset, self.stiffness, self.damping,
@@ -128,6 +132,12 @@ class Cord:
             raise ModelError(f"cord at node {self.node}: NaN or infinity in its data")
         if self.mass < 0:
             raise ModelError(f"cord at node {self.node}: mass={self.mass} must be >= 0")
+        if isinstance(self.segments, bool) or not isinstance(self.segments, (int, np.integer)) or self.segments < 0:
+            raise ModelError(f"cord at node {self.node}: segments={self.segments!r} must be a whole number >= 0 "
+                             "(0 or 1: one cord; 2 or more: the cord distributed over that many members)")
+        if self.segments >= 2 and self.mass <= 0:
+            raise ModelError(f"cord at node {self.node}: segments={self.segments} needs the cord's mass (mass > 0): "
+                             "its interior points would carry none")
         if self.node_b is None and self.along != 0.0:
             raise ModelError(f"cord at node {self.node}: along={self.along} needs node_b, the element's other node")
         if self.node_b is not None and (self.node_b == self.node or self.along < 0):

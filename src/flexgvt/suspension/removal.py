@@ -29,12 +29,13 @@ class Removal:
         return self.rows
 
 
-def _material_shapes(modes: Modes) -> np.ndarray:
-    """(n_dof, n_modes) shapes turned back into each node's undeformed orientation (R^T u, R^T theta),
-    so that modes about a bowed hung shape compare with the flat free-free ones as the structure
-    sees them (a bending mode stays normal to the strip)."""
-    R = modes.state.rotations
-    s = modes.shapes.reshape(len(modes.shapes), -1, 2, 3)
+def _material_shapes(modes: Modes, n_nodes: int) -> np.ndarray:
+    """(n_dof, n_modes) shapes at the model's first ``n_nodes`` nodes (a distributed cord's interior
+    points, which follow them, left out) turned back into each node's undeformed orientation (R^T u,
+    R^T theta), so that modes about a bowed hung shape compare with the flat free-free ones as the
+    structure sees them (a bending mode stays normal to the strip)."""
+    R = modes.state.rotations[:n_nodes]
+    s = modes.shapes[:, :n_nodes].reshape(len(modes.shapes), -1, 2, 3)
     local = np.einsum("nji,mnkj->mnki", R, s)
     return local.reshape(len(modes.shapes), -1).T
 
@@ -42,12 +43,19 @@ def _material_shapes(modes: Modes) -> np.ndarray:
 def _mass_mac(a: Modes, b: Modes, M) -> np.ndarray:
     """Mass-weighted MAC (phi_a^T M phi_b)^2 / ((phi_a^T M phi_a)(phi_b^T M phi_b)) between two mode
     sets of one model (full shapes in the nodes' own orientation), M: the free model's mass matrix."""
-    A = _material_shapes(a)
-    B = _material_shapes(b)
+    n = M.shape[0] // 6
+    A = _material_shapes(a, n)
+    B = _material_shapes(b, n)
     MB = M @ B
     num = (A.T @ MB) ** 2
     den = np.outer(np.einsum("ij,ij->j", A, M @ A), np.einsum("ij,ij->j", B, MB))
     return num / np.where(den > 0, den, 1.0)
+
+
+def _cord_modes(configuration: Configuration) -> int:
+    """How many modes a configuration's cords add below the structure's: one per cord, and a
+    distributed cord's own (three per interior point: surge and two string planes)."""
+    return sum(1 + 3 * max(int(getattr(c, "segments", 0)) - 1, 0) for c in configuration.suspension)
 
 
 def remove_suspension(model: Model, configuration: Configuration, n_modes: int = 12,
@@ -61,7 +69,7 @@ def remove_suspension(model: Model, configuration: Configuration, n_modes: int =
     if configuration.fixed and proposed is None:
         raise ModelError(f"configuration '{configuration.name}' fixes DOFs: removing its suspension leaves the "
                          "supports; give the free-flying case as a configuration without fixed DOFs")
-    extra = 6 + len(configuration.suspension)  # the suspension modes come first
+    extra = 6 + _cord_modes(configuration)  # the suspension modes come first
     suspended = solve_modes(solve_static(model, configuration), n_modes + extra, damped=False)
     free_cfg = Configuration(f"{configuration.name} (free-free)", gravity=free_gravity,
                              gravity_direction=configuration.gravity_direction, g=configuration.g,
@@ -70,7 +78,7 @@ def remove_suspension(model: Model, configuration: Configuration, n_modes: int =
     free = solve_modes(free_state, n_modes + 6, damped=False)
     other = None
     if proposed is not None:
-        other = solve_modes(solve_static(model, proposed), n_modes + 6 + len(proposed.suspension), damped=False)
+        other = solve_modes(solve_static(model, proposed), n_modes + 6 + _cord_modes(proposed), damped=False)
     elastic = np.flatnonzero(free.frequencies_hz > 0)[:n_modes]
     M = free_state.system.full_mass_matrix(free_state.positions, free_state.rotations)
     rows = []

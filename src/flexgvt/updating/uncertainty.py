@@ -260,7 +260,9 @@ class PredictedModes:
         for key, (cfg, f) in self.cases.items():
             p = self.point.configurations[cfg.name]
             fa = p.frequencies_hz[np.maximum(p.paired, 0)]
-            bad = np.flatnonzero((p.paired < 0) | (np.abs(fa - f) > rtol * f))
+            # a pendulum mode far below the band moves with the static state's last digits (a heavy
+            # cord's yaw pendulum: 3e-7 of its 0.065 Hz): its tolerance is taken at 5 % of the band's top
+            bad = np.flatnonzero((p.paired < 0) | (np.abs(fa - f) > rtol * np.maximum(f, 0.05 * f.max())))
             if len(bad):
                 raise SolverError(f"confidence bounds, configuration '{key}': predicted mode(s) "
                                   f"{(bad + 1).tolist()} ({f[bad].round(4).tolist()} Hz) not found again for "

@@ -4,7 +4,7 @@ with a rigid arm, or along an element between two nodes); kernels in fem.points.
 from __future__ import annotations
 
 import warnings
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import ClassVar
 
 import numpy as np
@@ -81,6 +81,7 @@ class CordFamily:
 
     cords: Cords
     mass: np.ndarray
+    segmented: np.ndarray | None = None  # (k,) bool: a distributed cord (families.segments carries it)
 
     name: ClassVar[str] = "cord"
     structural: ClassVar[bool] = True
@@ -89,8 +90,13 @@ class CordFamily:
 
     @staticmethod
     def build(model: Model, configuration: Configuration, xyz: np.ndarray) -> "CordFamily":
-        return CordFamily(build_cords(model, configuration, xyz),
-                          np.array([c.mass for c in configuration.suspension], float))
+        cords = build_cords(model, configuration, xyz)
+        segmented = np.array([getattr(c, "segments", 0) >= 2 for c in configuration.suspension], bool)
+        mass = np.array([c.mass for c in configuration.suspension], float)
+        if np.any(segmented):  # the segment family carries their stiffness and mass; the row keeps the rest
+            cords = replace(cords, stiffness=np.where(segmented, 0.0, cords.stiffness))
+            mass = np.where(segmented, 0.0, mass)
+        return CordFamily(cords, mass, segmented)
 
     @property
     def nodes(self) -> np.ndarray:
@@ -186,6 +192,9 @@ class CordFamily:
         the same in the attachment fraction (the line of action is not polynomial in either)."""
         c = self.cords
         rows = np.asarray(item[0], int)
+        if self.segmented is not None and np.any(self.segmented[rows]):
+            raise ModelError(f"cord(s) {_ids(rows[self.segmented[rows]])} are distributed (segments >= 2): they "
+                             f"have no design variables ('{field}'); vary a cord without segments")
         if field == "cords":
             g, K, _, _ = cord_forces(*self.state(x, R, rows), c.offset[rows], c.anchor[rows],
                                      np.asarray(item[1], float), c.l0_at(lam)[rows], c.w[rows])
