@@ -282,10 +282,14 @@ def swept_wing(n_wing: int = 20, n_body: int = 4, n_fin: int = 4, as_designed: b
     Stick model on the spar line (beam groups sharing its nodes): spar_body / spar_wing (the
     carbon spar: a woven 0/90 laminate whose beam stiffness comes from classical lamination theory,
     flexgvt.cases.swept_wing_sections.laminate_beam), fuselage (the centre body's PA-12 wall),
-    frame (PA-12 sleeve, rear-spar web and ribs), skin (the closed film contour), fin. Sections
-    are normal to the swept spar. Springs: root_spring (K_x, K_y, K_z, M_x, M_y, M_z to ground at
-    the clamp-adapter centre, axes x, y, z), hinge_1..4. Masses: control_surface_1..4, S1F..S6R,
+    frame (the PA-12 segments: aerofoil wall to the rear spar with a closed nose cell, spar
+    sleeve, rear-spar web, ribs), skin (the closed film contour), fin. Sections are normal to the
+    swept spar. Springs: root_spring (K_x, K_y, K_z, M_x, M_y, M_z to ground at the clamp-adapter
+    centre, axes x, y, z), hinge_1..4. Masses: control_surface_1..4, servo_1..4, S1F..S6R,
     CS1..CS4, TRI1, TRI2.
+
+    The printed frame's wall (0.5 mm) and closed nose cell (to 20 % chord) were chosen against the
+    as-designed FE model of Table 5.1 (as_designed=True, as_designed_clamp), not against a GVT.
 
     Stage 0 (component tests) is the fixed input: densities from the weighed parts and the spar
     ply modulus of the tip-load test (45 GPa), Table 5.7's initial values. as_designed=True: the
@@ -293,8 +297,8 @@ def swept_wing(n_wing: int = 20, n_body: int = 4, n_fin: int = 4, as_designed: b
     Configurations: shaker_table (Table 5.8's GVT), wind_tunnel (the PaPA installation, Table 5.9:
     the same structure, its root spring is stage 2's to find), tip_shaker (configuration 2: the
     shaker table with the 0.25 kg tip shaker), as_designed_clamp (the original FEM's clamp: the
-    spar root and the clamp-adapter centre fixed). No gravity: the wing is stiff enough that its
-    pre-stress is negligible (small deflections).
+    clamp-adapter centre fixed, holding the spar bolts through their rigid links). No gravity:
+    the wing is stiff enough that its pre-stress is negligible (small deflections).
     """
     if min(int(n_wing), int(n_body), int(n_fin)) < 2:
         raise ModelError("swept_wing: n_wing, n_body and n_fin must each be at least 2")
