@@ -65,7 +65,10 @@ def stage_shaker_table(case, model, **settings):
 
 
 def stage_wind_tunnel(case, model, **settings):
-    """Stage 2: the root spring's six components only, from stage 1's model, the wind-tunnel GVT (Table 5.9)."""
+    """Stage 2: the root spring's six components only, from stage 1's model, the wind-tunnel GVT
+    (Table 5.9). The components the data do not constrain (the four effectively rigid ones) are
+    held at stage 1's values (unidentifiable='fix'), as the original work kept them."""
+    settings = {**settings, "unidentifiable": "fix"}
     return run_stage(case, model, case.references["stages"][2], bounds=STAGE2_BOUNDS, **settings)
 
 
@@ -114,7 +117,8 @@ def _print_variables(title: str, rows: list[dict]) -> None:
     print(f"{'variable':<13} {'bounds':>12} {'orig. init':>11} {'orig. final':>11} {'(%)':>7} {'flexgvt final':>13} "
           f"{'(%)':>7}  note")
     for r in rows:
-        note = "held (not identifiable)" if r["held"] else ("at bound" if r["at_bound"] else "")
+        note = "held (not identifiable)" if r["held"] else ", ".join(
+            w for w, on in (("at bound", r["at_bound"]), ("not identifiable", not r["identifiable"])) if on)
         print(f"{r['name']:<13} {r['lower']:5.2f}-{r['upper']:<5.2f} {r['original_initial']:11.4g} "
               f"{r['original_final']:11.4g} {r['original_change_percent']:+7.1f} {r['final']:13.4g} "
               f"{r['change_percent']:+7.1f}  {note}")
