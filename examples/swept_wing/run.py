@@ -24,39 +24,32 @@ import flexgvt as fg
 from flexgvt.cases.swept_wing import swept_wing
 from flexgvt.errors import FlexGVTError
 
-# The published label of the first in-plane mode as a pairing label: the model's first in-plane
-# mode is governed by the root spring's M_z (the original work: "adjusting the in-plane and
-# out-of-plane bending moment components of this spring captured the first in-plane mode near
-# 7 Hz"), so most of its strain energy is in the spring and flexgvt labels it 'RB ...'; 'IP 1/RB'
-# lets it pair with either label. The tables print the published labels.
-PAIRING_LABELS = {"IP 1": "IP 1/RB"}
-STAGE2_BOUNDS = (0.25, 4.0)  # the PaPA clamp is another fixture: its root spring within x 1/4 ... 4 of stage 1's
+
+def measured(stage: dict) -> fg.updating.Measured:
+    """A stage's GVT (case.references['stages'][k]: frequencies and pairing labels) as Measured data."""
+    return fg.updating.Measured(stage["configuration"], frequencies_hz=stage["measured_hz"],
+                                labels=tuple(stage["labels"]))
 
 
-def measured(case: fg.cases.Case, stage: str) -> fg.updating.Measured:
-    """The published frequencies and labels of one stage's GVT as flexgvt Measured data."""
-    table = case.references["published"][stage]
-    labels = tuple(PAIRING_LABELS.get(lab, lab) for lab in table["labels"])
-    return fg.updating.Measured(stage, frequencies_hz=table["measured_hz"], labels=labels)
-
-
-def stage_variables(case: fg.cases.Case, names, bounds: tuple[float, float] | None = None) -> list:
-    """The case's design variables named (Table 5.7's bounds, or ``bounds`` for every one)."""
+def stage_variables(case: fg.cases.Case, stage: dict) -> list:
+    """The case's design variables a stage names, with the stage's bounds."""
     rows = {r[0]: r for r in case.references["design_variables"]}
     makers = {"beam": fg.updating.beam, "spring": fg.updating.spring}
     out = []
-    for n in names:
-        name, kind, targets, attribute, b = rows[n]
-        out.append(makers[kind](name, targets, attribute, bounds or b))
+    for n in stage["variables"]:
+        name, kind, targets, attribute, _ = rows[n]
+        out.append(makers[kind](name, targets, attribute, tuple(stage["bounds"][n])))
     return out
 
 
-def run_stage(case: fg.cases.Case, model: fg.Model, stage: dict, bounds=None, **settings) -> fg.updating.UpdateResult:
-    """One updating stage of case.references['stages'] (configuration, measured table, variables)
-    from ``model``; returns the UpdateResult (its .model: the next stage's start)."""
-    config = case.configurations[stage["configuration"]]
-    return fg.updating.update(model, [config], [measured(case, stage["measured"])],
-                              stage_variables(case, stage["variables"], bounds), **settings)
+def run_stage(case: fg.cases.Case, model: fg.Model, stage: dict, **settings) -> fg.updating.UpdateResult:
+    """One updating stage of case.references['stages'] (plain data: configuration, measured
+    frequencies and labels, variables, bounds, unidentifiable) from ``model``; returns the
+    UpdateResult, whose .model starts the next stage."""
+    if "unidentifiable" in stage:
+        settings = {**settings, "unidentifiable": stage["unidentifiable"]}
+    return fg.updating.update(model, [case.configurations[stage["configuration"]]], [measured(stage)],
+                              stage_variables(case, stage), **settings)
 
 
 def stage_shaker_table(case, model, **settings):
@@ -66,10 +59,8 @@ def stage_shaker_table(case, model, **settings):
 
 def stage_wind_tunnel(case, model, **settings):
     """Stage 2: the root spring's six components only, from stage 1's model, the wind-tunnel GVT
-    (Table 5.9). The components the data do not constrain (the four effectively rigid ones) are
-    held at stage 1's values (unidentifiable='fix'), as the original work kept them."""
-    settings = {**settings, "unidentifiable": "fix"}
-    return run_stage(case, model, case.references["stages"][2], bounds=STAGE2_BOUNDS, **settings)
+    (Table 5.9); the components the data do not constrain (the four rigid ones) held at stage 1's."""
+    return run_stage(case, model, case.references["stages"][2], **settings)
 
 
 def frequency_rows(result, table: dict) -> list[dict]:
