@@ -1,6 +1,6 @@
 """Built-in structures of docs/method.md section 5, each with its model and named configurations:
 cantilever_strip, strip_366, hale_wing, the X-HALE-like flying wing xhale (module xhale) and the
-built-up shell wingbox (module wingbox).
+built-up shell wingbox (module wingbox) and the A3TB-WT-like swept wing swept_wing (module swept_wing).
 
     case = flexgvt.cases.cantilever_strip()
     case.model, case.configurations["self_weight"], case.references
@@ -21,10 +21,11 @@ from ..model import (
 )
 from .case import Case
 from .xhale import match_modes as xhale_match_modes
+from .swept_wing import swept_wing
 from .wingbox import wingbox
 from .xhale import xhale
 
-__all__ = ["BUILTIN", "Case", "cantilever_strip", "get", "hale_wing", "strip_366", "wingbox", "xhale",
+__all__ = ["BUILTIN", "Case", "cantilever_strip", "get", "hale_wing", "strip_366", "swept_wing", "wingbox", "xhale",
            "xhale_match_modes"]
 
 
@@ -135,7 +136,7 @@ def hale_wing(n_elements: int = 32) -> Case:
 
 
 BUILTIN = {"cantilever_strip": cantilever_strip, "strip_366": strip_366, "hale_wing": hale_wing, "xhale": xhale,
-           "wingbox": wingbox}
+           "wingbox": wingbox, "swept_wing": swept_wing}
 
 
 def get(name: str, **kwargs) -> Case:
