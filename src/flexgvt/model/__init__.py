@@ -13,5 +13,5 @@ from .section import (CircularTubeSection, GeneralSection, RectangularSection, R
 __all__ = ["BeamGroup", "CircularTubeSection", "AnisotropicMaterial", "ConcentratedMass", "Configuration", "Cord",
            "DistributedLoad", "GeneralSection", "Laminate", "OrthotropicMaterial", "Ply", "ShellGroup",
            "ShellProperty", "InterpolationLink", "LinearConstraint", "Material", "Model", "NodalLoad",
-           "RectangularSection", "RodSection", "RigidLink", "Spring", "SpringTable", "STANDARD_GRAVITY", "TaperedSection",
-           "end_properties", "parse_dofs", "rectangle_torsion_constant"]
+           "RectangularSection", "RodSection", "RigidLink", "Spring", "SpringTable", "STANDARD_GRAVITY",
+           "TaperedSection", "end_properties", "parse_dofs", "rectangle_torsion_constant"]
