@@ -266,17 +266,25 @@ def test_opensees_rerun(ours):
 def test_table_spring_stiffness_variable_derivative(attribute):
     """updating.spring scales a table spring (its force and slope) through its stiffness: the
     frequency and static Jacobian of two loaded configurations against central differences of the
-    whole solve (Richardson, h = 2e-3); measured agreement 1e-9 relative (h = 1e-4 plain: 1e-6)."""
+    whole solve (Richardson, h = 2e-3), within five standard deviations of the finite difference's
+    measured noise or its truncation estimate (measured: error 3e-8 to 1e-7 of the largest entry, at
+    the noise, which does not fall with h)."""
     model, root, tip = peer.flexgvt_model("soft")
     cfgs = [fg.Configuration(f"P{P}", forces=[fg.NodalLoad(tip, force=(0, 0, -P))]) for P in (3.0, 8.0)]
     data = [up.Measured(c.name, np.array([1.9, 5.2, 16.0]), static={(tip, 3): -0.2}) for c in cfgs]
     problem = up.UpdatingProblem(model, cfgs, data, [up.spring("k", "root", attribute)], None,
                                  up.Objective(static=1.0), static_settings=fg.StaticSettings(tolerance=1e-13))
     x0 = np.array([1.1])
-    J = problem.evaluate(x0, gradient=True).jacobian[:, 0]
+    point = problem.evaluate(x0, gradient=True)
+    J, r0 = point.jacobian[:, 0], point.residuals
     h = 2e-3
     r = {s: problem.evaluate(x0 + s * h).residuals for s in (1, 0.5, -0.5, -1)}
-    fd = (4 * (r[0.5] - r[-0.5]) / h - (r[1] - r[-1]) / (2 * h)) / 3
+    d1, d2 = (r[1] - r[-1]) / (2 * h), (r[0.5] - r[-0.5]) / h
+    fd = (4 * d2 - d1) / 3
     assert np.abs(fd).max() > 1e-3  # the variable moves the residuals
-    err = np.abs(J - fd).max() / np.abs(fd).max()
-    assert err < 1e-7, (err, J, fd)
+    # The residuals' own noise (the static solves' round-off), from the fourth difference of the five
+    # evaluations (its h^4 truncation is far below it): the Richardson value carries 1.9 noise / h.
+    noise = np.abs(r[-1] - 4 * r[-0.5] + 6 * r0 - 4 * r[0.5] + r[1]).max() / np.sqrt(70)
+    allowed = max(5 * 1.9 * noise / h, 3 * np.abs(d2 - d1).max(), 1e-9 * np.abs(fd).max())
+    print("Jacobian error", np.abs(J - fd).max() / np.abs(fd).max(), "allowed", allowed / np.abs(fd).max())
+    assert np.abs(J - fd).max() < allowed, (J, fd, allowed)
