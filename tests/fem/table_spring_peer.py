@@ -48,8 +48,8 @@ def node_masses() -> np.ndarray:
     return m
 
 
-def flexgvt_model(case: str = "soft") -> tuple[fg.Model, int, int]:
-    """(model, root node id, tip node id) of CASES[case]."""
+def flexgvt_model(case: str = "soft", smooth: bool = False) -> tuple[fg.Model, int, int]:
+    """(model, root node id, tip node id) of CASES[case] (smooth: the tables' monotone cubics)."""
     model = fg.Model("table-spring peer")
     ids = model.add_nodes(np.c_[np.linspace(0, L, N + 1), np.zeros(N + 1), np.zeros(N + 1)])
     massless = fg.Material("Al massless", E=E, rho=0.0, G=G)
@@ -57,7 +57,7 @@ def flexgvt_model(case: str = "soft") -> tuple[fg.Model, int, int]:
                     rotary_inertia=False)
     for i, m in zip(ids, node_masses()):
         model.add_mass(int(i), float(m), inertia=np.eye(3) * J_NODE)
-    tables = {c: SpringTable.make(x, f) for c, (x, f) in CASES[case].items()}
+    tables = {c: SpringTable.make(x, f, smooth=smooth) for c, (x, f) in CASES[case].items()}
     model.add_spring(int(ids[0]), None, tables=tables, name="root")
     return model, int(ids[0]), int(ids[-1])
 
