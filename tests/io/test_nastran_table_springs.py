@@ -110,7 +110,8 @@ def _model():
     m = fg.Model("table springs")
     ids = [int(i) for i in m.add_nodes([[0, 0, 0], [1, 0, 0], [1, 0, 0], [2, 0, 0]])]
     al = fg.Material("al massless", 70e9, 0.0, nu=0.3)  # point masses: the deck's mass model is not the question
-    m.add_beams([[ids[0], ids[1]], [ids[2], ids[3]]], al, fg.RectangularSection(0.03, 0.005), rotary_inertia=False)
+    m.add_beams([[ids[0], ids[1]], [ids[2], ids[3]]], al, fg.RectangularSection(0.03, 0.005), rotary_inertia=False,
+                mass="lumped")
     for i in ids:
         m.add_mass(i, 0.2, inertia=np.eye(3) * 1e-4)
     t1 = SpringTable.make([-0.02, 0, 0.01, 0.03], [-500, 0, 150, 900])
