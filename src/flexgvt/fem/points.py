@@ -119,21 +119,31 @@ def cord_damping(xa, Ra, xb, Rb, offset0, anchor, c, w) -> np.ndarray:
 
 
 def spring_forces(xa: np.ndarray, Xa: np.ndarray, Ra: np.ndarray, xb: np.ndarray, Xb: np.ndarray, Rb: np.ndarray,
-                  frame: np.ndarray, k: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+                  frame: np.ndarray, k: np.ndarray, law=None) -> tuple[np.ndarray, np.ndarray]:
     """6-component springs on relative translation and rotation vector of b w.r.t. a (fixed frame axes).
 
-    Returns g (n, 12) and K (n, 12, 12) over [dx_a, w_a, dx_b, w_b].
+    law: None (linear, rates k (n, 6)) or a function of the deflections in the spring axes (n, 6)
+    returning (forces (n, 6), slopes (n, 6)) there: a nonlinear spring whose tangent is diagonal in
+    its axes. Returns g (n, 12) and K (n, 12, 12) over [dx_a, w_a, dx_b, w_b].
     """
     n = len(k)
     Rab = Rb @ np.swapaxes(Ra, 1, 2)
     theta = logm_so3(Rab)
     Ji, c, e = jl_inv(theta)
     FT = np.swapaxes(frame, 1, 2)
-    Kt = frame @ (k[:, :3, None] * FT)
-    Kr = frame @ (k[:, 3:, None] * FT)
     dt = (xb - Xb) - (xa - Xa)
-    ft = (Kt @ dt[:, :, None])[:, :, 0]
-    m = (Kr @ theta[:, :, None])[:, :, 0]
+    if law is None:
+        Kt = frame @ (k[:, :3, None] * FT)
+        Kr = frame @ (k[:, 3:, None] * FT)
+        ft = (Kt @ dt[:, :, None])[:, :, 0]
+        m = (Kr @ theta[:, :, None])[:, :, 0]
+    else:
+        local = np.concatenate([(FT @ dt[:, :, None])[:, :, 0], (FT @ theta[:, :, None])[:, :, 0]], axis=1)
+        f_loc, slope = law(local)
+        Kt = frame @ (slope[:, :3, None] * FT)
+        Kr = frame @ (slope[:, 3:, None] * FT)
+        ft = (frame @ f_loc[:, :3, None])[:, :, 0]
+        m = (frame @ f_loc[:, 3:, None])[:, :, 0]
     mu = (np.swapaxes(Ji, 1, 2) @ m[:, :, None])[:, :, 0]
     Omega = np.concatenate([-Rab, np.broadcast_to(np.eye(3), (n, 3, 3))], axis=2)  # omega = Omega [w_a, w_b]
     g = np.concatenate([-ft, -(np.swapaxes(Rab, 1, 2) @ mu[:, :, None])[:, :, 0], ft, mu], axis=1)

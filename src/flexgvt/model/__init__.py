@@ -6,11 +6,12 @@ from .configuration import STANDARD_GRAVITY, Configuration, parse_dofs
 from .material import Material
 from .model import BeamGroup, Model
 from .shells import AnisotropicMaterial, Laminate, OrthotropicMaterial, Ply, ShellGroup, ShellProperty
+from .spring_table import SpringTable
 from .section import (CircularTubeSection, GeneralSection, RectangularSection, RodSection, TaperedSection,
                       end_properties, rectangle_torsion_constant)
 
 __all__ = ["BeamGroup", "CircularTubeSection", "AnisotropicMaterial", "ConcentratedMass", "Configuration", "Cord",
            "DistributedLoad", "GeneralSection", "Laminate", "OrthotropicMaterial", "Ply", "ShellGroup",
            "ShellProperty", "InterpolationLink", "LinearConstraint", "Material", "Model", "NodalLoad",
-           "RectangularSection", "RodSection", "RigidLink", "Spring", "STANDARD_GRAVITY", "TaperedSection",
-           "end_properties", "parse_dofs", "rectangle_torsion_constant"]
+           "RectangularSection", "RodSection", "RigidLink", "Spring", "SpringTable", "STANDARD_GRAVITY",
+           "TaperedSection", "end_properties", "parse_dofs", "rectangle_torsion_constant"]

@@ -9,6 +9,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ..errors import ModelError
+from .spring_table import SpringTable
 
 
 def as_vector(value, n: int, what: str) -> np.ndarray:
@@ -69,6 +70,13 @@ class Spring:
     would load the spring, so model such a connection with a beam instead. name: optional, how
     design variables address it (flexgvt.updating.spring); id: optional entity id (a Nastran
     deck's CELAS/CBUSH EID).
+
+    tables: per component (6, None for linear) a force-deflection table (model.SpringTable): that
+    component's force is (stiffness[i] / table.nominal_stiffness) * table(deflection), its tangent
+    the scaled slope. So stiffness[i] of a table component is a scale of the table in stiffness
+    units: Spring.make sets it to the table's nominal stiffness (scale 1) when given as 0, and
+    updating's spring variables scale the table through it. Modes about the undeformed state see
+    the slope at zero deflection; after a static solve, the slope at the spring's deflection.
     """
 
     node_a: int
@@ -78,10 +86,22 @@ class Spring:
     frame: np.ndarray = field(default_factory=lambda: np.eye(3))
     name: str = ""
     id: int | None = None
+    tables: tuple = (None,) * 6
+
+    @property
+    def nonlinear(self) -> bool:
+        """True when a component follows a force-deflection table."""
+        return any(t is not None for t in self.tables)
+
+    @property
+    def table_scale(self) -> np.ndarray:
+        """(6,) the factor on each table's force (stiffness / nominal stiffness; 0 without a table)."""
+        return np.array([0.0 if t is None else k / t.nominal_stiffness for k, t in zip(self.stiffness, self.tables)])
 
     @staticmethod
     def make(node_a: int, node_b: int | None = None, stiffness: ArrayLike = 0.0, damping: ArrayLike = 0.0,
-             frame: ArrayLike | None = None, name: str = "", id: int | None = None) -> "Spring":
+             frame: ArrayLike | None = None, name: str = "", id: int | None = None,
+             tables=None) -> "Spring":
         k = as_vector(stiffness, 6, f"spring at node {node_a}: stiffness")
         c = as_vector(damping, 6, f"spring at node {node_a}: damping")
         if np.any(k < 0) or np.any(c < 0):
@@ -91,8 +111,28 @@ class Spring:
         frame = np.asarray(frame, dtype=float)
         if frame.shape != (3, 3) or not np.allclose(frame.T @ frame, np.eye(3), atol=1e-9):
             raise ModelError(f"spring at node {node_a}: frame must be a 3x3 orthonormal matrix")
+        tabs = _tables(tables, f"spring at node {node_a}")
+        if any(t is not None for t in tabs):
+            k = np.array([t.nominal_stiffness if t is not None and v == 0 else v for v, t in zip(k, tabs)])
+            k.setflags(write=False)
         return Spring(int(node_a), None if node_b is None else int(node_b), k, c, frame, str(name),
-                      None if id is None else int(id))
+                      None if id is None else int(id), tabs)
+
+
+def _tables(tables, where: str) -> tuple:
+    """Six entries (SpringTable or None) from None, a 6-sequence or {component 1..6: table}."""
+    if tables is None:
+        return (None,) * 6
+    if isinstance(tables, dict):
+        bad = [c for c in tables if not (isinstance(c, (int, np.integer)) and 1 <= c <= 6)]
+        if bad:
+            raise ModelError(f"{where}: table components must be 1..6 (x, y, z, rx, ry, rz), got {bad}")
+        tables = [tables.get(c) for c in range(1, 7)]
+    tables = tuple(tables)
+    if len(tables) != 6 or any(t is not None and not isinstance(t, SpringTable) for t in tables):
+        raise ModelError(f"{where}: tables must be six entries, each a SpringTable (SpringTable.make(x, f)) or None, "
+                         "or a dict {component 1..6: SpringTable}")
+    return tables
 
 
 @dataclass(frozen=True)

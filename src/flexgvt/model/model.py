@@ -284,12 +284,14 @@ class Model:
         return item
 
     def add_spring(self, node_a: int, node_b: int | None = None, stiffness: ArrayLike = 0.0, damping: ArrayLike = 0.0,
-                   frame: ArrayLike | None = None, name: str = "", id: int | None = None) -> Spring:
+                   frame: ArrayLike | None = None, name: str = "", id: int | None = None,
+                   tables=None) -> Spring:
         """6-component spring/damper between two nodes, or to ground when node_b is None (see Spring);
-        name, id: optional, unique among the model's springs (design variables address springs by them)."""
+        name, id: optional, unique among the model's springs (design variables address springs by them);
+        tables: force-deflection tables of nonlinear components ({component 1..6: SpringTable})."""
         self.index_of([node_a] + ([] if node_b is None else [node_b]), "add_spring")
         self._check_key(self._springs, name, id, f"add_spring at node {node_a}")
-        item = Spring.make(node_a, node_b, stiffness, damping, frame, name, id)
+        item = Spring.make(node_a, node_b, stiffness, damping, frame, name, id, tables)
         self._springs.append(item)
         self.revision += 1
         return item
@@ -444,7 +446,7 @@ class Model:
         self._springs[index] = Spring.make(item.node_a, item.node_b,
                                            item.stiffness if stiffness is None else stiffness,
                                            item.damping if damping is None else damping, item.frame, item.name,
-                                           item.id)
+                                           item.id, item.tables)
         self.revision += 1
 
     @staticmethod

@@ -1,6 +1,7 @@
 """The spring family: 6-component springs and dampers between two nodes or from a node to ground
 (kernels in fem.points). A grounded spring is stored as node b with a = -1; its element is over
-[node b, node b] with the first half zero."""
+[node b, node b] with the first half zero. A component with a force-deflection table (model.Spring.tables)
+takes its force and tangent from the table at its deflection, scaled by stiffness / nominal stiffness."""
 
 from __future__ import annotations
 
@@ -33,6 +34,7 @@ class Springs:
     stiffness: np.ndarray  # (s, 6)
     damping: np.ndarray  # (s, 6)
     frame: np.ndarray  # (s, 3, 3)
+    tables: tuple = ()  # per spring its six tables (SpringTable or None); () when no spring has one
 
     @staticmethod
     def of(model: Model, items) -> "Springs":
@@ -40,16 +42,51 @@ class Springs:
         items = list(items)
         if not items:
             return Springs(np.zeros(0, int), np.zeros(0, int), np.zeros((0, 6)), np.zeros((0, 6)), np.zeros((0, 3, 3)))
+        tables = tuple(s.tables for s in items) if any(s.nonlinear for s in items) else ()
         a = np.array([-1 if s.node_b is None else model.index_of([s.node_a], "spring")[0] for s in items])
         # A grounded spring acts on node_a: store it as b with a = -1.
         b = np.array([model.index_of([s.node_a if s.node_b is None else s.node_b], "spring")[0] for s in items])
         return Springs(a, b, np.array([s.stiffness for s in items]), np.array([s.damping for s in items]),
-                       np.array([s.frame for s in items]))
+                       np.array([s.frame for s in items]), tables)
 
     def merged(self, other: "Springs") -> "Springs":
         """These springs followed by ``other``'s."""
+        tables = () if not (self.tables or other.tables) else self.all_tables + other.all_tables
         return Springs(*(np.concatenate([getattr(self, f), getattr(other, f)])
-                         for f in ("a", "b", "stiffness", "damping", "frame")))
+                         for f in ("a", "b", "stiffness", "damping", "frame")), tables)
+
+    @property
+    def all_tables(self) -> tuple:
+        """Per spring its six tables (None for linear components)."""
+        return self.tables or ((None,) * 6,) * len(self.a)
+
+    @property
+    def table_mask(self) -> np.ndarray:
+        """(s, 6) True where a component follows a table."""
+        return np.array([[t is not None for t in row] for row in self.all_tables], bool).reshape(-1, 6)
+
+    def law(self, rows, stiffness: np.ndarray):
+        """The force law of springs ``rows`` with stiffnesses (or their changes) ``stiffness`` (k, 6)
+        for fem.points.spring_forces: None when all are linear; else a function of the deflections in
+        the spring axes (k, 6) giving (forces, slopes): k d on linear components, the table's scaled
+        force and slope on the others (linear in ``stiffness``, so a stiffness change gives the
+        derivative)."""
+        if not self.tables:
+            return None
+        picked = [(i, c, t) for i, row in enumerate(np.asarray(self.tables, object)[rows].reshape(-1, 6))
+                  for c, t in enumerate(row) if t is not None]
+        if not picked:
+            return None
+        stiffness = np.asarray(stiffness, float)
+
+        def evaluate(d):
+            f, k = stiffness * d, stiffness.copy()
+            for i, c, t in picked:
+                force, slope = t.evaluate(d[i, c])
+                scale = stiffness[i, c] / t.nominal_stiffness
+                f[i, c], k[i, c] = scale * force, scale * slope
+            return f, k
+        return evaluate
 
 
 @dataclass(frozen=True, eq=False)
@@ -92,7 +129,7 @@ class SpringFamily:
         ia = np.where(ground, b, a)
         xa = np.where(ground[:, None], X[b], xa_moved)
         Ra = np.where(ground[:, None, None], np.eye(3), Ra_moved)
-        g, K = spring_forces(xa, X[ia], Ra, xb, X[b], Rb, s.frame[rows], stiffness)
+        g, K = spring_forces(xa, X[ia], Ra, xb, X[b], Rb, s.frame[rows], stiffness, s.law(rows, stiffness))
         # A grounded spring's first node is a placeholder (its own node): zero that half.
         g[ground, :6] = 0.0
         K[ground, :6, :] = 0.0
@@ -184,7 +221,7 @@ class SpringFamily:
         aligned = np.isclose(np.abs(np.take_along_axis(s.frame, axis[:, None, :], axis=1)[:, 0]), 1.0, rtol=0,
                              atol=1e-12)  # such an axis acts on its global DOF alone (the others are normal to it)
         full = 6 * nodes[:, None] + np.c_[axis[pair], 3 + axis[pair]]
-        k, d = s.stiffness[pair], diag[full]
+        k, d = np.where(s.table_mask, 0.0, s.stiffness)[pair], diag[full]  # a table spring is never a clamp
         known = d > 0  # a DOF only springs hold: no conditioning loss
         stiff = known & (k > SPRING_CLAMP_RATIO * d)
         extreme = known & (k > SPRING_WARN_RATIO * d)

@@ -21,7 +21,7 @@ NON_STRUCTURAL = {"AERO", "AEROS", "CAERO1", "CAERO2", "CAERO3", "CAERO4", "CAER
                   "FLFACT", "MKAERO1", "MKAERO2", "MONPNT1", "MONPNT2", "MONPNT3", "CSSCHD", "GUST", "DIVERG",
                   "DESVAR", "DVPREL1", "DVPREL2", "DVMREL1", "DVMREL2", "DVCREL1", "DVCREL2", "DVGRID", "DRESP1",
                   "DRESP2", "DRESP3", "DCONSTR", "DCONADD", "DOPTPRM", "DEQATN", "DTABLE", "DLINK", "DSCREEN",
-                  "DLOAD", "TLOAD1", "TLOAD2", "RLOAD1", "RLOAD2", "TABLED1", "TABLED2", "TABLED3", "TABLED4",
+                  "DLOAD", "TLOAD1", "TLOAD2", "RLOAD1", "RLOAD2", "TABLED2", "TABLED3", "TABLED4",
                   "TABDMP1", "TABRND1", "TABRNDG", "DAREA", "DELAY", "DPHASE", "RANDPS", "NLCNTLG", "MONDSP1", "EPOINT",
                   "AECOMP", "AECOMPL", "PLOTEL", "UXVEC", "AEDW", "AEFORCE", "AEPRESS", "SPLINRB"}
 # Case control selectors of DMIG matrices (direct matrix input).
