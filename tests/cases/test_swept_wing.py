@@ -151,3 +151,26 @@ def test_design_variables_and_stages(case):
     assert fg.cases.get("swept_wing", n_wing=4).name == "swept_wing"
     with pytest.raises(ModelError, match="unknown properties"):
         swept_wing(properties={"chord_m": 0.3})
+
+
+def test_hardening_root_spring_stiffens_with_the_tip_load_and_the_modes_follow():
+    """The root spring's moment-rotation table (tangent doubling at 0.02 rad): at zero load the modes
+    are the linear spring's; under a 30 N tip load the root's tangent is the law's at the static
+    rotation and the first bending rises well above what the geometry alone gives it."""
+    out = {}
+    for hardening in (None, 0.02):
+        case = fg.cases.swept_wing(n_wing=8, n_body=2, n_fin=2, root_hardening=hardening, tip_load=30.0)
+        tracking = fg.modes_versus_load(case.model, case.configurations["tip_load"], [0.0, 1.0], n_modes=3)
+        out[hardening] = (case, tracking)
+    (_, linear), (case, hard) = out[None], out[0.02]
+    np.testing.assert_allclose(hard.frequencies_hz[0], linear.frequencies_hz[0], rtol=1e-9)
+    clamp = case.model.index_of([case.references["clamp_node"]], "test")[0]
+    rx = hard.modes[-1].state.displacements[clamp, 3]
+    spring = case.model.springs[[s.name for s in case.model.springs].index("root_spring")]
+    tangent = spring.table_scale[3] * spring.tables[3].evaluate(rx)[1]
+    assert tangent == pytest.approx(1e3 * (1 + rx**2 / 0.02**2), rel=5e-3)
+    assert 0.02 < abs(rx) < 0.04
+    j = hard.labels.index("1 OOP")
+    rise_hard = hard.frequencies_hz[1, j] / hard.frequencies_hz[0, j] - 1
+    rise_linear = linear.frequencies_hz[1, j] / linear.frequencies_hz[0, j] - 1
+    assert rise_hard > 2 * rise_linear > 0

@@ -10,7 +10,8 @@ import numpy as np
 from ..data import load as load_data
 from ..errors import ModelError
 from ..model import Configuration, GeneralSection, Material, Model
-from ..model.components import ConcentratedMass
+from ..model.components import ConcentratedMass, NodalLoad
+from ..model.spring_table import SpringTable
 from ..model.shells import Laminate, OrthotropicMaterial, Ply
 from .case import Case
 from .swept_wing_sections import laminate_beam, naca_contour, naca_half_thickness
@@ -173,7 +174,7 @@ def _sections(p: dict) -> dict:
     return out
 
 
-def _build(values: dict, p: dict, n_wing: int, n_body: int, n_fin: int):
+def _build(values: dict, p: dict, n_wing: int, n_body: int, n_fin: int, root_tables: dict | None = None):
     model = Model("A3TB-WT-like swept wing")
     direction = np.array([math.sin(SWEEP), math.cos(SWEEP), 0.0])  # along the spar, outboard and aft
     span_len = p["half_span"] / math.cos(SWEEP)
@@ -216,7 +217,7 @@ def _build(values: dict, p: dict, n_wing: int, n_body: int, n_fin: int):
     clamp = int(model.add_nodes([np.asarray(p["clamp_offset"], float)])[0])
     bolt = int(spar[int(np.argmin(np.abs(s - p["bolt_pitch"])))])
     model.add_rigid_link(clamp, [int(spar[0]), bolt])
-    model.add_spring(clamp, None, stiffness=ROOT_SPRING, name="root_spring")
+    model.add_spring(clamp, None, stiffness=ROOT_SPRING, name="root_spring", tables=root_tables)
     xyz = dict(zip(model.node_ids.tolist(), model.xyz))
     c = p["chord"]
 
@@ -273,8 +274,23 @@ def _build(values: dict, p: dict, n_wing: int, n_body: int, n_fin: int):
     return model, info, sensors
 
 
+def root_hardening_tables(stiffness: tuple[float, ...], rotation: float,
+                          components: tuple[int, ...] = (4, 6)) -> dict[int, SpringTable]:
+    """Moment-rotation tables of a root spring that stiffens as it turns: M = k0 t (1 + t^2 / (3 r^2)),
+    whose tangent k0 (1 + t^2 / r^2) doubles at the rotation ``r`` [rad] (a bolted clamp whose contact
+    closes under load), for the bending ``components`` (4 = M_x out of plane, 6 = M_z in plane),
+    sampled at 81 points over +-4 r (fine enough that the secants stay within 0.4 % of the law near zero)
+    and interpolated by the monotone cubic (the end slope beyond)."""
+    if not (np.isfinite(rotation) and rotation > 0):
+        raise ModelError(f"swept_wing: root_hardening {rotation!r} must be a positive rotation [rad]")
+    t = np.linspace(-4 * rotation, 4 * rotation, 81)
+    return {c: SpringTable.make(t, stiffness[c - 1] * t * (1 + t**2 / (3 * rotation**2)), smooth=True,
+                                name=f"root spring M_{'xyz'[c - 4]}") for c in components}
+
+
 def swept_wing(n_wing: int = 20, n_body: int = 4, n_fin: int = 4, as_designed: bool = False,
-               properties: dict | None = None) -> Case:
+               properties: dict | None = None, root_hardening: float | None = None,
+               tip_load: float = 20.0) -> Case:
     """A3TB-WT-like 3D-printed swept half wing (docs/method.md section 5 case 5). SI units.
 
     Axes: x aft (streamwise), y outboard, z up; the plane of symmetry at y = 0. Published: 22 deg
@@ -305,8 +321,15 @@ def swept_wing(n_wing: int = 20, n_body: int = 4, n_fin: int = 4, as_designed: b
     Configurations: shaker_table (Table 5.8's GVT), wind_tunnel (the PaPA installation, Table 5.9:
     the same structure, its root spring is stage 2's to find), tip_shaker (configuration 2: the
     shaker table with the 0.25 kg tip shaker), as_designed_clamp (the original FEM's clamp: the
-    clamp-adapter centre fixed, holding the spar bolts through their rigid links). No gravity:
-    the wing is stiff enough that its pre-stress is negligible (small deflections).
+    clamp-adapter centre fixed, holding the spar bolts through their rigid links), tip_load (the
+    shaker table with ``tip_load`` [N] upwards at the spar's tip, fixed in direction: the modes
+    against load, fem.modes_versus_load). No gravity: the wing is stiff enough that its pre-stress
+    is negligible (small deflections).
+
+    root_hardening [rad]: the root spring's bending components (M_x, M_z) follow moment-rotation
+    tables whose tangent doubles at that rotation (root_hardening_tables; a chosen law, nothing
+    published: the original work's future work on load-dependent boundary conditions); None: the
+    linear spring. At zero load both give the same modes; the spring's variables scale the table.
     """
     if min(int(n_wing), int(n_body), int(n_fin)) < 2:
         raise ModelError("swept_wing: n_wing, n_body and n_fin must each be at least 2")
@@ -316,7 +339,8 @@ def swept_wing(n_wing: int = 20, n_body: int = 4, n_fin: int = 4, as_designed: b
         raise ModelError(f"swept_wing: unknown properties {unknown}; choose from {sorted(p)}")
     p.update(properties or {})
     values = dict(AS_DESIGNED if as_designed else STAGE0)
-    model, info, sensors = _build(values, p, int(n_wing), int(n_body), int(n_fin))
+    tables = None if root_hardening is None else root_hardening_tables(ROOT_SPRING, float(root_hardening))
+    model, info, sensors = _build(values, p, int(n_wing), int(n_body), int(n_fin), tables)
     if as_designed:
         model.name += " (as designed)"
     tip_shaker = (ConcentratedMass(info["tip"], p["tip_shaker_mass"], np.zeros(3), np.zeros((3, 3)), "tip_shaker"),)
@@ -325,6 +349,7 @@ def swept_wing(n_wing: int = 20, n_body: int = 4, n_fin: int = 4, as_designed: b
         "wind_tunnel": Configuration("wind_tunnel"),
         "tip_shaker": Configuration("tip_shaker", masses=tip_shaker),
         "as_designed_clamp": Configuration("as_designed_clamp", fixed={info["clamp"]: "123456"}),
+        "tip_load": Configuration("tip_load", forces=(NodalLoad(info["tip"], (0.0, 0.0, float(tip_load))),)),
     }
     pub = published()
     rows = [(name, kind, targets, attr, pub["variables"][name]["bounds"])
