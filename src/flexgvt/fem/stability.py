@@ -18,6 +18,7 @@ import scipy.sparse.linalg as spla
 
 from ..errors import SolverError
 from .eigen import DEFAULT_SHIFT, _rigid_safe_shift, modal_frequencies_hz, real_modes, rigid_count
+from .linsolve import inertia
 
 BUCKLING_MODES = ("ignore", "warn", "stop", "continue")
 _SAMPLES = 6  # increments checked along a path that ends stable (a bifurcation passed on the way)
@@ -67,10 +68,20 @@ def _shift(system, K, M) -> float:
 def negative_eigenvalues(system, x: np.ndarray, R: np.ndarray, lam: float) -> int:
     """How many eigenvalues of the tangent's symmetric part lie below zero at a state (rigid-body
     modes of a free structure excepted), by Sylvester's law of inertia: the negative pivots of
-    K - s M factorised with symmetric (diagonal) pivoting, s just below the rigid-body round-off.
-    -1 when the factorisation had to leave the diagonal (the count is then unknown)."""
+    K - s M factorised with symmetric pivoting, s just below the rigid-body round-off: PARDISO's
+    Bunch-Kaufman LDL^T where installed (fem.linsolve.inertia), else SuperLU with diagonal pivots.
+    -1 when neither gives the count (a pivot perturbed, or SuperLU had to leave the diagonal)."""
     K, M = _matrices(system, x, R, lam)
     A = (K - _shift(system, K, M) * M).tocsc()
+    counts = inertia(A, system.cholmod_cache)
+    if counts is not None:
+        return counts[1]
+    return superlu_negative_pivots(A)
+
+
+def superlu_negative_pivots(A: sp.csc_matrix) -> int:
+    """Negative pivots of SuperLU's LU of symmetric A with diagonal pivoting (its inertia when the
+    row and column orders agree), -1 when singular or the pivoting left the diagonal."""
     try:
         lu = spla.splu(A, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0, options={"SymmetricMode": True})
     except RuntimeError:  # exactly singular: a zero eigenvalue at the shift
