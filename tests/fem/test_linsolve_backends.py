@@ -177,12 +177,12 @@ def test_stability_count_by_pardiso_agrees_with_superlu(over):
     pivot count and the dense eigenvalue count on a compressed column: none below the Euler load,
     one above it, two above the strong axis's."""
     from flexgvt.fem.linsolve import inertia
-    from flexgvt.fem.stability import _matrices, _shift, negative_eigenvalues, superlu_negative_pivots
+    from flexgvt.fem.stability import _matrices, negative_eigenvalues, shifted, superlu_negative_pivots
 
     state = _column(over)
     s, x, R = state.system, state.positions, state.rotations
     K, M = _matrices(s, x, R, 1.0)
-    A = (K - _shift(s, K, M) * M).tocsc()
+    A = shifted(s, K, M)
     dense = int(np.sum(np.linalg.eigvalsh(A.toarray()) < 0))
     assert dense == {0.8: 0, 1.5: 1, 3.5: 2}[over]
     assert inertia(A) == (A.shape[0] - dense, dense)

@@ -13,7 +13,6 @@ import scipy.sparse.linalg as spla
 from ..errors import ModelError, SolverError
 from .labels import mac_matrix
 from .linsolve import HAVE_FAST, CholmodCache
-from .reduction import PINV_RTOL, condense_dense
 
 DENSE_LIMIT = 200  # reduced DOFs below which dense eigensolvers are used
 
@@ -81,6 +80,29 @@ def _cholesky_inverse(K: sp.spmatrix, M: sp.spmatrix, sigma: float,
     return spla.LinearOperator(K.shape, matvec=factor.solve_A, dtype=float)
 
 
+PINV_RTOL = 1e3 * np.finfo(float).eps  # eigenvalues of K_oo below this of its largest: a mechanism (dropped)
+
+
+def condense_dense(K: np.ndarray, M: np.ndarray, omitted: np.ndarray):
+    """Static (Guyan) condensation of dense symmetric K, M onto the DOFs not in ``omitted`` (indices):
+    (kept, K_r, M_r, G) with u_o = G u_a, G = -K_oo^+ K_oa, K_r = K_aa + K_ao G, M_r = T^T M T for
+    T = [I; G] (fem.reduction). K_oo may be singular where the omitted DOFs hold a mechanism with
+    neither mass nor stiffness (a spin about a line of point masses on massless rotations): its
+    pseudo-inverse drops those directions (below PINV_RTOL of its largest eigenvalue), which carry
+    no motion (their eigenvalue is undefined, not a mode)."""
+    o = np.zeros(K.shape[0], bool)
+    o[omitted] = True
+    a, o = np.flatnonzero(~o), np.flatnonzero(o)
+    K = 0.5 * (K + K.T)
+    w, V = np.linalg.eigh(K[np.ix_(o, o)])
+    big = np.abs(w) > PINV_RTOL * max(np.abs(w).max(initial=0.0), 1e-300)
+    G = -(V[:, big] / w[big]) @ (V[:, big].T @ K[np.ix_(o, a)])
+    Kr = K[np.ix_(a, a)] + K[np.ix_(a, o)] @ G
+    cross = M[np.ix_(a, o)] @ G
+    Mr = M[np.ix_(a, a)] + cross + cross.T + G.T @ M[np.ix_(o, o)] @ G
+    return a, 0.5 * (Kr + Kr.T), 0.5 * (Mr + Mr.T), G
+
+
 def _massless_mechanism(A: np.ndarray, B: np.ndarray) -> bool:
     """DOFs with no mass (zero rows of B) holding a motion with no stiffness either (a spin about a line
     of point masses on massless rotations): the pencil A - lam B is singular for every lam, and a
@@ -103,9 +125,11 @@ def _condensed_modes(A: np.ndarray, B: np.ndarray, dm: np.ndarray) -> tuple[np.n
         w, basis = np.linalg.eigh(B)
         zero = w <= tol
         A, B = basis.T @ A @ basis, np.diag(np.where(zero, 0.0, w))
-    red = condense_dense(A, B, np.flatnonzero(zero))
-    lam, phi_a = sla.eigh(red.K, red.M)
-    phi = red.expand(phi_a)
+    kept, Kr, Mr, G = condense_dense(A, B, np.flatnonzero(zero))
+    lam, phi_a = sla.eigh(Kr, Mr)
+    phi = np.empty((A.shape[0], len(lam)))
+    phi[kept] = phi_a
+    phi[zero] = G @ phi_a
     return lam, (phi if basis is None else basis @ phi)
 
 
