@@ -1,34 +1,38 @@
-"""Static (Guyan) condensation: the omitted DOFs o follow the kept (analysis) DOFs a as the
-stiffness alone says, u_o = G u_a with G = -K_oo^-1 K_oa, and the modes are those of
+"""Static (Guyan) reduction, as Nastran applies a deck's ASET/ASET1 and OMIT/OMIT1: the omitted DOFs
+o follow the analysis DOFs a as the stiffness alone says, u_o = G u_a with G = -K_oo^-1 K_oa, and
+the modes are those of
 
     K_r = K_aa + K_ao G,   M_r = T^T M T,   T = [I; G]   (rows in a, o order),
 
-expanded back to every DOF by u_o = G u_a. Exact where the omitted DOFs carry no mass (the
-eigenproblem's massless DOFs have infinite eigenvalues; condensing them out is how the finite ones
-are found when K - sigma M is singular there); an approximation otherwise (the reduced model is
-stiffer: each reduced frequency lies at or above the full model's of the same order).
+expanded back to every DOF by u_o = G u_a. Exact where the omitted DOFs carry no mass (their
+eigenvalues are infinite); otherwise the reduced model is stiffer and each reduced frequency lies at
+or above the full model's of the same order (Rayleigh-Ritz on the columns of T).
 
-``condense_dense`` serves the dense eigensolver (massless DOFs and mechanisms that carry neither
-mass nor stiffness: a pseudo-inverse of K_oo); ``guyan`` the sparse models of a Nastran deck's
-ASET/OMIT (a factorisation of K_oo, which must be non-singular as Nastran requires).
+Sets (``sets``: a BdfDeck's ``options``, or any mapping with 'ASET' and/or 'OMIT' -> {grid id:
+components '1'-'6' in basic axes}): with an 'ASET' every free DOF outside it is omitted (Nastran:
+the a-set names what is kept, 'OMIT' is then implied); with only 'OMIT' those DOFs are omitted.
+Fixed DOFs and DOFs tied by rigid links are in neither set (Nastran's s- and m-sets) and are skipped.
 """
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass
 
 import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-from ..errors import SolverError
+from ..errors import ModelError, SolverError
+from .eigen import PINV_RTOL, real_modes
 
-PINV_RTOL = 1e3 * np.finfo(float).eps  # eigenvalues of K_oo below this of its largest: a mechanism (dropped)
+SET_KEYS = ("ASET", "OMIT")
 
 
 @dataclass(frozen=True)
 class Reduced:
-    """K_r, M_r (n_a, n_a) dense; kept (n_a,) and omitted (n_o,) DOF indices; G (n_o, n_a): u_o = G u_a."""
+    """K, M (n_a, n_a) dense reduced matrices; kept (n_a,) and omitted (n_o,) indices into the
+    system's reduced DOFs; G (n_o, n_a): u_o = G u_a."""
 
     K: np.ndarray
     M: np.ndarray
@@ -37,73 +41,86 @@ class Reduced:
     G: np.ndarray
 
     def expand(self, phi_a: np.ndarray) -> np.ndarray:
-        """Vectors on every DOF (n, ...) from vectors on the kept ones (n_a, ...)."""
-        n = len(self.kept) + len(self.omitted)
-        out = np.zeros((n,) + phi_a.shape[1:])
+        """Vectors on every DOF (n, ...) from vectors on the analysis set (n_a, ...)."""
+        out = np.zeros((len(self.kept) + len(self.omitted),) + phi_a.shape[1:])
         out[self.kept] = phi_a
         out[self.omitted] = self.G @ phi_a
         return out
 
 
-def _split(n: int, omitted) -> tuple[np.ndarray, np.ndarray]:
-    o = np.zeros(n, bool)
-    o[np.asarray(omitted, dtype=int)] = True
-    return np.flatnonzero(~o), np.flatnonzero(o)
-
-
-def condense_dense(K: np.ndarray, M: np.ndarray, omitted) -> Reduced:
-    """Guyan condensation of dense symmetric K, M onto the DOFs not in ``omitted`` (indices). K_oo may
-    be singular where the omitted DOFs hold a mechanism with neither mass nor stiffness (a spin about
-    a line of point masses on massless rotations): its pseudo-inverse drops those directions, which
-    then carry no motion (their eigenvalue is undefined, not a mode)."""
-    a, o = _split(K.shape[0], omitted)
-    K = 0.5 * (K + K.T)
-    Koo = K[np.ix_(o, o)]
-    w, V = np.linalg.eigh(Koo)
-    big = np.abs(w) > PINV_RTOL * max(np.abs(w).max(initial=0.0), 1e-300)
-    Vb = V[:, big]
-    G = -(Vb / w[big]) @ (Vb.T @ K[np.ix_(o, a)])
-    Kr = K[np.ix_(a, a)] + K[np.ix_(a, o)] @ G
-    Mr = _mass(M, a, o, G)
-    return Reduced(0.5 * (Kr + Kr.T), Mr, a, o, G)
-
-
-def _mass(M, a, o, G) -> np.ndarray:
-    """T^T M T for T = [I; G] (dense or sparse M)."""
-    Maa = M[np.ix_(a, a)] if isinstance(M, np.ndarray) else M[a][:, a].toarray()
-    if isinstance(M, np.ndarray):
-        Mao, Moo = M[np.ix_(a, o)], M[np.ix_(o, o)]
-    else:
-        Mao, Moo = M[a][:, o], M[o][:, o]
-    cross = np.asarray(Mao @ G)
-    Mr = Maa + cross + cross.T + G.T @ np.asarray(Moo @ G)
-    return 0.5 * (Mr + Mr.T)
-
-
 def guyan(K: sp.spmatrix, M: sp.spmatrix, omitted) -> Reduced:
-    """Guyan reduction of sparse symmetric K, M (reduced DOFs) onto the DOFs not in ``omitted``:
-    K_oo factorised once (SuperLU), G solved for every kept DOF at once. Raises SolverError if K_oo
-    is singular (the omitted DOFs hold a mechanism or a rigid motion the kept set does not: Nastran
-    stops there too)."""
-    K = sp.csc_matrix(K)
-    a, o = _split(K.shape[0], omitted)
+    """Guyan reduction of sparse symmetric K, M onto the DOFs not in ``omitted`` (indices): K_oo
+    factorised once (SuperLU), G solved for every kept DOF at once. SolverError if K_oo is singular
+    (the omitted DOFs hold a mechanism or a rigid-body motion the analysis set does not restrain:
+    Nastran stops there too)."""
+    n = K.shape[0]
+    mask = np.zeros(n, bool)
+    mask[np.asarray(omitted, dtype=int)] = True
+    a, o = np.flatnonzero(~mask), np.flatnonzero(mask)
     if len(a) == 0:
-        raise SolverError("Guyan reduction: every DOF is omitted; keep at least the DOFs of the modes wanted "
+        raise SolverError("Guyan reduction: every free DOF is omitted; keep the DOFs that describe the modes wanted "
                           "(ASET/ASET1) or omit fewer (OMIT/OMIT1)")
+    Kc, Mc = sp.csr_matrix(K), sp.csr_matrix(M)
     if len(o) == 0:
-        return Reduced(K.toarray(), sp.csc_matrix(M).toarray(), a, o, np.zeros((0, len(a))))
-    Kc = K.tocsr()
-    Koo = Kc[o][:, o].tocsc()
-    Koa = Kc[o][:, a].toarray()
+        return Reduced(Kc.toarray(), Mc.toarray(), a, o, np.zeros((0, n)))
+    Ko = Kc[o]
     try:
+        Koo = Ko[:, o].tocsc()
         lu = spla.splu(Koo, permc_spec="COLAMD", options={"SymmetricMode": True})
+        G = -lu.solve(Ko[:, a].toarray())
     except RuntimeError as exc:
-        raise SolverError(f"Guyan reduction: the stiffness of the {len(o)} omitted DOFs (K_oo) is singular ({exc}): "
-                          "they hold a mechanism or a rigid-body motion that the analysis set does not restrain; add "
-                          "DOFs of that motion to ASET (or leave them out of OMIT)") from exc
-    G = -lu.solve(Koa)
-    if not np.all(np.isfinite(G)):
-        raise SolverError(f"Guyan reduction: the stiffness of the {len(o)} omitted DOFs (K_oo) is singular (non-finite "
-                          "solve); add the DOFs of the unrestrained motion to ASET (or leave them out of OMIT)")
-    Kr = Kc[a][:, a].toarray() + np.asarray(Kc[a][:, o] @ G)
-    return Reduced(0.5 * (Kr + Kr.T), _mass(sp.csr_matrix(M), a, o, G), a, o, G)
+        G, why = None, str(exc)
+    else:  # a pivot at round-off of the stiffest DOF's: a rigid motion or a mechanism, singular in exact arithmetic
+        smallest = float(np.abs(lu.U.diagonal()).min())
+        why = f"smallest pivot {smallest:.3g}, largest stiffness {float(np.abs(Koo.diagonal()).max()):.3g}"
+        if smallest <= PINV_RTOL * np.abs(Koo.diagonal()).max():
+            G = None
+    if G is None or not np.all(np.isfinite(G)):
+        raise SolverError(f"Guyan reduction: the stiffness of the {len(o)} omitted DOFs (K_oo) is singular ({why}): "
+                          "they hold a mechanism or a rigid-body motion that the analysis set does not restrain; put "
+                          "DOFs of that motion in ASET (or leave them out of OMIT)")
+    Ka = Kc[a]
+    Kr = Ka[:, a].toarray() + np.asarray(Ka[:, o] @ G)
+    Ma = Mc[a]
+    cross = np.asarray(Ma[:, o] @ G)
+    Mr = Ma[:, a].toarray() + cross + cross.T + G.T @ np.asarray(Mc[o][:, o] @ G)
+    return Reduced(0.5 * (Kr + Kr.T), 0.5 * (Mr + Mr.T), a, o, G)
+
+
+def _dofs(system, grids: Mapping, key: str) -> np.ndarray:
+    """Reduced DOF indices of {grid id: components} (fixed and link-dependent ones left out)."""
+    out = []
+    for nid, comps in grids.items():
+        where = f"reduction set {key}: grid {nid}"
+        hit = np.flatnonzero(system.cm.node_ids == int(nid))
+        if len(hit) == 0:
+            raise ModelError(f"{where} is not a node of the model; give node ids of the model (a deck's ASET/OMIT "
+                             "grids are its node ids)")
+        comps = str(comps)
+        if not comps or any(c not in "123456" for c in comps):
+            raise ModelError(f"{where}: components {comps!r} must be digits 1-6")
+        dofs = system.dof_map[6 * int(hit[0]) + np.array(sorted({int(c) - 1 for c in comps}))]
+        out.append(dofs[dofs >= 0])
+    return np.unique(np.concatenate(out)) if out else np.zeros(0, int)
+
+
+def omitted_dofs(system, sets: Mapping) -> np.ndarray:
+    """The system's reduced DOF indices that ``sets`` omits (see the module's docstring)."""
+    aset, omit = sets.get("ASET"), sets.get("OMIT")
+    if aset:
+        kept = _dofs(system, aset, "ASET")
+        mask = np.ones(system.n_free, bool)
+        mask[kept] = False
+        return np.flatnonzero(mask)
+    if omit:
+        return _dofs(system, omit, "OMIT")
+    return np.zeros(0, int)
+
+
+def guyan_modes(K: sp.spmatrix, M: sp.spmatrix, omitted: np.ndarray, n_modes: int, shift: float | None = None,
+                clamped: bool = False) -> tuple[np.ndarray, np.ndarray]:
+    """The lowest n_modes eigenpairs (lam [rad^2/s^2], shapes on every reduced DOF, M_r-normalised,
+    which is phi^T M phi = 1 for the expanded shapes) of K, M Guyan-reduced by omitting ``omitted``."""
+    red = guyan(K, M, omitted)
+    lam, phi_a = real_modes(sp.csc_matrix(red.K), sp.csc_matrix(red.M), n_modes, shift, clamped, use_cholmod=False)
+    return lam, red.expand(phi_a)
