@@ -207,3 +207,24 @@ def test_shift_invert_through_pardiso_agrees_with_superlu():
     elastic = slow.frequencies_hz > 0
     assert np.sum(~elastic) == 5 and np.all(fast.frequencies_hz[~elastic] == 0.0)
     np.testing.assert_allclose(fast.frequencies_hz[elastic], slow.frequencies_hz[elastic], rtol=1e-9)
+
+
+@pardiso_only
+@pytest.mark.parametrize("over", [0.9, 1.5, 2.5])
+def test_stability_count_by_pardiso_on_a_compressed_plate(over):
+    """The same three counts on a shell plate under in-plane compression past its first buckling loads
+    (test_buckling's simply supported plate, 8 x 8 quads, held flat by load control): none below the
+    first, one past it, two past the second."""
+    import flexgvt as fg
+    from flexgvt.fem.linsolve import inertia
+    from flexgvt.fem.stability import _matrices, negative_eigenvalues, shifted, superlu_negative_pivots
+    from test_buckling import _plate
+
+    model, config, _ = _plate(8, over)
+    state = fg.solve_static(model, config, settings=fg.fem.static.StaticSettings(buckling="ignore"))
+    s, x, R = state.system, state.positions, state.rotations
+    A = shifted(s, *_matrices(s, x, R, 1.0))
+    dense = int(np.sum(np.linalg.eigvalsh(A.toarray()) < 0))
+    assert dense == {0.9: 0, 1.5: 1, 2.5: 2}[over]  # k = 4 (m = 1), then 6.25 (m = 2) of the closed form
+    assert inertia(A) == (A.shape[0] - dense, dense)
+    assert negative_eigenvalues(s, x, R, 1.0) == dense == superlu_negative_pivots(A)
