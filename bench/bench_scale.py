@@ -6,6 +6,7 @@ backends on the box's matrices.
     python bench/bench_scale.py profile --divisions 18 3 288      # flexgvt split of time (CPU and wall)
     python bench/bench_scale.py backends --divisions 10 2 160     # PARDISO, CHOLMOD, cholespy, MUMPS, SuperLU
     python bench/bench_scale.py compare --divisions 18 3 288 --runs 3 --json out.json   # flexgvt vs CalculiX
+    python bench/bench_scale.py modes --element-size 0.1 --runs 2  # shift-invert and inertia: PARDISO vs SuperLU
 
 Timings are CPU seconds of the process (all its threads) and of CalculiX's process, besides wall
 time: on this shared 2-core machine the wall clock mostly measures the other users. Peak memory:
@@ -377,19 +378,71 @@ def one_backend(which: str, folder: str, matrix: str) -> None:
     print(json.dumps(out))
 
 
+def cmd_modes(args):
+    """The modes' shift-invert through PARDISO against SuperLU (same process, alternating rounds) and
+    the stability check's negative eigenvalue count (PARDISO's inertia against SuperLU's diagonal
+    pivots) on fg.cases.wingbox(element_size) at -1 g and unloaded, or on the box with --divisions."""
+    from flexgvt.fem.linsolve import inertia
+    from flexgvt.fem.stability import _matrices, shifted, superlu_negative_pivots
+
+    if args.box:
+        model, fixed = flexgvt_model(box(*args.divisions))
+        configs = {name: fg.Configuration(name, fixed=fixed, gravity=g) for name, g in (("unloaded", 0.0),
+                                                                                      ("minus_1g", 1.0))}
+        what = f"box {args.divisions}"
+    else:
+        case = fg.cases.wingbox(args.element_size)
+        model, configs = case.model, {k: case.configurations[k] for k in ("unloaded", "minus_1g")}
+        what = f"wingbox {args.element_size} m"
+    warm_up()
+    out = {"info": {"model": what, **backend_info()}}
+    for name, config in configs.items():
+        state = fg.solve_static(model, config)
+        s, x, R = state.system, state.positions, state.rotations
+        row = {"dof": int(s.n_free)}
+        times = {"pardiso": [], "superlu": []}
+        freqs = {}
+        for _ in range(args.runs):
+            for key, fast in (("pardiso", True), ("superlu", False)):
+                t = clocks()
+                modes = fg.solve_modes(state, N_MODES, damped=False, cholmod=fast, label=False)
+                times[key].append([time.perf_counter() - t[0], time.process_time() - t[1]])
+                freqs[key] = modes.frequencies_hz
+        row["modes_wall_cpu_s"] = {k: np.min(v, axis=0).round(3).tolist() for k, v in times.items()}
+        row["modes_max_rel_diff"] = float(np.max(np.abs(freqs["pardiso"] / freqs["superlu"] - 1)))
+        row["f_hz"] = freqs["pardiso"][:6].round(4).tolist()
+        K, M = _matrices(s, x, R, state.load_factor)
+        A = shifted(s, K, M)
+        t = clocks()
+        counts = inertia(A)
+        row["inertia_pardiso"] = counts
+        row["inertia_pardiso_cpu_s"] = round(time.process_time() - t[1], 3)
+        t = clocks()
+        row["negative_superlu"] = superlu_negative_pivots(A)
+        row["negative_superlu_cpu_s"] = round(time.process_time() - t[1], 3)
+        out[name] = row
+        print(name, json.dumps(row), flush=True)
+    out["info"]["load_average_end"] = os.getloadavg()
+    print(json.dumps(out["info"]))
+    if args.json:
+        Path(args.json).write_text(json.dumps(out, indent=1))
+
+
 def main(argv=None):
     if argv is None and len(sys.argv) > 1 and sys.argv[1] == "_one_backend":
         return one_backend(*sys.argv[2:5])
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("command", choices=("profile", "compare", "backends"))
+    parser.add_argument("command", choices=("profile", "compare", "backends", "modes"))
     parser.add_argument("--divisions", type=int, nargs=3, default=(18, 3, 288), metavar=("CHORD", "DEPTH", "SPAN"),
                         help="quads across the chord, the depth and along the span (18 3 288: 79,356 DOF)")
     parser.add_argument("--runs", type=int, default=3)
     parser.add_argument("--ccx-runs", type=int, default=1)
     parser.add_argument("--only", nargs="*")
     parser.add_argument("--json")
+    parser.add_argument("--element-size", type=float, default=0.1, help="modes: fg.cases.wingbox's element size [m]")
+    parser.add_argument("--box", action="store_true", help="modes: the box of --divisions instead of the wingbox case")
     args = parser.parse_args(argv)
-    {"profile": cmd_profile, "compare": cmd_compare, "backends": cmd_backends}[args.command](args)
+    {"profile": cmd_profile, "compare": cmd_compare, "backends": cmd_backends, "modes": cmd_modes}[args.command](args)
 
 
 if __name__ == "__main__":

@@ -136,3 +136,95 @@ def test_superlu_fallback_when_no_backend_imports():
     state = fg.solve_static(model, fg.Configuration("g", fixed={int(ids[0]): "123456"}, gravity=1.0))
     np.testing.assert_allclose(state.positions[-1], fallback["tip"], atol=1e-9)
     np.testing.assert_allclose(fg.solve_modes(state, 6).frequencies_hz, fallback["f"], rtol=1e-8)
+
+
+pardiso_only = pytest.mark.skipif("pardiso" not in BACKENDS, reason="pypardiso not installed")
+
+
+@pardiso_only
+def test_pardiso_inertia_counts_the_negative_eigenvalues():
+    """MKL's iparm(22)/(23) from the Bunch-Kaufman LDL^T: the eigenvalue signs of an indefinite matrix
+    (Sylvester), and no count for a singular one (its perturbed pivot's sign is not the matrix's)."""
+    from flexgvt.fem.linsolve import inertia
+
+    for shift in (0.0, 0.05, 0.4):
+        A = _frame(np.random.default_rng(3), shift=shift)
+        negative = int(np.sum(np.linalg.eigvalsh(A.toarray()) < 0))
+        assert inertia(A) == (A.shape[0] - negative, negative)
+    assert inertia(sp.csc_matrix(np.array([[1.0, 1.0, 0.0], [1.0, 1.0, 0.0], [0.0, 0.0, 2.0]]))) is None
+
+
+def _column(over: float):
+    """A pinned-pinned steel column (40 elements, 1 m, 20 x 12 mm) compressed to ``over`` times its weak
+    Euler load P_E, held straight by load control (the fundamental path): unstable above 1, its strong
+    axis above (20 / 12)^2 = 2.78, the second weak mode above 4."""
+    import flexgvt as fg
+    from fem_builders import straight_beam
+
+    section = fg.RectangularSection(width=0.02, height=0.012)
+    model, ids = straight_beam(40, length=1.0, section=section, material=fg.Material("steel", E=2.1e11, nu=0.3,
+                                                                                     rho=7850.0))
+    p_euler = np.pi**2 * 2.1e11 * min(section.properties()["Iy"], section.properties()["Iz"])
+    config = fg.Configuration("compressed", fixed={int(ids[0]): "1235", int(ids[-1]): "13"},
+                              forces=(fg.NodalLoad(int(ids[-1]), force=(0.0, -over * p_euler, 0.0)),))
+    return fg.solve_static(model, config, settings=fg.fem.static.StaticSettings(buckling="ignore"))
+
+
+@pardiso_only
+@pytest.mark.parametrize("over", [0.8, 1.5, 3.5])
+def test_stability_count_by_pardiso_agrees_with_superlu(over):
+    """fem.stability's negative eigenvalue count through PARDISO's inertia equals SuperLU's diagonal-
+    pivot count and the dense eigenvalue count on a compressed column: none below the Euler load,
+    one above it, two above the strong axis's."""
+    from flexgvt.fem.linsolve import inertia
+    from flexgvt.fem.stability import _matrices, negative_eigenvalues, shifted, superlu_negative_pivots
+
+    state = _column(over)
+    s, x, R = state.system, state.positions, state.rotations
+    K, M = _matrices(s, x, R, 1.0)
+    A = shifted(s, K, M)
+    dense = int(np.sum(np.linalg.eigvalsh(A.toarray()) < 0))
+    assert dense == {0.8: 0, 1.5: 1, 3.5: 2}[over]
+    assert inertia(A) == (A.shape[0] - dense, dense)
+    assert negative_eigenvalues(s, x, R, 1.0) == dense
+    assert superlu_negative_pivots(A) == dense
+
+
+@pardiso_only
+def test_shift_invert_through_pardiso_agrees_with_superlu():
+    """The modes' shift-invert with PARDISO's factor equals SuperLU's on a free beam with point masses
+    and massless rotations (above the dense limit), its five rigid-body modes with mass included (the
+    spin about its axis has none)."""
+    import flexgvt as fg
+    from fem_builders import straight_beam
+
+    model, ids = straight_beam(60, material=fg.Material("Al", E=70e9, nu=0.33, rho=0.0))
+    for i in ids:
+        model.add_mass(int(i), 0.05)
+    state = fg.solve_static(model, fg.Configuration("free"))
+    fast = fg.solve_modes(state, 12, damped=False)
+    slow = fg.solve_modes(state, 12, damped=False, cholmod=False)
+    elastic = slow.frequencies_hz > 0
+    assert np.sum(~elastic) == 5 and np.all(fast.frequencies_hz[~elastic] == 0.0)
+    np.testing.assert_allclose(fast.frequencies_hz[elastic], slow.frequencies_hz[elastic], rtol=1e-9)
+
+
+@pardiso_only
+@pytest.mark.parametrize("over", [0.9, 1.5, 2.5])
+def test_stability_count_by_pardiso_on_a_compressed_plate(over):
+    """The same three counts on a shell plate under in-plane compression past its first buckling loads
+    (test_buckling's simply supported plate, 8 x 8 quads, held flat by load control): none below the
+    first, one past it, two past the second."""
+    import flexgvt as fg
+    from flexgvt.fem.linsolve import inertia
+    from flexgvt.fem.stability import _matrices, negative_eigenvalues, shifted, superlu_negative_pivots
+    from test_buckling import _plate
+
+    model, config, _ = _plate(8, over)
+    state = fg.solve_static(model, config, settings=fg.fem.static.StaticSettings(buckling="ignore"))
+    s, x, R = state.system, state.positions, state.rotations
+    A = shifted(s, *_matrices(s, x, R, 1.0))
+    dense = int(np.sum(np.linalg.eigvalsh(A.toarray()) < 0))
+    assert dense == {0.9: 0, 1.5: 1, 2.5: 2}[over]  # k = 4 (m = 1), then 6.25 (m = 2) of the closed form
+    assert inertia(A) == (A.shape[0] - dense, dense)
+    assert negative_eigenvalues(s, x, R, 1.0) == dense == superlu_negative_pivots(A)

@@ -12,7 +12,7 @@ import scipy.sparse.linalg as spla
 
 from ..errors import ModelError, SolverError
 from .labels import mac_matrix
-from .linsolve import HAVE_CHOLMOD, CholmodCache
+from .linsolve import HAVE_FAST, CholmodCache
 
 DENSE_LIMIT = 200  # reduced DOFs below which dense eigensolvers are used
 
@@ -64,14 +64,9 @@ def _cholesky_inverse(K: sp.spmatrix, M: sp.spmatrix, sigma: float,
                       cache: CholmodCache | None = None) -> spla.LinearOperator | None:
     """(K - sigma M)^-1 through the symmetric LDL^T (PARDISO or CHOLMOD, fem.linsolve) when one is
     installed and no pivot is tiny (sigma not at an eigenvalue); None lets eigsh factorise with
-    SuperLU. cache: a symbolic analysis of the pattern to reuse (the system's, from its static solve).
-    Not PARDISO: its shift-invert operator gave a block with massless rotations wrong modes
-    (tests/suspension/test_heavy_cord.py: 0.7188 Hz for the condensed 0.4497 Hz), so the modes keep
-    CHOLMOD or SuperLU until that is understood; PARDISO serves the Newton solves."""
-    if not HAVE_CHOLMOD:
+    SuperLU. cache: a symbolic analysis of the pattern to reuse (the system's, from its static solve)."""
+    if not HAVE_FAST:
         return None
-    if cache is not None and getattr(cache, "backend", "cholmod") != "cholmod":
-        cache = None
     # Both triangles: CHOLMOD's simplicial refactorisation reads them faster than the lower one.
     if (sp.isspmatrix_csc(K) and sp.isspmatrix_csc(M) and K.has_sorted_indices and K.nnz == M.nnz
             and np.array_equal(K.indptr, M.indptr) and np.array_equal(K.indices, M.indices)):
@@ -79,10 +74,63 @@ def _cholesky_inverse(K: sp.spmatrix, M: sp.spmatrix, sigma: float,
     else:
         A = (K - sigma * M).tocsc()
     A.sort_indices()
-    factor = (cache or CholmodCache("cholmod")).factor(A)
+    factor = (cache or CholmodCache()).factor(A)
     if factor is None:
         return None
     return spla.LinearOperator(K.shape, matvec=factor.solve_A, dtype=float)
+
+
+PINV_RTOL = 1e3 * np.finfo(float).eps  # eigenvalues of K_oo below this of its largest: a mechanism (dropped)
+
+
+def condense_dense(K: np.ndarray, M: np.ndarray, omitted: np.ndarray):
+    """Static (Guyan) condensation of dense symmetric K, M onto the DOFs not in ``omitted`` (indices):
+    (kept, K_r, M_r, G) with u_o = G u_a, G = -K_oo^+ K_oa, K_r = K_aa + K_ao G, M_r = T^T M T for
+    T = [I; G] (fem.reduction). K_oo may be singular where the omitted DOFs hold a mechanism with
+    neither mass nor stiffness (a spin about a line of point masses on massless rotations): its
+    pseudo-inverse drops those directions (below PINV_RTOL of its largest eigenvalue), which carry
+    no motion (their eigenvalue is undefined, not a mode)."""
+    o = np.zeros(K.shape[0], bool)
+    o[omitted] = True
+    a, o = np.flatnonzero(~o), np.flatnonzero(o)
+    K = 0.5 * (K + K.T)
+    w, V = np.linalg.eigh(K[np.ix_(o, o)])
+    big = np.abs(w) > PINV_RTOL * max(np.abs(w).max(initial=0.0), 1e-300)
+    G = -(V[:, big] / w[big]) @ (V[:, big].T @ K[np.ix_(o, a)])
+    Kr = K[np.ix_(a, a)] + K[np.ix_(a, o)] @ G
+    cross = M[np.ix_(a, o)] @ G
+    Mr = M[np.ix_(a, a)] + cross + cross.T + G.T @ M[np.ix_(o, o)] @ G
+    return a, 0.5 * (Kr + Kr.T), 0.5 * (Mr + Mr.T), G
+
+
+def _massless_mechanism(A: np.ndarray, B: np.ndarray) -> bool:
+    """DOFs with no mass (zero rows of B) holding a motion with no stiffness either (a spin about a line
+    of point masses on massless rotations): the pencil A - lam B is singular for every lam, and a
+    solver's result for it hangs on the sign of round-off."""
+    zero = ~np.any(B != 0, axis=0)
+    if not zero.any():
+        return False
+    w = np.abs(np.linalg.eigvalsh(0.5 * (A + A.T)[np.ix_(zero, zero)]))
+    return bool(w.min() <= PINV_RTOL * max(w.max(), 1e-300))
+
+
+def _condensed_modes(A: np.ndarray, B: np.ndarray, dm: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Every finite eigenpair of A phi = lam B phi with B semi-definite and singular: the massless DOFs
+    condensed out (fem.reduction, exact for them), the modes expanded back. The massless DOFs are B's
+    zero rows where the rest of B is definite, else B's null eigenvectors."""
+    zero = ~np.any(B != 0, axis=0)
+    tol = 1e-14 * max(dm.max(), 1e-300)
+    basis = None
+    if not (zero.any() and np.all(np.linalg.eigvalsh(B[np.ix_(~zero, ~zero)]) > tol)):
+        w, basis = np.linalg.eigh(B)
+        zero = w <= tol
+        A, B = basis.T @ A @ basis, np.diag(np.where(zero, 0.0, w))
+    kept, Kr, Mr, G = condense_dense(A, B, np.flatnonzero(zero))
+    lam, phi_a = sla.eigh(Kr, Mr)
+    phi = np.empty((A.shape[0], len(lam)))
+    phi[kept] = phi_a
+    phi[zero] = G @ phi_a
+    return lam, (phi if basis is None else basis @ phi)
 
 
 def _residuals(K: sp.spmatrix, M: sp.spmatrix, lam: np.ndarray, phi: np.ndarray) -> np.ndarray:
@@ -126,15 +174,22 @@ def real_modes(K: sp.spmatrix, M: sp.spmatrix, n_modes: int, shift: float | None
         s_inv = sigma if shift is not None or clamped else _rigid_safe_shift(K, dm, sigma)
         b_definite = bool(np.all(np.linalg.eigvalsh(B) > 1e-14 * max(dm.max(), 1e-300)))
         lam = None
-        try:
-            mu, phi = sla.eigh(B, A - s_inv * B)
-            # Massless DOFs give mu at round-off; with a definite B every mu is a mode's.
-            keep = mu > (100 * np.finfo(float).eps if b_definite else 1e-12) * max(mu.max(initial=0.0), 1e-300)
-            lam, phi = s_inv + 1.0 / mu[keep], phi[:, keep]
-            if len(lam) < k and b_definite:  # every mode asked for, the highest lost below round-off
+        if not b_definite and _massless_mechanism(A, B):  # a singular pencil: condense the massless DOFs
+            lam, phi = _condensed_modes(A, B, dm)
+        else:
+            try:
+                mu, phi = sla.eigh(B, A - s_inv * B)
+                # Massless DOFs give mu at round-off; with a definite B every mu is a mode's.
+                keep = mu > (100 * np.finfo(float).eps if b_definite else 1e-12) * max(mu.max(initial=0.0), 1e-300)
+                lam, phi = s_inv + 1.0 / mu[keep], phi[:, keep]
+                if len(lam) < k and b_definite:  # every mode asked for, the highest lost below round-off
+                    lam = None
+            except np.linalg.LinAlgError:  # indefinite (buckled, unstable) or singular
                 lam = None
-        except np.linalg.LinAlgError:  # indefinite (buckled, unstable) or singular
-            lam = None
+        if lam is None and not b_definite and np.all(np.linalg.eigvalsh(B) > -1e-14 * max(dm.max(), 1e-300)):
+            # Massless DOFs with A - s B not definite: their static condensation is exact, where the
+            # general solver below returns spurious finite eigenvalues for them (QZ on a singular B).
+            lam, phi = _condensed_modes(A, B, dm)
         if lam is None and b_definite:
             try:
                 lam, phi = sla.eigh(A - sigma * B, B)

@@ -249,3 +249,19 @@ _NO_FACTOR = _NoFactor()
 def superlu(A: sp.csc_matrix):
     """SuperLU with the options that suit structural matrices (raises RuntimeError if singular)."""
     return spla.splu(A, permc_spec="COLAMD", options={"SymmetricMode": True})
+
+
+def inertia(A: sp.spmatrix, cache: CholmodCache | None = None) -> tuple[int, int] | None:
+    """(positive, negative) eigenvalue counts of symmetric A (its lower triangle is read) from the
+    pivots of PARDISO's Bunch-Kaufman LDL^T (Sylvester's law of inertia; MKL's iparm(22)/(23)); None
+    where PARDISO is not installed or had to perturb a pivot (A singular or nearly so: the count is
+    then not the matrix's). cache: a PARDISO analysis of A's pattern to reuse (else a new one)."""
+    if not HAVE_PARDISO:
+        return None
+    if cache is None or cache.backend != "pardiso":
+        cache = CholmodCache("pardiso")
+    factor = cache.factor(sp.csc_matrix(A))
+    if factor is None:
+        return None
+    positive, negative = factor.inertia
+    return (positive, negative) if positive + negative == A.shape[0] else None

@@ -5,6 +5,7 @@ stiffness included), sparse shift-invert, rigid-body modes, and complex modes wi
 from __future__ import annotations
 
 import warnings
+from collections.abc import Mapping
 from dataclasses import dataclass, field, replace
 
 import numpy as np
@@ -15,6 +16,7 @@ from .checks import check_matrix
 from .eigen import (_NO_MASS, DEFAULT_SHIFT, DENSE_LIMIT, complex_modes, modal_frequencies_hz,  # noqa: F401
                     real_modes, rigid_count)
 from .linsolve import serial_blas
+from .reduction import guyan_modes, omitted_dofs
 from .static import State
 
 
@@ -111,7 +113,8 @@ MASS_FRAMES = ("deformed", "undeformed")
 
 @serial_blas
 def solve_modes(state: State, n_modes: int = 15, *, damped: bool | None = None, shift: float | None = None,
-                label: bool = True, cholmod: bool = True, mass_frame: str = "deformed") -> Modes:
+                label: bool = True, cholmod: bool = True, mass_frame: str = "deformed",
+                reduction: Mapping | None = None) -> Modes:
     """Modes about ``state`` with its tangent stiffness (symmetric part: stress and load stiffness included).
 
     damped: complex modes with the viscous dampers of springs and cords (default: when present).
@@ -122,6 +125,8 @@ def solve_modes(state: State, n_modes: int = 15, *, damped: bool | None = None, 
     the deformed structure) or "undeformed": the mass matrix of the undeformed configuration with
     the deformed stiffness, as MSC Nastran SOL 400 and OpenSees compute pre-stressed modes (use it
     to reproduce their numbers; docs/solver.md compares both with shell and brick models).
+    reduction: Guyan reduction sets, {'ASET' and/or 'OMIT': {node id: components}} (a deck's
+    ``BdfDeck.options``; fem.reduction): real modes of the statically condensed model, as Nastran.
     """
     if mass_frame not in MASS_FRAMES:
         raise ModelError(f"solve_modes: mass_frame='{mass_frame}' must be one of {MASS_FRAMES}")
@@ -139,6 +144,10 @@ def solve_modes(state: State, n_modes: int = 15, *, damped: bool | None = None, 
     n = system.n_nodes
     use_damping = system.has_damping if damped is None else damped
     n_rigid = 0 if clamped else rigid_count(system, x, T, K, M)
+    omitted = omitted_dofs(system, reduction) if reduction else np.zeros(0, int)
+    if use_damping and len(omitted):
+        raise ModelError(f"configuration '{system.config.name}': Guyan reduction (reduction=...) applies to real "
+                         "modes; pass damped=False, or leave the reduction out for complex modes")
     if use_damping:
         C = system.damping_matrix(x, R)
         s, v = complex_modes(K, C, M, n_modes, clamped, None if clamped else n_rigid)
@@ -152,7 +161,10 @@ def solve_modes(state: State, n_modes: int = 15, *, damped: bool | None = None, 
         real = real / np.sqrt(np.where(mm > 0, mm, 1.0))[:, None, None]
         modes = Modes(freq, zeta, wd, real, system.cm.node_ids, complex_shapes=cshapes, eigenvalues=s, state=state)
     else:
-        lam, phi = real_modes(K, M, n_modes, shift, clamped, system.cholmod_cache, use_cholmod=cholmod)
+        if len(omitted):
+            lam, phi = guyan_modes(K, M, omitted, n_modes, shift, clamped)
+        else:
+            lam, phi = real_modes(K, M, n_modes, shift, clamped, system.cholmod_cache, use_cholmod=cholmod)
         f = modal_frequencies_hz(lam, K, M, system, x, T, n_rigid=n_rigid)  # counted once, above
         if not clamped:
             phi = _align_rigid_modes(phi, f == 0, system, x, T, M)

@@ -17,7 +17,8 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from ..errors import SolverError
-from .eigen import DEFAULT_SHIFT, _rigid_safe_shift, modal_frequencies_hz, real_modes, rigid_count
+from .eigen import _RIGID_MARGIN, DEFAULT_SHIFT, _rigid_safe_shift, modal_frequencies_hz, real_modes, rigid_count
+from .linsolve import inertia
 
 BUCKLING_MODES = ("ignore", "warn", "stop", "continue")
 _SAMPLES = 6  # increments checked along a path that ends stable (a bifurcation passed on the way)
@@ -64,13 +65,34 @@ def _shift(system, K, M) -> float:
     return 0.0 if system.clamped else _rigid_safe_shift(K, np.abs(M.diagonal()), DEFAULT_SHIFT)
 
 
+def shifted(system, K: sp.spmatrix, M: sp.spmatrix) -> sp.csc_matrix:
+    """K - s M with the stability check's shift s, plus _RIGID_MARGIN eps |K_ii| on the diagonal of
+    massless DOFs: the shift's margin for them (a mechanism with neither mass nor stiffness, as a spin
+    about a line of point masses, is neutral: its pivot is round-off of either sign without it)."""
+    A = (K - _shift(system, K, M) * M).tocsc()
+    massless = M.diagonal() == 0
+    if np.any(massless):
+        A = (A + sp.diags(np.where(massless, _RIGID_MARGIN * np.finfo(float).eps * np.abs(K.diagonal()), 0.0))).tocsc()
+    return A
+
+
 def negative_eigenvalues(system, x: np.ndarray, R: np.ndarray, lam: float) -> int:
     """How many eigenvalues of the tangent's symmetric part lie below zero at a state (rigid-body
     modes of a free structure excepted), by Sylvester's law of inertia: the negative pivots of
-    K - s M factorised with symmetric (diagonal) pivoting, s just below the rigid-body round-off.
-    -1 when the factorisation had to leave the diagonal (the count is then unknown)."""
+    K - s M factorised with symmetric pivoting, s just below the rigid-body round-off: PARDISO's
+    Bunch-Kaufman LDL^T where installed (fem.linsolve.inertia), else SuperLU with diagonal pivots.
+    -1 when neither gives the count (a pivot perturbed, or SuperLU had to leave the diagonal)."""
     K, M = _matrices(system, x, R, lam)
-    A = (K - _shift(system, K, M) * M).tocsc()
+    A = shifted(system, K, M)
+    counts = inertia(A, system.cholmod_cache)
+    if counts is not None:
+        return counts[1]
+    return superlu_negative_pivots(A)
+
+
+def superlu_negative_pivots(A: sp.csc_matrix) -> int:
+    """Negative pivots of SuperLU's LU of symmetric A with diagonal pivoting (its inertia when the
+    row and column orders agree), -1 when singular or the pivoting left the diagonal."""
     try:
         lu = spla.splu(A, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0, options={"SymmetricMode": True})
     except RuntimeError:  # exactly singular: a zero eigenvalue at the shift
@@ -183,7 +205,10 @@ def _linearised(system, a: tuple, b: tuple) -> tuple[float | None, np.ndarray | 
     Ka, _ = _matrices(system, a[1], a[2], a[0])
     Kb, _ = _matrices(system, b[1], b[2], b[0])
     D = (Ka - Kb).tocsr()
-    lu = spla.splu(Ka.tocsc())
+    try:
+        lu = spla.splu(Ka.tocsc())
+    except RuntimeError:  # exactly singular at a: no linear estimate from there
+        return None, None
     n = Ka.shape[0]
     op = spla.LinearOperator((n, n), matvec=lambda v: lu.solve(D @ v), dtype=float)
     k = min(3, n - 2)

@@ -65,10 +65,15 @@ def normalise(modes, method):
     return replace(modes, shapes=shapes, complex_shapes=None)
 
 
-def deck_modes(state, method, n_modes: int | None = None, mass_frame: str = "deformed"):
-    """Modes about ``state`` as the EigenMethod asks (n_modes, when given, overrides ND)."""
+def deck_modes(state, method, n_modes: int | None = None, mass_frame: str = "deformed", reduction=None):
+    """Modes about ``state`` as the EigenMethod asks (n_modes, when given, overrides ND); reduction:
+    the deck's Guyan sets (BdfDeck.options 'ASET'/'OMIT', see fem.reduction), real modes then."""
+    from functools import partial
+
     from ..fem import solve_modes
 
+    if reduction:
+        solve_modes = partial(solve_modes, reduction=reduction, damped=False)
     if method is None:
         return solve_modes(state, n_modes=n_modes or 10, mass_frame=mass_frame)
     window = method.f1 is not None or method.f2 is not None
@@ -79,7 +84,7 @@ def deck_modes(state, method, n_modes: int | None = None, mass_frame: str = "def
     while True:
         modes = solve_modes(state, n_modes=min(n, n_dof), mass_frame=mass_frame)
         f = modes.frequencies_hz
-        done = (method.f2 is not None and f[-1] > method.f2) or len(f) >= n_dof - 1 or \
+        done = (method.f2 is not None and f[-1] > method.f2) or len(f) >= n_dof - 1 or len(f) < min(n, n_dof) or \
             (method.nd and np.sum(_in_window(f, method)) >= method.nd)
         if done or method.f2 is None:
             break
@@ -112,7 +117,8 @@ def solve_deck(deck: BdfDeck | str | Path, n_modes: int | None = None, configura
     deck: a BdfDeck or a path (read with read_bdf(path, **read_options)). n_modes: modes per
     configuration, overriding the subcase's EIGRL/EIGR (default: its ND, window V1-V2 and
     normalisation, as Nastran reports them; 10 modes without METHOD). mass_frame: "undeformed"
-    reproduces MSC Nastran SOL 400's pre-stressed modes (see solve_modes). Returns {name: SubcaseResult}.
+    reproduces MSC Nastran SOL 400's pre-stressed modes (see solve_modes). A deck's ASET/OMIT sets
+    reduce the model as Nastran does (Guyan, fem.reduction; real modes). Returns {name: SubcaseResult}.
     """
     from ..fem import solve_static
     from ..io.nastran import read_bdf
@@ -120,11 +126,13 @@ def solve_deck(deck: BdfDeck | str | Path, n_modes: int | None = None, configura
     if isinstance(deck, (str, Path)):
         deck = read_bdf(deck, **read_options)
     names = list(deck.configurations) if configurations is None else list(configurations)
+    options = getattr(deck, "options", {}) or {}
+    reduction = {k: options[k] for k in ("ASET", "OMIT") if options.get(k)}  # Nastran's Guyan reduction
     out = {}
     for name in names:
         cfg = deck.configurations[name]
         state = solve_static(deck.model, cfg)
         method = getattr(deck, "methods", {}).get(name)
         out[name] = SubcaseResult(name, deck.subcases.get(name, 0), state,
-                                  deck_modes(state, method, n_modes, mass_frame))
+                                  deck_modes(state, method, n_modes, mass_frame, reduction))
     return out

@@ -43,7 +43,7 @@ class BdfDeck:
     ShellSource (element card, property card and id, Nastran element ids; element_ids maps shell
     element ids too); options: deck settings kept for the solver: 'K6ROT' (PARAM,K6ROT), 'ASET' and
     'OMIT' (the Guyan reduction sets of ASET/ASET1 and OMIT/OMIT1: {grid id: components in basic axes},
-    not applied by the solver yet).
+    applied by solve_deck and by solve_modes(..., reduction=deck.options)).
     """
 
     path: Path

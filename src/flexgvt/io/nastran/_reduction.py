@@ -1,5 +1,6 @@
 """Static (Guyan) reduction sets: ASET/ASET1 (the analysis set, a-set) and OMIT/OMIT1 (the omitted
-set, o-set), read into ``BdfDeck.options`` for the solver; flexgvt does not reduce yet (noted).
+set, o-set), read into ``BdfDeck.options`` for the solver: solve_deck applies them, and
+``solve_modes(state, n, reduction=deck.options)`` (fem.reduction: static condensation as Nastran's).
 
 ``options["ASET"]`` and ``options["OMIT"]``: {grid id: components in basic axes, digits 1-6 as
 ``Configuration.fixed`` writes them}. Nastran: when ASET/ASET1 are present, every DOF not constrained
@@ -97,9 +98,9 @@ def read_reduction(deck: Deck, model: Model, log: Findings, parts: Parts) -> Par
         options["OMIT"] = _as_text(omitted)
     names = "/".join(sorted(name for name in bdf.card_count if name in CARDS))
     counts = ", ".join(f"{k} {sum(len(c) for c in v.values())} DOFs" for k, v in options.items())
-    log.note(f"{names} (Guyan reduction: {counts}) kept in BdfDeck.options but not applied: flexgvt solves the full "
-             "model, so the higher modes will differ from Nastran's (the reduced model is stiffer; the lowest modes "
-             "agree when the set is well chosen)")
+    log.note(f"{names} (Guyan reduction: {counts}) kept in BdfDeck.options: solve_deck reduces the model as Nastran "
+             "does; with solve_modes pass reduction=deck.options (without it the full model's modes: lower, the "
+             "reduced model is stiffer)")
     return Parts(options=options)
 
 
