@@ -92,8 +92,33 @@ class StageResult:
                               for r in up.variables],
                    frequencies=up.tables, objective={"initial": up.initial.objective, "final": up.final.objective},
                    iterations=len(up.history) - 1, message=str(up.message), success=bool(up.success),
-                   method=up.method, solves=up.solves)
+                   method=up.method, solves=up.solves, mass_properties=mass_rows(s, up))
         return out
+
+
+def mass_rows(stage: Stage, update) -> list[dict]:
+    """The measured mass properties of a stage's objective against the model it started from and the
+    one it produced: one row per measured value (mass [kg], cg [m], Ixx/Iyy/Izz about the cg [kg m^2])."""
+    target = stage.objective.measured_mass
+    if target is None or update is None:
+        return []
+    a, b = update.initial.mass_properties, update.final.mass_properties
+    if a is None or b is None:
+        return []
+    rows = []
+
+    def add(name, measured, initial, final):
+        rows.append({"property": name, "measured": float(measured), "initial": float(initial),
+                     "updated": float(final),
+                     "initial_error_percent": 100 * (initial - measured) / measured if measured else None,
+                     "updated_error_percent": 100 * (final - measured) / measured if measured else None})
+    if target.mass is not None:
+        add("mass [kg]", target.mass, a.mass, b.mass)
+    for k, c in enumerate(target.cg or ()):
+        add(f"cg {'xyz'[k]} [m]", c, a.cg[k], b.cg[k])
+    for k, i in enumerate(target.inertia or ()):
+        add(f"I{'xyz'[k] * 2} [kg m^2]", i, a.inertia[k, k], b.inertia[k, k])
+    return rows
 
 
 def flatten(spec: ProjectFile, where: str) -> ProjectFile:
@@ -187,6 +212,10 @@ def resolve_stages(spec: ProjectFile, model: Model, configurations: dict[str, Co
         optimiser = _merged_optimiser(spec.optimiser, st.optimiser)
         target = objective.measured_mass
         has_mass = target is not None and any(getattr(target, k) is not None for k in ("mass", "cg", "inertia"))
+        if own and not listed and not has_mass:
+            raise ProjectError(f"{loc}: variables {vnames} but nothing to update them on: name the configurations "
+                               "(configurations = [...]) or give measured mass properties "
+                               "([stages.objective.measured_mass])")
         if not listed and not has_mass and not st.set:
             raise ProjectError(f"{loc}: an empty stage: give the configurations it updates on (configurations = "
                                "[...]), measured mass properties ([stages.objective.measured_mass]) or fixed inputs "
@@ -194,10 +223,6 @@ def resolve_stages(spec: ProjectFile, model: Model, configurations: dict[str, Co
         if (listed or has_mass) and not own:
             raise ProjectError(f"{loc}.variables: no design variable to update on its data; name some (variables = "
                                "[...]) or leave the stage's data out")
-        if own and not listed and not has_mass:
-            raise ProjectError(f"{loc}: variables {vnames} but nothing to update them on: name the configurations "
-                               "(configurations = [...]) or give measured mass properties "
-                               "([stages.objective.measured_mass])")
         stage_configs = [configurations[n] for n in listed]
         if own:
             try:
