@@ -395,7 +395,8 @@ def _update(project: Project, identified: dict, store: Path, log, iterations, na
     from ..updating import ResultsStore
     db = ResultsStore(store / name, progress=log)
     opt = project.spec.optimiser
-    log(f"{title + ': ' if title else ''}updating {len(project.variables)} variables on {project.to_update} "
+    data = project.to_update or "the measured mass properties"
+    log(f"{title + ': ' if title else ''}updating {len(project.variables)} variables on {data} "
         f"({opt.method}, at most {opt.max_iterations} evaluations, tolerance {opt.tolerance:g})")
 
     def progress(row):
