@@ -289,3 +289,42 @@ def test_a_project_without_stages_is_one_stage_as_before(folder, tmp_path):
         project = _project(tmp_path, "")
     assert project.stages == [] and project.to_update == ["gvt", "tip"]
     assert [v.name for v in project.variables] == ["rho", "E"]
+
+
+def test_a_shell_stage_of_fixed_inputs_then_a_shell_variable(tmp_path):
+    """Shell variables (the swept wing's laminate spar) in a project file: a component stage sets the spars'
+    modulus, the next updates the skins' thickness on the wingbox's GVT."""
+    (tmp_path / "gvt.json").write_text(json.dumps({"frequencies_hz": [9.1, 27.3, 40.2]}))  # loaded, not run
+    (tmp_path / "project.toml").write_text("""
+[model]
+case = "wingbox"
+[model.options]
+element_size = 0.25
+[[configurations]]
+name = "gvt"
+from = "unloaded"
+[configurations.test]
+modes = "gvt.json"
+[[variables]]
+name = "E_spars"
+kind = "shell"
+targets = ["spar_*"]
+attribute = "E"
+[[stages]]
+name = "coupons"
+set = { E_spars = "70 GPa" }
+[[stages]]
+name = "GVT"
+configurations = ["gvt"]
+[[stages.variables]]
+name = "t_skin"
+kind = "shell"
+targets = ["skin_*"]
+attribute = "thickness"
+bounds = [0.8, 1.2]
+""")
+    project = load_project(tmp_path / "project.toml")
+    coupons, gvt = project.stages
+    assert coupons.values == {"E_spars": 70e9} and gvt.variables[0].kind == "shell"
+    model, _, rows = apply_fixed(coupons, project.model, project.configurations)
+    assert rows[0]["value"] == 70e9 and rows[0]["before"] > 0

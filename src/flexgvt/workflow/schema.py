@@ -195,12 +195,12 @@ class ConfigurationSpec(Strict):
 
 
 class VariableSpec(Strict):
-    """A design variable (flexgvt.updating.Variable): targets are beam group, mass or spring names
+    """A design variable (flexgvt.updating.Variable): targets are beam or shell group, mass or spring names
     or patterns (positions of masses and springs still work, deprecated), or indices of cords; ids:
     mass or spring ids (a deck's CONM2, CELAS or CBUSH EIDs)."""
 
     name: str
-    kind: Literal["beam", "mass", "spring", "cord"]
+    kind: Literal["beam", "mass", "spring", "cord", "shell"]
     targets: list[str | int] = Field(default_factory=list)
     ids: list[int] = Field(default_factory=list)
     attribute: str

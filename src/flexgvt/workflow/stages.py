@@ -245,7 +245,8 @@ def variable_of(v: VariableSpec, loc: str, where: str) -> Variable:
     if v.kind in ("mass", "spring") and any(isinstance(t, int) for t in v.targets):
         renamed(f"{loc}: {v.kind} targets by position", "their names (targets = [\"name\"]) or ids (ids = [...])", 5)
     try:
-        return Variable(v.name, v.kind, v.attribute if v.attribute != "thickness" else "height", tuple(v.targets),
+        attribute = "height" if v.kind == "beam" and v.attribute == "thickness" else v.attribute  # a strip's
+        return Variable(v.name, v.kind, attribute, tuple(v.targets),
                         None if v.bounds is None else tuple(v.bounds),
                         configurations=None if v.configurations is None else tuple(v.configurations),
                         ids=tuple(v.ids))
