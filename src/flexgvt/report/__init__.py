@@ -6,12 +6,13 @@ script can build one. `plots` holds matplotlib helpers taking solver objects (st
 `write_project_report(result)` writes the report of a flexgvt.workflow run (report.project).
 """
 
-from .content import ConfigurationSection, FRFComparison, Geometry, ModeShape, ReportContent, StabilisationData
+from .content import (ConfigurationSection, FRFComparison, Geometry, ModeShape, ReportContent, StabilisationData,
+                      StageSection)
 from .html import format_value, render, table_html, write_csv, write_report
 
 __all__ = ["ConfigurationSection", "FRFComparison", "Geometry", "ModeShape", "ReportContent", "StabilisationData",
-           "build_report_content", "format_value", "render", "table_html", "write_csv", "write_project_report",
-           "write_report"]
+           "StageSection", "build_report_content", "format_value", "render", "table_html", "write_csv",
+           "write_project_report", "write_report"]
 
 
 def __getattr__(name: str):

@@ -246,6 +246,23 @@ class ConfigurationSection:
 
 
 @dataclass(frozen=True)
+class StageSection:
+    """One stage of a staged updating, shown in its order: summary (key, value) lines, fixed inputs
+    (rows), the stage's design variables (rows as ReportContent.variables) and {configuration:
+    frequency rows as ConfigurationSection.frequency_table} of the configurations it updated on
+    (initial: the model the stage started from; updated: the model it produced); mass: rows of the
+    measured mass properties against both models."""
+
+    name: str
+    summary: list[tuple[str, str]] = field(default_factory=list)
+    fixed: list[dict[str, Any]] = field(default_factory=list)
+    variables: list[dict[str, Any]] = field(default_factory=list)
+    frequencies: dict[str, list[dict[str, Any]]] = field(default_factory=dict)
+    notes: list[str] = field(default_factory=list)
+    mass: list[dict[str, Any]] = field(default_factory=list)
+
+
+@dataclass(frozen=True)
 class ReportContent:
     """A whole report.
 
@@ -259,6 +276,7 @@ class ReportContent:
     truth_hz, error_percent, bungee_hz...).
     prediction_modes: {configuration: rows} the full mode list of each predicted configuration,
     shown as a table each under the prediction table.
+    stages: the stages of a staged updating (StageSection), shown after the summary.
     """
 
     title: str
@@ -271,11 +289,14 @@ class ReportContent:
     prediction_title: str = "Free-flying prediction"
     notes: list[str] = field(default_factory=list)
     prediction_modes: dict[str, list[dict[str, Any]]] = field(default_factory=dict)
+    stages: list[StageSection] = field(default_factory=list)
 
     def __post_init__(self):
         names = [c.name for c in self.configurations]
         if len(set(names)) != len(names):
             raise ReportError(f"ReportContent.configurations: names must be unique, got {names}")
+        if any(not isinstance(s, StageSection) for s in self.stages):
+            raise ReportError("ReportContent.stages must hold StageSection objects")
         ev = self.load_evolution
         if ev is not None:
             lf = np.asarray(ev.get("load_factors", []), float).ravel()

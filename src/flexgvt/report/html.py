@@ -273,6 +273,37 @@ def _configuration(page: _Page, sec: ConfigurationSection, slug: str, figs_dir, 
     page.end()
 
 
+def _stage(page: _Page, stage, k: int, n: int, slug: str, figs_dir, tabs_dir, written) -> None:
+    """A stage of a staged updating: its summary, fixed inputs, variables and frequency tables."""
+    from . import figures, interactive
+
+    page.section(slug, f"Stage {k + 1} of {n}: {stage.name}")
+    if stage.summary:
+        rows = "".join(f"<tr><th>{_esc(a)}</th><td>{_esc(b)}</td></tr>" for a, b in stage.summary)
+        page.add(f'<table class="summary">{rows}</table>')
+    if stage.fixed:
+        page.add("<h3>Fixed inputs</h3><p class=\"note\">Set before the stage updates (component tests): the "
+                 "mean of each variable's targets becomes the value.</p>")
+        _table(page, stage.fixed, tabs_dir, f"{slug}_fixed_inputs", written)
+    if stage.variables:
+        page.add("<h3>Design variables</h3><p class=\"note\">initial: the value the stage started from (the "
+                 "previous stage's answer); bounds: normalised about it.</p>")
+        _table(page, stage.variables, tabs_dir, f"{slug}_variables", written)
+    if stage.mass:
+        page.add("<h3>Mass properties</h3>")
+        _table(page, stage.mass, tabs_dir, f"{slug}_mass_properties", written)
+    for name, rows in stage.frequencies.items():
+        page.add(f"<h3>Frequencies: {_esc(name)}</h3>")
+        title = f"stage {k + 1} ({stage.name}), {name}: frequency errors before and after"
+        page.figure(interactive.frequency_errors(rows, title))
+        _save_png(figures.frequency_errors, (rows, title), figs_dir, f"{slug}_{_slug(name, set())}_frequency_errors",
+                  written)
+        _table(page, rows, tabs_dir, f"{slug}_{_slug(name, set())}_frequencies", written)
+    if stage.notes:
+        page.add("<ul>" + "".join(f"<li>{_esc(t)}</li>" for t in stage.notes) + "</ul>")
+    page.end()
+
+
 def render(content: ReportContent, figs_dir: Path | None = None, tabs_dir: Path | None = None,
            written: list[Path] | None = None) -> str:
     """The report as one HTML string; PNG figures and CSV tables into figs_dir/tabs_dir when given."""
@@ -286,6 +317,9 @@ def render(content: ReportContent, figs_dir: Path | None = None, tabs_dir: Path 
         page.add(f'<table class="summary">{rows}</table>')
         page.end()
     taken: set[str] = set()
+    for k, stage in enumerate(content.stages):
+        _stage(page, stage, k, len(content.stages), _slug(f"stage-{k + 1}-{stage.name}", taken), figs_dir, tabs_dir,
+               written)
     for sec in content.configurations:
         _configuration(page, sec, _slug(sec.name, taken), figs_dir, tabs_dir, written)
     if content.variables:

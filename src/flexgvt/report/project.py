@@ -17,9 +17,10 @@ import numpy as np
 from ..fem import modes_versus_load, solve_modes, solve_static
 from ..io.uff import shapes_at_points
 from ..workflow import measured
+from ..workflow.stages import mass_rows
 from ..workflow.runner import write_results
 from . import testdata
-from .content import ConfigurationSection, Geometry, ModeShape, ReportContent, StabilisationData
+from .content import ConfigurationSection, Geometry, ModeShape, ReportContent, StabilisationData, StageSection
 from .figures import variable_bars
 from .html import write_report
 
@@ -102,8 +103,16 @@ def _check_rows(res, name: str, item) -> list[dict]:
     return rows
 
 
+def _update_of(res, name: str):
+    """The UpdateResult that updated on configuration ``name``: the last stage's that did, or the run's."""
+    for stage in reversed(getattr(res, "stages", None) or []):
+        if stage.update is not None and name in stage.update.tables:
+            return stage.update
+    return res.update
+
+
 def _section(res, name: str):
-    project, up = res.project, res.update
+    project, up = res.project, _update_of(res, name)
     model = res.model
     item = res.identified.get(name)
     role = next(c.role for c in project.spec.configurations if c.name == name)
@@ -173,6 +182,54 @@ def _aligned(meas, fe, j, xyz, state):
     return np.real(meas) * scale
 
 
+def _variable_rows(up) -> list[dict]:
+    """The design-variable rows of an UpdateResult (kind, attribute, SI unit, values, bounds, status)."""
+    variables = []
+    for r in up.variables:
+        std = r["std"]
+        variables.append({"name": r["name"], "attribute": f"{r.get('kind', '')} {r.get('attribute', '')}".strip(),
+                          "unit": testdata.variable_unit(r.get("kind", ""), r.get("attribute", "")),
+                          "initial": r["initial"], "updated": r["final"],
+                          "change_percent": r["change_percent"],
+                          "std_percent": None if std is None or not r["initial"] else 100 * std / abs(r["initial"]),
+                          "bounds": (r["lower"], r["upper"]), "at_bound": r["at_bound"],
+                          "identifiable": r["identifiable"]})
+    for row, status in zip(variables, variable_bars(variables)["status"]):
+        row["status"] = status
+    return variables
+
+
+def _stage_sections(res) -> list[StageSection]:
+    """A StageSection per stage of a staged run: its data and settings, fixed inputs, variables and the
+    frequency table of each configuration it updated on."""
+    out = []
+    for s in getattr(res, "stages", None) or []:
+        st, up = s.stage, s.update
+        data = list(st.configurations)
+        target = st.objective.measured_mass
+        if target is not None and any(getattr(target, k) is not None for k in ("mass", "cg", "inertia")):
+            data.append("measured mass properties (" + ", ".join(k for k in ("mass", "cg", "inertia")
+                                                                  if getattr(target, k) is not None) + ")")
+        summary = [("data", ", ".join(data) or "none (fixed inputs only)")]
+        if st.description:
+            summary.insert(0, ("description", st.description))
+        frequencies, notes = {}, []
+        if up is not None:
+            summary += [("bounds", "about the values the stage starts from" if st.recentre else
+                         "about the project's initial model"),
+                        ("updating", f"{len(up.variables)} variables, {up.method}: {_stop_note(up)}"),
+                        ("objective", f"{up.initial.objective:.4g} -> {up.final.objective:.4g} in "
+                                      f"{len(up.history) - 1} iterations ({up.solves} solves, {up.seconds:.1f} s)"
+                                      + (" (read back from the store)" if s.resumed else ""))]
+            for name, table in up.tables.items():
+                rows, why = _frequency_rows(res.identified.get(name), up, name, table, None)
+                frequencies[name] = rows
+                notes += [f"{name}: {w}" for w in why]
+        out.append(StageSection(st.name, summary, s.fixed, [] if up is None else _variable_rows(up), frequencies,
+                                notes, mass_rows(st, up)))
+    return out
+
+
 def build_report_content(res):
     """A ReportContent for a RunResult."""
     project, up = res.project, res.update
@@ -183,20 +240,10 @@ def build_report_content(res):
         summary.append((f"test data {name}", f"{len(item.frequencies_hz)} modes from {item.source}"))
     variables, history = [], []
     if up is not None:
-        summary += [("updating", f"{len(project.variables)} variables, {up.method}: {_stop_note(up)}"),
+        summary += [("updating", f"{len(up.variables)} variables, {up.method}: {_stop_note(up)}"),
                     ("objective", f"{up.initial.objective:.4g} -> {up.final.objective:.4g} in "
                                   f"{len(up.history) - 1} iterations ({up.solves} solves, {up.seconds:.1f} s)")]
-        for r in up.variables:
-            std = r["std"]
-            variables.append({"name": r["name"], "attribute": f"{r.get('kind', '')} {r.get('attribute', '')}".strip(),
-                              "unit": testdata.variable_unit(r.get("kind", ""), r.get("attribute", "")),
-                              "initial": r["initial"], "updated": r["final"],
-                              "change_percent": r["change_percent"],
-                              "std_percent": None if std is None or not r["initial"] else 100 * std / abs(r["initial"]),
-                              "bounds": (r["lower"], r["upper"]), "at_bound": r["at_bound"],
-                              "identifiable": r["identifiable"]})
-        for row, status in zip(variables, variable_bars(variables)["status"]):
-            row["status"] = status
+        variables = _variable_rows(up)
         history = [float(h["objective"]) for h in up.history]
     summary.append(("run time", ", ".join(f"{k} {v:.1f} s" for k, v in res.timings.items())))
     sections = [_section(res, c.name) for c in spec.configurations]
@@ -241,8 +288,14 @@ def build_report_content(res):
                      "(energy mostly in the cords) marked.")
     if up is not None and up.identifiability.get("unidentifiable"):
         notes.append(f"variables the data cannot see: {up.identifiability['unidentifiable']}")
+    stages = _stage_sections(res)
+    if stages:
+        summary.insert(3, ("stages", " -> ".join(f"{k + 1}. {s.name}" for k, s in enumerate(stages))))
+        notes.append("Staged updating: each stage starts from the model the previous one produced; the "
+                     "configuration sections show the stage that last updated on them, the design variables and "
+                     "history the final updating stage's, the prediction the final model's.")
     return ReportContent(f"flexgvt: {spec.project.name}", summary, sections, variables, history, evolution,
-                         prediction, title, notes, modes)
+                         prediction, title, notes, modes, stages)
 
 
 def _level(bounds: dict) -> str:

@@ -93,7 +93,7 @@ def write_outputs(res, out: Path) -> dict[str, str]:
     """Write what the project's [outputs] table asks for into ``out``; returns {name: path}."""
     spec = res.project.spec.outputs
     files: dict[str, str] = {}
-    if spec.bdf and res.update is not None:
+    if spec.bdf and (res.update is not None or getattr(res, "stages", None)):
         files["bdf"] = str(_atomically(write_updated_bdf, res, out / "updated.bdf"))
     if spec.uff:
         for name, item in res.identified.items():
@@ -175,8 +175,8 @@ def write_updated_bdf(res, path: Path) -> Path:
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # the writer's notes on split properties are expected here
         if project.deck is not None:
-            return write_bdf(res.update.model, path, template=project.deck)
-        return write_bdf(res.update.model, path, configurations=[Configuration("free_free")],
+            return write_bdf(res.model, path, template=project.deck)
+        return write_bdf(res.model, path, configurations=[Configuration("free_free")],
                          n_modes=project.spec.prediction.n_modes + 6)
 
 

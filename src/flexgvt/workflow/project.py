@@ -21,6 +21,7 @@ from ..model import ConcentratedMass, Configuration, Cord, Model, NodalLoad
 from ..model.configuration import STANDARD_GRAVITY
 from .projectbase import Project, ProjectError
 from .schema import ConfigurationSpec, ProjectFile
+from .stages import flatten, resolve_stages
 
 
 def _loc(loc) -> str:
@@ -143,6 +144,7 @@ def resolve(path: Path, spec: ProjectFile, pretest: bool = False) -> Project:
         return checked_path(folder, value, key, "file")
 
     output_dir(folder, spec.outputs.directory, spec.outputs.allow_outside, f"{where}: outputs.directory")
+    spec = flatten(spec, where)
     case = deck = None
     if spec.model.case is not None:
         from .. import cases
@@ -184,7 +186,7 @@ def resolve(path: Path, spec: ProjectFile, pretest: bool = False) -> Project:
                     _need_file(rel(f, f"{loc}.test.{key}"), f"{loc}.test.{key}", "test data file")
             sensors[c.name] = _points(t.points, case, model, lambda s, loc=loc: rel(s, f"{loc}.test.points"),
                                       f"{loc}.test.points")
-    if not spec.variables and not pretest and any(c.role == "update" for c in spec.configurations):
+    if not spec.variables and not spec.stages and not pretest and any(c.role == "update" for c in spec.configurations):
         raise ProjectError(f"{where}: variables: no design variable; add [[variables]] tables (or set every "
                            "configuration's role = \"check\" to only compare and predict)")
     variables = _variables(spec, model, configurations, where)
@@ -195,7 +197,8 @@ def resolve(path: Path, spec: ProjectFile, pretest: bool = False) -> Project:
     if spec.prediction.reference is not None:
         key = f"{where}: prediction.reference"
         read_reference(_need_file(rel(spec.prediction.reference, key), key, "reference file"), key)
-    project = Project(path, spec, model, configurations, available, variables, case, deck, sensors)
+    stages = [] if pretest else resolve_stages(spec, model, configurations, variables, where)
+    project = Project(path, spec, model, configurations, available, variables, case, deck, sensors, stages)
     for k, c in enumerate(spec.configurations):
         if c.test is not None and not pretest:
             check_test_data(project, k, c, where)
@@ -317,23 +320,17 @@ def case_points(case) -> tuple[dict, dict]:
 
 
 def _variables(spec: ProjectFile, model: Model, configurations: dict, where: str) -> list:
-    from ..updating import Parametrisation, Variable
-    from ..updating.settings import renamed
+    from ..updating import Parametrisation
+    from .stages import variable_of
     out = []
     for k, v in enumerate(spec.variables):
-        if v.kind in ("mass", "spring") and any(isinstance(t, int) for t in v.targets):
-            renamed(f"{where}: variables[{k}] ('{v.name}'): {v.kind} targets by position",
-                    "their names (targets = [\"name\"]) or ids (ids = [...])", 4)
+        var = variable_of(v, f"{where}: variables[{k}] ('{v.name}')", where)
         try:
-            var = Variable(v.name, v.kind, v.attribute if v.attribute != "thickness" else "height",
-                           tuple(v.targets), None if v.bounds is None else tuple(v.bounds),
-                           configurations=None if v.configurations is None else tuple(v.configurations),
-                           ids=tuple(v.ids))
             Parametrisation(model, list(configurations.values()), [var])
         except ModelError as exc:
             raise ProjectError(f"{where}: variables[{k}] ('{v.name}'): {exc}") from None
         out.append(var)
-    if out:
+    if out and not spec.stages:  # with stages, each stage's own set is checked (two may overlap in two stages)
         try:
             Parametrisation(model, list(configurations.values()), out)
         except ModelError as exc:

@@ -23,7 +23,8 @@ class Project:
     model: the structure (built-in case or deck); configurations: the project's test
     configurations by name (suspension, masses, loads resolved); available: every configuration
     the model defines (a case's or a deck's), for predictions; variables: the design variables;
-    sensors: {configuration: (node_map, offsets)} test point -> FE node and arm [m]."""
+    sensors: {configuration: (node_map, offsets)} test point -> FE node and arm [m]; stages: the
+    resolved [[stages]] (flexgvt.workflow.stages.Stage), empty for a single-stage project."""
 
     path: Path
     spec: ProjectFile
@@ -34,6 +35,7 @@ class Project:
     case: object | None = None
     deck: object | None = None
     sensors: dict = field(default_factory=dict)
+    stages: list = field(default_factory=list)
 
     @property
     def folder(self) -> Path:

@@ -45,10 +45,13 @@ class RunResult:
     timings: dict[str, float] = field(default_factory=dict)
     resumed: list[str] = field(default_factory=list)
     report_wanted: bool = False  # the project's [outputs] report: flexgvt.report.write_project_report(result)
+    stages: list = field(default_factory=list)  # StageResult per [[stages]] entry (update: the last one's)
 
     @property
     def model(self):
-        """The updated model (the initial one when nothing was updated)."""
+        """The updated model (the final stage's; the initial one when nothing was updated)."""
+        if self.stages:
+            return self.stages[-1].model
         return self.project.model if self.update is None else self.update.model
 
     def to_dict(self) -> dict:
@@ -65,7 +68,7 @@ class RunResult:
             "prediction": {k: p.rows for k, p in self.predictions.items()},
             "prediction_modes": {k: p.modes for k, p in self.predictions.items()},
             "prediction_uncertainty": {k: p.uncertainty for k, p in self.predictions.items()},
-            "files": self.files})
+            "files": self.files, **({"stages": [s.to_dict() for s in self.stages]} if self.stages else {})})
 
     def as_dict(self) -> dict:
         """Deprecated: to_dict()."""
@@ -275,7 +278,13 @@ def _run_locked(project: Project, out: Path, store: Path, log, report, t_all: fl
     timings["identification"] = time.perf_counter() - t0
 
     result = None
-    if project.to_update:
+    staged: list = []
+    if project.stages:
+        t0 = time.perf_counter()
+        staged = run_stages(project, identified, store, log, iterations, resumed)
+        result = next((s.update for s in reversed(staged) if s.update is not None), None)
+        timings["updating"] = time.perf_counter() - t0
+    elif project.to_update:
         t0 = time.perf_counter()
         result = _update(project, identified, store, log, iterations)
         if any(s.get("resumed") for s in result.starts):
@@ -287,27 +296,35 @@ def _run_locked(project: Project, out: Path, store: Path, log, report, t_all: fl
 
     t0 = time.perf_counter()
     model = project.model if result is None else result.model
+    final_configs = project.configurations if result is None else {**project.configurations, **result.configurations}
+    if staged:
+        model, final_configs = staged[-1].model, staged[-1].configurations
     checks = {"initial": check(project, project.model, identified)}
-    if result is not None:
+    if result is not None or staged:
         checks["updated"] = check(project, model, identified)
     timings["check"] = time.perf_counter() - t0
 
     t0 = time.perf_counter()
     predictions = {}
     if project.spec.prediction.free_free:
-        configs = project.configurations if result is None else {**project.configurations, **result.configurations}
         predictions["initial"] = predict(project, project.model, project.configurations)
-        if result is not None:
-            predictions["updated"] = predict(project, model, configs)
+        if result is not None or staged:
+            predictions["updated"] = predict(project, model, final_configs)
         log(f"prediction: {len(predictions[list(predictions)[-1]].rows)} free-free elastic modes")
     timings["prediction"] = time.perf_counter() - t0
-    if result is not None and "updated" in predictions and project.spec.prediction.uncertainty.method != "none":
+    bounds_on = staged[-1].project if staged else project  # the final stage's variables, start model and data
+    if staged and staged[-1].update is None and "updated" in predictions:
+        log("prediction: no confidence bounds: the final stage only sets fixed inputs (the bounds come from the "
+            "variables an updating final stage identifies)")
+        bounds_on = None
+    if (result is not None and bounds_on is not None and "updated" in predictions
+            and project.spec.prediction.uncertainty.method != "none"):
         from .bounds import add_bounds
         t0 = time.perf_counter()
-        add_bounds(project, result, predictions["updated"], identified, progress=log)
+        add_bounds(bounds_on, result, predictions["updated"], identified, progress=log)
         timings["bounds"] = time.perf_counter() - t0
 
-    res = RunResult(project, identified, result, checks, predictions, {}, timings, resumed)
+    res = RunResult(project, identified, result, checks, predictions, {}, timings, resumed, stages=staged)
     t0 = time.perf_counter()
     from .outputs import write_outputs
     res.files.update(write_outputs(res, out))
@@ -320,13 +337,67 @@ def _run_locked(project: Project, out: Path, store: Path, log, report, t_all: fl
     return res
 
 
-def _update(project: Project, identified: dict, store: Path, log, iterations):
+def run_stages(project: Project, identified: dict, store: Path, log, iterations=None,
+               resumed: list | None = None) -> list:
+    """The project's [[stages]] in order, each from the model and configurations the previous one
+    produced (its fixed inputs set first), each with its own results store
+    (store/stage-<n>-<name>.sqlite, discarded when the stage's start changed); returns a
+    flexgvt.workflow.stages.StageResult per stage."""
+    from .stages import StageResult, apply_fixed, stage_view, start_digest
+    model, configs = project.model, dict(project.configurations)
+    out, digest, previous = [], "", None
+    for stage in project.stages:
+        t0 = time.perf_counter()
+        title = f"stage {stage.index + 1} of {len(project.stages)} ('{stage.name}')"
+        model, configs, fixed = apply_fixed(stage, model, configs)
+        for r in fixed:
+            log(f"{title}: {r['name']} ({r['kind']} {r['attribute']}) set to {r['value']:.6g} (was {r['before']:.6g})")
+        view = stage_view(project, stage, model, configs)
+        digest = start_digest(digest, stage, previous)
+        up, again = None, False
+        if stage.updates:
+            base = f"stage-{stage.index + 1}-{safe_name(stage.name)}"
+            _start_store(store, base, digest, title, log)
+            up = _update(view, identified, store, log, iterations, f"{base}.sqlite", title)
+            again = any(s.get("resumed") for s in up.starts)
+            if again and resumed is not None:
+                resumed.append(f"updating {stage.name}")
+            log(up.summary())
+            if not up.success:
+                log(limit_note(up, view))
+            model = up.model.copy(project.model.name)
+            configs = {**configs, **up.configurations}
+        previous = StageResult(stage, view, up, model, dict(configs), fixed, again, time.perf_counter() - t0)
+        out.append(previous)
+    return out
+
+
+def _start_store(store: Path, base: str, digest: str, title: str, log) -> None:
+    """Discard a stage's stored runs when its start (the previous stages' answers, its fixed inputs) changed."""
+    start = store / f"{base}.start.json"
+    db = store / f"{base}.sqlite"
+    try:
+        saved = json.loads(start.read_text(encoding="utf-8")).get("start")
+    except (OSError, UnicodeDecodeError, json.JSONDecodeError, AttributeError):
+        saved = None
+    if saved != digest and db.is_file():
+        from ..updating import ResultsStore
+        with ResultsStore(db) as s:
+            s.clear()
+        log(f"{title}: the stage starts from another model than its stored runs (an earlier stage or its fixed "
+            "inputs changed): starting it again")
+    write_json_atomic(start, {"start": digest})
+
+
+def _update(project: Project, identified: dict, store: Path, log, iterations, name: str = "updating.sqlite",
+            title: str = ""):
     """The updating step with its results store; Ctrl-C -> RunInterrupted with the store's status."""
     from ..updating import ResultsStore
-    db = ResultsStore(store / "updating.sqlite", progress=log)
+    db = ResultsStore(store / name, progress=log)
     opt = project.spec.optimiser
-    log(f"updating {len(project.variables)} variables on {project.to_update} ({opt.method}, at most "
-        f"{opt.max_iterations} evaluations, tolerance {opt.tolerance:g})")
+    data = project.to_update or "the measured mass properties"
+    log(f"{title + ': ' if title else ''}updating {len(project.variables)} variables on {data} "
+        f"({opt.method}, at most {opt.max_iterations} evaluations, tolerance {opt.tolerance:g})")
 
     def progress(row):
         if iterations is not None:
@@ -405,12 +476,12 @@ def discard_store(store: Path, log: Callable[[str], None]) -> None:
     gone = [p for p in store.glob("identified-*.json") if p.is_file()]
     for p in gone:
         p.unlink()
-    db = store / "updating.sqlite"
-    if db.is_file():
-        from ..updating import ResultsStore
-        with ResultsStore(db) as s:
-            s.clear()
-        gone.append(db)
+    for db in [store / "updating.sqlite", *sorted(store.glob("stage-*.sqlite"))]:
+        if db.is_file():
+            from ..updating import ResultsStore
+            with ResultsStore(db) as s:
+                s.clear()
+            gone.append(db)
     log(f"fresh run: discarded the stored results ({', '.join(p.name for p in gone)})" if gone else
         "fresh run: nothing stored yet")
 

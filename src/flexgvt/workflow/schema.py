@@ -195,12 +195,12 @@ class ConfigurationSpec(Strict):
 
 
 class VariableSpec(Strict):
-    """A design variable (flexgvt.updating.Variable): targets are beam group, mass or spring names
+    """A design variable (flexgvt.updating.Variable): targets are beam or shell group, mass or spring names
     or patterns (positions of masses and springs still work, deprecated), or indices of cords; ids:
     mass or spring ids (a deck's CONM2, CELAS or CBUSH EIDs)."""
 
     name: str
-    kind: Literal["beam", "mass", "spring", "cord"]
+    kind: Literal["beam", "mass", "spring", "cord", "shell"]
     targets: list[str | int] = Field(default_factory=list)
     ids: list[int] = Field(default_factory=list)
     attribute: str
@@ -299,6 +299,33 @@ class OutputSpec(Strict):
     uff: bool = Field(True, description="write identified and predicted modes as UFF 55")
 
 
+class StageSpec(Strict):
+    """One stage of a staged updating ([[stages]], run in order): its configurations, design variables
+    and bounds, fixed inputs and settings; it starts from the model the previous stage produced."""
+
+    name: str = Field(min_length=1, description="the stage's name (report, results.json, store)")
+    description: str = Field("", description="one line on what the stage tests and updates")
+    configurations: list[str | ConfigurationSpec] = Field(
+        default_factory=list, description="the configurations updated on in this stage: names of [[configurations]] "
+        "or its own [[stages.configurations]] tables (as [[configurations]])")
+    variables: list[str | VariableSpec] = Field(
+        default_factory=list, description="the design variables of this stage: names of [[variables]] or its own "
+        "[[stages.variables]] tables (as [[variables]])")
+    bounds: dict[str, Annotated[list[float], Field(min_length=2, max_length=2)]] = Field(
+        default_factory=dict, description="this stage's normalised bounds of named variables, e.g. "
+        "{ E = [0.9, 1.1] } (default: the variable's own)")
+    recentre: bool = Field(True, description="true: the bounds multiply the values the stage starts from (carried "
+                           "from the previous stage); false: they multiply the project's initial model's values")
+    set: dict[str, float | str] = Field(
+        default_factory=dict, description="fixed inputs set before the stage updates (component tests: a tip-load "
+        "modulus, a weighed density): variable name -> the value of its attribute (SI, or a string with a unit), "
+        "e.g. { E_spar = \"45 GPa\" }")
+    objective: ObjectiveSpec | None = Field(None, description="this stage's [objective] keys (the others as "
+                                            "[objective]); e.g. its measured_mass (weights)")
+    optimiser: OptimiserSpec | None = Field(None, description="this stage's [optimiser] keys (the others as "
+                                            "[optimiser])")
+
+
 class ProjectFile(Strict):
     """The whole project file."""
 
@@ -312,3 +339,5 @@ class ProjectFile(Strict):
     prediction: PredictionSpec = Field(default_factory=PredictionSpec)
     plan: Annotated[PlanSpec, _into(PlanSettings)] = Field(default_factory=PlanSettings)
     outputs: OutputSpec = Field(default_factory=OutputSpec)
+    stages: list[StageSpec] = Field(default_factory=list, description="staged updating, in order (none: one "
+                                    "stage, the configurations with role \"update\" and every [[variables]])")

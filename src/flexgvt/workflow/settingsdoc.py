@@ -27,6 +27,9 @@ TABLES = (
     ("[prediction.uncertainty]", ("prediction", "uncertainty"), "Defined by flexgvt.updating.UncertaintySettings "
      "(docs/updating.md, confidence bounds)."),
     ("[outputs]", ("outputs",), ""),
+    ("[[stages]]", ("stages",), "Staged updating (docs/workflow.md, \"Stages\"): the stages run in order, each "
+     "from the model the previous one produced. Its objective and optimiser tables take the keys of [objective] "
+     "and [optimiser]; those it leaves out are the project's."),
 )
 
 
@@ -51,6 +54,10 @@ def _type_name(annotation: Any) -> str:
         return "one of " + ", ".join(f'"{a}"' for a in typing.get_args(annotation))
     if origin is list:
         return f"list of {_type_name(typing.get_args(annotation)[0])}"
+    if origin is dict:
+        return f"table of {_type_name(typing.get_args(annotation)[1])}"
+    if isinstance(annotation, type) and issubclass(annotation, BaseModel):
+        return "table"
     if annotation is type(None):
         return "none"
     return {float: "number", int: "integer", bool: "true/false", str: "text"}.get(annotation, getattr(
@@ -60,7 +67,7 @@ def _type_name(annotation: Any) -> str:
 def _default(info) -> str:
     if info.default_factory is not None:
         value = info.default_factory()
-        return "[]" if value == [] else "(the table's defaults)"
+        return "[]" if value == [] else "{}" if value == {} else "(the table's defaults)"
     value = info.default
     if value is PydanticUndefined:
         return "required"
@@ -99,7 +106,8 @@ def settings_page() -> str:
         for name, info in model.model_fields.items():
             extra = info.json_schema_extra if isinstance(info.json_schema_extra, dict) else {}
             nested = _model_of(info.annotation)
-            kind = "table" if nested is not None else _type_name(info.annotation)
+            kind = "table" if nested is not None and typing.get_origin(info.annotation) is not list \
+                else _type_name(info.annotation)
             lines.append(f"| `{name}` | {kind} | {_default(info)} | {extra.get('unit', '')} | {_limits(info)} | "
                          f"{info.description or ''} |")
         lines.append("")

@@ -123,6 +123,21 @@ directory = "results"      # report.html, updated.bdf, modes as UFF 55, CSV tabl
 report = true
 bdf = true
 uff = true
+
+# Staged updating (docs/workflow.md, "Stages"): without [[stages]] every configuration with role "update"
+# is updated on at once with every [[variables]]. With them, the stages run in order, each from the model
+# the previous one produced (bounds about the values it starts from; recentre = false: about this model).
+# Every configuration with role "update" must be named by a stage. For example (your names):
+# [[stages]]
+# name = "components"      # component tests: fixed inputs (set) and/or weights (objective.measured_mass)
+# set = {{ E = "4.3 GPa" }}  # a variable's targets set to this value (a tip-load modulus, a density)
+# [[stages]]
+# name = "GVT"
+# configurations = ["outboard"]      # names of [[configurations]] (or its own [[stages.configurations]])
+# variables = ["E"]                  # names of [[variables]] (or its own [[stages.variables]])
+# bounds = {{ E = [0.8, 1.2] }}        # this stage's bounds
+# [stages.optimiser]                 # this stage's [optimiser] (and [stages.objective]) keys
+# max_iterations = 60
 '''
 
 
