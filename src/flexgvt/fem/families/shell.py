@@ -12,6 +12,7 @@ import numpy as np
 from ...errors import ModelError
 from ...model import Configuration
 from .._shell_corotational import CorotationalTerms, corotated_frames, corotational_setup, corotational_terms
+from .._shell_elements import drill_factor_penalty
 from .._shell_model import ShellArrays, group_sections
 from ..checks import _REMEDY, _bad, _ids
 from ..labels import section_fractions
@@ -143,9 +144,10 @@ class ShellFamily:
         """item = {group position in Model.shells: [(property, weight), ...]}: a difference rule in a
         property value. The element terms are linear in the element constants (the local stiffness,
         the initial-stress resultants' map, the masses), so their change is the same corotational
-        evaluation with sum weight * constants(property); the constants of each property come from
-        the kernels (the triangle's ANDES scale depends on the section's Poisson ratio, so the
-        kernels are not linear in the section), once per change (kept in ``cache``)."""
+        evaluation with sum weight * constants(property). A quad's constants are linear in its section
+        and mass (the drilling penalty too, on the base section's branch): one kernel pass with the
+        rule applied to the sections; the triangle's ANDES scale depends on the section's Poisson
+        ratio, so its constants come from one kernel pass per property. Once per change (``cache``)."""
         a = self.arrays
         groups = np.array(sorted(int(g) for g in item), int)
         rows = np.flatnonzero(np.isin(a.groups, groups))
@@ -164,10 +166,19 @@ class ShellFamily:
                     continue
                 group = a.shell_groups[g]
                 where = f"shell group '{group.name}'"
-                for prop, weight in item[g]:
-                    C, m, _ = group_sections(replace(group, property=prop), X[on], where)
-                    one = corotational_setup(X[on], C, ids=a.element_ids[rows][on], initial_stress=GN is not None,
-                                             mass=m, lumped=a.lumped[rows][on])
+                ids, lumped = a.element_ids[rows][on], a.lumped[rows][on]
+                sections = [(*group_sections(replace(group, property=prop), X[on], where)[:2], weight)
+                            for prop, weight in item[g]]
+                if self.p == 4:  # linear in the section and mass: one element pass with their changes
+                    dC = sum(w * C for C, _, w in sections)
+                    dm = sum(w * m for _, m, w in sections)
+                    drill = drill_factor_penalty(X[on], dC, like=a.C[rows][on])
+                    parts = [(corotational_setup(X[on], dC, ids=ids, initial_stress=GN is not None, mass=dm,
+                                                 lumped=lumped, drill=drill, stress_matrices=False), 1.0)]
+                else:  # the triangle's ANDES scale is not linear in the section: the rule on whole setups
+                    parts = [(corotational_setup(X[on], C, ids=ids, initial_stress=GN is not None, mass=m,
+                                                 lumped=lumped), w) for C, m, w in sections]
+                for one, weight in parts:
                     K[on] += weight * one.K
                     M[on] += weight * one.M
                     if GN is not None:
