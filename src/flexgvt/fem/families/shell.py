@@ -43,7 +43,7 @@ class ShellFamily:
     name: str
 
     structural: ClassVar[bool] = True
-    translation_invariant: ClassVar[bool] = False
+    translation_invariant: ClassVar[bool] = True  # terms of the corner differences only
     mass_from_positions: ClassVar[bool] = True  # the mass matrix depends on the corners' positions only
     value_fields: ClassVar[tuple[str, ...]] = ("shells",)
     has_damping: ClassVar[bool] = False
