@@ -156,11 +156,17 @@ class ConfigurationBlocks:
         return np.array(rows)
 
 
+SHARED_FACTOR_MIN_DOF = 2000  # below: Nelson's per-mode factorisations (cheap there, and bit for bit as before)
+
+
 def _solver(p: ConfigurationPoint):
     """The configuration's ModeSolver at this point (one factorisation for the state's and every
-    paired mode's derivative), or None where the modes do not allow it (not mass-normalised, a
-    singular shift): each solve then factorises its own matrix (the tangent; Nelson's pinned
-    K - lambda M per mode)."""
+    paired mode's derivative), or None for small systems (SHARED_FACTOR_MIN_DOF: their per-mode
+    LUs take milliseconds, and their results stay those of the direct solves) and where the modes
+    do not allow it (not mass-normalised, a singular shift): each solve then factorises its own
+    matrix (the tangent; Nelson's pinned K - lambda M per mode)."""
+    if p.K.shape[0] < SHARED_FACTOR_MIN_DOF:
+        return None
     try:
         return ModeSolver(p.K, p.M, p.eigenvalues, p.phi)
     except SolverError:
