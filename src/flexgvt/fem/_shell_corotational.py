@@ -147,15 +147,18 @@ class _Frame:
 
 def corotational_setup(X: np.ndarray, C: np.ndarray, drill_factor: float = DRILL_FACTOR,
                        ids: np.ndarray | None = None, initial_stress: bool = False,
-                       mass: np.ndarray | None = None, lumped=False) -> CorotationalShells:
+                       mass: np.ndarray | None = None, lumped=False, drill: np.ndarray | None = None,
+                       stress_matrices: bool = True) -> CorotationalShells:
     """Constants of corotational quads (X (n, 4, 3)) or triangles (X (n, 3, 3)) [m] with sections
     C (n, 8, 8) (see shell_matrices): the linear local stiffness turned into the corotated frame.
     initial_stress: add the local energy 1/2 N(d) . (d^T K_sigma d) (the membrane resultants acting on
     the element's own deformational slopes; the frame's rigid rotation is not in d, so nothing is
     counted twice), which plate buckling within coarse meshes needs. mass (n, 3), lumped: the
-    element masses (see shell_matrices), turned into E0 as the stiffness."""
+    element masses (see shell_matrices), turned into E0 as the stiffness. drill: the drilling
+    penalties (see shell_matrices); stress_matrices=False leaves KS out (it depends on the geometry
+    alone: a change of the constants keeps it)."""
     X = np.ascontiguousarray(X, dtype=float)
-    lin = shell_matrices(X, C, mass, lumped, drill_factor=drill_factor, ids=ids, local=True)
+    lin = shell_matrices(X, C, mass, lumped, drill_factor=drill_factor, ids=ids, local=True, drill=drill)
     fr = _Frame(X)
     E0 = fr.E
     Tr = np.einsum("nji,njk->nik", E0, lin.frames)  # kernel frame -> corotated frame (about e3)
@@ -173,6 +176,8 @@ def corotational_setup(X: np.ndarray, C: np.ndarray, drill_factor: float = DRILL
         return CorotationalShells(X, *(np.ascontiguousarray(a) for a in (E0, Xl, K)), M=M)
     TbT = np.transpose(Tb, (0, 2, 1))
     GN = np.einsum("nij,njk,nkl->nil", np.ascontiguousarray(C)[:, :3, :3], _mean_strain(lin.coords), TbT)
+    if not stress_matrices:
+        return CorotationalShells(X, *(np.ascontiguousarray(a) for a in (E0, Xl, K)), GN=np.ascontiguousarray(GN), M=M)
     Tg = np.zeros_like(Tb)
     for b in range(2 * p):
         Tg[:, 3 * b:3 * b + 3, 3 * b:3 * b + 3] = np.transpose(E0, (0, 2, 1))

@@ -31,12 +31,13 @@ class ShellMatrices:
 
 def shell_matrices(X: np.ndarray, C: np.ndarray, mass: np.ndarray | None = None, lumped=False,
                    drill_factor: float = DRILL_FACTOR, ids: np.ndarray | None = None,
-                   local: bool = False) -> ShellMatrices:
+                   local: bool = False, drill: np.ndarray | None = None) -> ShellMatrices:
     """Stiffness (and mass if ``mass`` is given) of n quads (X (n, 4, 3) corners [m]) or triangles
     (X (n, 3, 3)). C (n, 8, 8) section matrices in element axes, mass (n, 3) [m0, m1, m2] per
     area (_shell_section.section_arrays), lumped: bool or (n,) bools. ids: element ids for the
     error messages (default: the row numbers). local: the matrices in the element frames (what a
-    corotational wrapper rotates), else in global axes."""
+    corotational wrapper rotates), else in global axes. drill: (n,) the drilling penalties when
+    given (default: drill_factor_penalty of C), so that a quad's matrices are linear in (C, drill)."""
     X = np.ascontiguousarray(X, dtype=float)
     n, nn = X.shape[0], X.shape[1]
     if X.ndim != 3 or nn not in (3, 4) or X.shape[2] != 3:
@@ -45,9 +46,7 @@ def shell_matrices(X: np.ndarray, C: np.ndarray, mass: np.ndarray | None = None,
     want_mass = mass is not None
     mass = np.ascontiguousarray(mass if want_mass else np.zeros((n, 3)), dtype=float)
     lumped = np.ascontiguousarray(np.broadcast_to(np.asarray(lumped, dtype=bool), (n,)))
-    drill = np.ascontiguousarray(drill_factor * C[:, 2, 2])
-    if np.any(drill <= 0):  # no membrane: tie the drilling rotation with the bending stiffness instead
-        drill = np.where(drill > 0, drill, drill_factor * 12.0 * C[:, 5, 5] / np.maximum(_size2(X), 1e-300))
+    drill = np.ascontiguousarray(drill_factor_penalty(X, C, drill_factor) if drill is None else drill, dtype=float)
     nd = 6 * nn
     K = np.empty((n, nd, nd))
     M = np.empty((n, nd, nd)) if want_mass else np.empty((0, nd, nd))
@@ -83,6 +82,17 @@ def shell_geometric(X: np.ndarray, N: np.ndarray) -> np.ndarray:
     out = np.empty((X.shape[0], 6 * X.shape[1], 6 * X.shape[1]))
     _geometric_chunk(X, N, out, 0, X.shape[0])
     return out
+
+
+def drill_factor_penalty(X: np.ndarray, C: np.ndarray, drill_factor: float = DRILL_FACTOR,
+                         like: np.ndarray | None = None) -> np.ndarray:
+    """(n,) the drilling penalty of sections C (n, 8, 8) on elements X: drill_factor A33, or where a
+    section has no membrane (A33 <= 0) drill_factor 12 D33 / size^2 (the bending stiffness ties the
+    drilling rotation instead). like: the sections that choose the branch (C is then a change of
+    them: the penalty is linear in C within a branch)."""
+    membrane = (C if like is None else like)[:, 2, 2] > 0
+    return np.where(membrane, drill_factor * C[:, 2, 2],
+                    drill_factor * 12.0 * C[:, 5, 5] / np.maximum(_size2(X), 1e-300))
 
 
 def _size2(X):

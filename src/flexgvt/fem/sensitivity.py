@@ -201,21 +201,26 @@ class ModalStateTerms:
     H: list | None
 
 
-def _element_state_derivatives(fn, xn, Rn, h_t, h_r, translation_invariant: bool = False):
+def _element_state_derivatives(fn, xn, Rn, h_t, h_r, translation_invariant: bool = False,
+                               rotations=None):
     """Yield (node, component, dK, dM): derivatives of element blocks (K, M) = fn(x, R) with respect
     to each DOF (dx or spatial spin) of each of their nodes, every element at once (their nodes are
     exploded: xn (n, p, 3), Rn (n, p, 3, 3)). Four-point central differences: a two-point rule
     left 0.5 % errors in the first mode's slope of the strip under self-weight (the stretch of a
-    short element is steeply nonlinear in its end positions). translation_invariant (two-node
-    elements whose blocks depend on x2 - x1 only, as the corotational beam's): the first node's
-    translation derivatives are the second's, negated."""
+    short element is steeply nonlinear in its end positions). translation_invariant (elements
+    whose blocks depend on the differences of their nodes' positions only, as the corotational
+    beam's and shell's): the first node's translation derivatives are minus the sum of the others'.
+    rotations: the tangent-only fn(x, R) for the rotation DOFs of a family whose mass depends on the
+    positions alone (dM is then exactly zero there and yielded as None)."""
     p = xn.shape[1]
-    mirror = translation_invariant and p == 2
+    mirror = translation_invariant and p >= 2
+    sums = {}  # component -> (sum of dK, sum of dM) over the nodes after the first
     for a in range(p):
         for c in range(6):
             if mirror and a == 0 and c < 3:
-                continue  # yielded with the second node's below
+                continue  # yielded with the last node's below
             h = h_t if c < 3 else h_r
+            call = fn if c < 3 or rotations is None else rotations
             dK = dM = 0.0
             for off, w in zip((2 * h, h, -h, -2 * h), (-1 / 12, 8 / 12, -8 / 12, 1 / 12)):
                 xs, Rs = xn, Rn
@@ -227,13 +232,21 @@ def _element_state_derivatives(fn, xn, Rn, h_t, h_r, translation_invariant: bool
                     phi = np.zeros((len(Rn), 3))
                     phi[:, c - 3] = off
                     Rs[:, a] = spin(Rn[:, a], phi)
-                K, M = fn(xs, Rs)
+                K, M = call(xs, Rs)
                 dK = dK + (w / h) * K
                 if M is not None:
                     dM = dM + (w / h) * M
-            yield a, c, dK, (dM if M is not None else None)
-            if mirror and a == 1 and c < 3:
-                yield 0, c, -dK, (-dM if M is not None else None)
+            dM = dM if M is not None else None
+            yield a, c, dK, dM
+            if mirror and c < 3:
+                if a == 1:
+                    sums[c] = (dK, dM)
+                else:
+                    sK, sM = sums[c]
+                    sums[c] = (sK + dK, None if dM is None else sM + dM)
+                if a == p - 1:
+                    sK, sM = sums.pop(c)
+                    yield 0, c, -sK, (None if sM is None else -sM)
 
 
 def modal_state_terms(system, x: np.ndarray, R: np.ndarray, lam: float, phi: np.ndarray, eigenvalues: np.ndarray,
@@ -260,9 +273,11 @@ def modal_state_terms(system, x: np.ndarray, R: np.ndarray, lam: float, phi: np.
     gK = np.zeros((n, 6, m))
     gM = np.zeros((n, 6, m))
     H_blocks = [[] for _ in range(m)] if vectors else None
-    kinds = [(lambda xs, Rs, f=family: f.exploded_terms(xs, Rs, lam), family.nodes, family.translation_invariant)
+    kinds = [(lambda xs, Rs, f=family: f.exploded_terms(xs, Rs, lam), family.nodes, family.translation_invariant,
+              (lambda xs, Rs, f=family: f.exploded_terms(xs, Rs, lam, mass=False))
+              if getattr(family, "mass_from_positions", False) else None)
              for family in system.families]
-    for fn, nodes, mirror in kinds:
+    for fn, nodes, mirror, rotations in kinds:
         if len(nodes) == 0:
             if vectors:
                 width = 6 * max(nodes.shape[1], 1)
@@ -272,7 +287,8 @@ def modal_state_terms(system, x: np.ndarray, R: np.ndarray, lam: float, phi: np.
         ne, p = nodes.shape
         ph = full[nodes].reshape(ne, 6 * p, m)
         Hb = np.zeros((m, ne, 6 * p, 6 * p)) if vectors else None
-        for a, c, dK, dM in _element_state_derivatives(fn, x[nodes], R[nodes], h_t, h_r, mirror):
+        for a, c, dK, dM in _element_state_derivatives(fn, x[nodes], R[nodes], h_t, h_r, mirror,
+                                                         rotations):
             Kphi = dK @ ph  # batched (e, d, d) @ (e, d, m)
             np.add.at(gK[:, c], nodes[:, a], np.sum(ph * Kphi, axis=1))
             if dM is not None:

@@ -4,10 +4,13 @@ deflections, cross-orthogonality), constraints (MAC >= mac_min) and their exact 
 from __future__ import annotations
 
 import numpy as np
+import scipy.sparse as sp
 
 from ..correlation.mac import realise
+from ..errors import SolverError
 from ..model import Model
 from .derivatives import eigenvalue_derivatives, eigenvector_derivatives, modal_terms, state_derivatives
+from .modesolve import ModeSolver
 from .points import Block, ConfigurationPoint
 from .targets import Measured, Objective
 from .variables import Parametrisation
@@ -64,14 +67,15 @@ class ConfigurationBlocks:
         block = Block(np.concatenate(res), names, con, con_names)
         if not gradient:
             return block
-        d = state_derivatives(self.par, self.work, x, p.state, p.tangent, changes=changes)
+        solver = _solver(p)
+        d = state_derivatives(self.par, self.work, x, p.state, p.tangent, changes=changes, solver=solver)
         need_vectors = use_mac or use_mac_min or use_xor
         terms = modal_terms(d, p.state, p.phi[:, idx], p.eigenvalues[idx], need_vectors)
         forms = d.quadratic(p.phi[:, idx])
         dlam = eigenvalue_derivatives(p.eigenvalues[idx], p.phi[:, idx], d, terms, forms)
         df = dlam / (8 * np.pi**2 * np.where(fa > 0, fa, 1.0))[:, None]
         rows = [np.where(ok[:, None], (w.frequency * wf / fm)[:, None] * df, 0.0)]
-        shapes = self._shape_derivatives(p, meas, d, dlam, terms, forms[1], mac_only=not use_xor) \
+        shapes = self._shape_derivatives(p, meas, d, dlam, terms, forms[1], mac_only=not use_xor, solver=solver) \
             if need_vectors else None
         dmac = self._mac_derivatives(meas, shapes, mac_only=not use_xor) if (use_mac or use_mac_min) else None
         if use_mac:
@@ -99,7 +103,7 @@ class ConfigurationBlocks:
         return floor / np.maximum(rel, floor * 0.1)
 
     def _shape_derivatives(self, p: ConfigurationPoint, meas: Measured, d, dlam, terms=None, dmass=None,
-                           mac_only: bool = False) -> dict:
+                           mac_only: bool = False, solver=None) -> dict:
         """{measured mode i: (a, da)}: the paired analytical shape at the sensors (n_sensors,) and its
         derivative (n_sensors, n_var), the shape moving with p (Nelson) and the sensors turning with
         the structure; mac_only: da is the MAC's derivative (1, n_var) instead, by the adjoint of
@@ -114,15 +118,21 @@ class ConfigurationBlocks:
             rows = meas.sensors.rows(p.state.node_ids)
             spins = system.expand(d.du, T).reshape(system.n_nodes, 6, -1)[rows, 3:]  # (n_sensors, 3, n_var)
         out = {}
+        n_var = d.du.shape[1]
+        parts = {}
         for i, j in enumerate(p.paired):
             if j < 0:
                 continue
-            phi = p.phi[:, j]
-            a = S @ phi
+            a = S @ p.phi[:, j]
             g = _mac_gradient(meas.shapes[i], a)[None, :] if mac_only else None
+            parts[i] = (a, g, S if g is None else np.asarray(S.T @ g[0])[None, :])
+        adjoints = _adjoints(solver, p, parts, n_var)
+        for i, (a, g, project) in parts.items():
+            j = p.paired[i]
+            phi = p.phi[:, j]
             da = eigenvector_derivatives(p.K, p.M, p.eigenvalues[j], phi, dlam[i], d, terms, mode=i,
-                                         dmass=None if dmass is None else dmass[i],
-                                         project=S if g is None else np.asarray(S.T @ g[0])[None, :])
+                                         dmass=None if dmass is None else dmass[i], project=project,
+                                         solver=solver, index=int(j), adjoint=adjoints.get(i))
             if turn:
                 turning = np.einsum("sc,sck->sk", meas.sensors.turning(p.state.node_ids, p.state,
                                                                         system.expand(phi, T)), spins)
@@ -144,6 +154,43 @@ class ConfigurationBlocks:
         du = system.expand(d.du, T).reshape(system.n_nodes, 6, -1)
         rows = [du[p.state.node(node), int(c) - 1] for (node, c) in meas.static]
         return np.array(rows)
+
+
+SHARED_FACTOR_MIN_DOF = 2000  # below: Nelson's per-mode factorisations (cheap there, and bit for bit as before)
+
+
+def _solver(p: ConfigurationPoint):
+    """The configuration's ModeSolver at this point (one factorisation for the state's and every
+    paired mode's derivative), or None for small systems (SHARED_FACTOR_MIN_DOF: their per-mode
+    LUs take milliseconds, and their results stay those of the direct solves) and where the modes
+    do not allow it (not mass-normalised, a singular shift): each solve then factorises its own
+    matrix (the tangent; Nelson's pinned K - lambda M per mode)."""
+    if p.K.shape[0] < SHARED_FACTOR_MIN_DOF:
+        return None
+    try:
+        return ModeSolver(p.K, p.M, p.eigenvalues, p.phi)
+    except SolverError:
+        return None
+
+
+def _adjoints(solver, p: ConfigurationPoint, parts: dict, n_var: int) -> dict:
+    """{measured mode: adjoint vectors G_i P^T} of the modes whose shape derivative is projected by
+    the adjoint, all in one block solve ({} without a solver, or where the block fails: each mode
+    then solves its own)."""
+    if solver is None or not parts:
+        return {}
+    try:
+        cols, modes, where = [], [], {}
+        for i, (_, _, P) in parts.items():
+            if P.shape[0] + 1 < n_var:
+                Pt = P.T.toarray() if sp.issparse(P) else np.asarray(P, float).T
+                where[i] = (sum(c.shape[1] for c in cols), Pt.shape[1])
+                cols.append(Pt)
+                modes += [int(p.paired[i])] * Pt.shape[1]
+        W = solver.solve(np.hstack(cols), np.array(modes)) if cols else None
+    except SolverError:
+        return {}
+    return {i: W[:, s:s + k] for i, (s, k) in where.items()}
 
 
 def _mac_gradient(m: np.ndarray, a: np.ndarray) -> np.ndarray:

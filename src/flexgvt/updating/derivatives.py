@@ -378,14 +378,17 @@ def state_direction(system, state, v: np.ndarray):
 
 
 def state_derivatives(par: Parametrisation, model, x: np.ndarray, state, tangent: sp.csc_matrix,
-                      per_direction: bool | None = None, changes: DesignChanges | None = None) -> StateDerivatives:
+                      per_direction: bool | None = None, changes: DesignChanges | None = None,
+                      solver=None) -> StateDerivatives:
     """du/dp and the partial dK/dp, dM/dp of every variable at ``state``.
 
     tangent: the (full, possibly unsymmetric) reduced tangent at ``state``, factorised once.
     changes: shared_changes at x (computed here when None). The tangent's and mass matrix's change
     along du/dp is added per variable (four-point difference along each du, `state_direction`)
     only for systems with interpolation links (per_direction=None) or when asked; otherwise
-    `modal_terms` gives it for the modes, whatever the number of variables."""
+    `modal_terms` gives it for the modes, whatever the number of variables. solver: the
+    configuration's ModeSolver (updating.modesolve), whose factor solves du where the tangent is
+    symmetric (no factorisation of its own)."""
     system = state.system
     n = len(par)
     design = changes if changes is not None else shared_changes(par, model, x)
@@ -407,7 +410,15 @@ def state_derivatives(par: Parametrisation, model, x: np.ndarray, state, tangent
         r, Kk, Mk = partial_derivatives(par, model, x, state, k, design.changes[k])
         dR[:, k] = r
         matrices[k] = (Kk, Mk)
-    if np.any(dR):
+    du = None
+    if np.any(dR) and solver is not None and _symmetric(tangent):
+        try:
+            du = -solver.solve_stiffness(dR)
+        except SolverError:  # not positive definite: the LU below decides
+            du = None
+    if du is not None:
+        pass
+    elif np.any(dR):
         try:
             lu = spla.splu(tangent.tocsc())
             du = -lu.solve(dR)
@@ -427,6 +438,13 @@ def state_derivatives(par: Parametrisation, model, x: np.ndarray, state, tangent
                             design.DM if basis is not None else None,
                             includes_state=per_direction or not np.any(du), T=T, dr_full=dr_full,
                             _rotations=state.rotations)
+
+
+def _symmetric(A: sp.spmatrix) -> bool:
+    """A equals its transpose to 1e-12 of its largest entry."""
+    A = sp.csc_matrix(A)
+    top = abs(A).max() if A.nnz else 0.0
+    return bool(top == 0 or abs(A - A.T).max() <= 1e-12 * top)
 
 
 def modal_terms(d: StateDerivatives, state, phi: np.ndarray, lam: np.ndarray, vectors: bool):
@@ -458,7 +476,7 @@ def eigenvalue_derivatives(lam: np.ndarray, phi: np.ndarray, d: StateDerivatives
 
 def eigenvector_derivatives(K: sp.csc_matrix, M: sp.csc_matrix, lam: float, phi: np.ndarray, dlam: np.ndarray,
                             d: StateDerivatives, terms=None, mode: int = 0, dmass: np.ndarray | None = None,
-                            project=None) -> np.ndarray:
+                            project=None, solver=None, index: int = 0, adjoint: np.ndarray | None = None) -> np.ndarray:
     """(n_free, n_var) d phi / dp of one mass-normalised mode by Nelson's method (distinct eigenvalue),
     or P d phi / dp ((n_out, n_var)) with project=P ((n_out, n_free), e.g. the sensors).
 
@@ -466,7 +484,14 @@ def eigenvector_derivatives(K: sp.csc_matrix, M: sp.csc_matrix, lam: float, phi:
     mode: the state part (ModalStateTerms) and this mode's row in it; dmass: phi^T dM_k phi at the
     fixed state (n_var,) when already known (StateDerivatives.quadratic). With fewer outputs than
     variables, the projection is solved by the adjoint: P A^-1 = (A^-1 P^T)^T (A symmetric), n_out + 1
-    solves whatever the number of variables."""
+    solves whatever the number of variables. solver: the configuration's ModeSolver (updating.modesolve:
+    one factorisation for every mode, this mode its computed mode ``index``) instead of a factorisation
+    of the pinned K - lam M; adjoint: solver.solve(P^T) when already known (all modes in one block)."""
+    if solver is not None:
+        try:
+            return _with_solver(M, lam, phi, dlam, d, terms, mode, dmass, project, solver, index, adjoint)
+        except SolverError:  # repeated or not converged: the pinned factorisation decides
+            pass
     n = len(phi)
     k = int(np.argmax(np.abs(phi) * np.sqrt(np.abs(M.diagonal()) + 1e-300)))
     try:
@@ -497,6 +522,35 @@ def eigenvector_derivatives(K: sp.csc_matrix, M: sp.csc_matrix, lam: float, phi:
     rhs[k] = 0.0
     v = lu.solve(rhs).reshape(n, -1)
     c = -(Mphi @ v) - 0.5 * dmass  # keeps phi^T M phi = 1
+    if project is None:
+        return v + phi[:, None] * c[None, :]
+    return np.asarray(project @ v) + np.asarray(project @ phi).reshape(-1)[:, None] * c[None, :]
+
+
+def _with_solver(M, lam, phi, dlam, d, terms, mode, dmass, project, solver, index, adjoint):
+    """eigenvector_derivatives with a ModeSolver: v = G_i rhs is M-orthogonal to phi, so Nelson's
+    normalisation term is -dmass / 2 alone."""
+    Mphi = M @ phi
+    if dmass is None:
+        dmass = d.quadratic(phi[:, None])[1][0]
+    if terms is not None:
+        dmass = dmass + terms.gM[mode] @ d.du
+    c = -0.5 * dmass
+    if project is not None and project.shape[0] + 1 < d.du.shape[1]:
+        P = project
+        if adjoint is None:
+            Pt = P.T.toarray() if sp.issparse(P) else np.asarray(P, float).T
+            adjoint = solver.solve(Pt, np.full(Pt.shape[1], index))
+        W = adjoint
+        Y = -d.bilinear(phi, W, lam) + (W.T @ Mphi)[:, None] * dlam[None, :]
+        if terms is not None:
+            Y -= (terms.H[mode].T @ W).T @ d.du
+        return Y + np.asarray(P @ phi).reshape(-1)[:, None] * c[None, :]
+    rhs = -d.products(phi, lam) + Mphi[:, None] * dlam[None, :]
+    if terms is not None:
+        rhs -= terms.H[mode] @ d.du
+    v = solver.solve(rhs, np.full(rhs.shape[1], index))
+    c = c - Mphi @ v
     if project is None:
         return v + phi[:, None] * c[None, :]
     return np.asarray(project @ v) + np.asarray(project @ phi).reshape(-1)[:, None] * c[None, :]

@@ -49,9 +49,11 @@ class Family(Protocol):
 
     name: the key of its outputs in Evaluation.outputs and of its items in sensitivity.ValueChange;
     structural: its stiffness is the structure's own (counted in System.structure_diagonal, against
-    which grounded springs are judged; springs are not); translation_invariant: two-node elements
-    whose tangent and mass depend on x2 - x1 only (the state derivatives mirror the first node's
-    translations); value_fields: the ValueChange fields this family differentiates.
+    which grounded springs are judged; springs are not); translation_invariant: elements whose
+    tangent and mass depend on the differences of their nodes' positions only (the state
+    derivatives take the first node's translations as minus the sum of the others'); value_fields:
+    the ValueChange fields this family differentiates. Optional: mass_from_positions (True: the mass
+    does not depend on the rotations, and exploded_terms(..., mass=False) gives the tangent alone).
     """
 
     name: str

@@ -12,24 +12,20 @@ import numpy as np
 from ...errors import ModelError
 from ...model import Configuration
 from .._shell_corotational import CorotationalTerms, corotated_frames, corotational_setup, corotational_terms
+from .._shell_elements import drill_factor_penalty
 from .._shell_model import ShellArrays, group_sections
 from ..checks import _REMEDY, _bad, _ids
 from ..labels import section_fractions
 from .base import Derivative, ElementTerms, zero_blocks
 
 
-def _blockdiag(E: np.ndarray, p: int) -> np.ndarray:
-    """(n, 6p, 6p) with the frames E (n, 3, 3) on the 2p diagonal 3 x 3 blocks."""
-    out = np.zeros((len(E), 6 * p, 6 * p))
-    for b in range(2 * p):
-        out[:, 3 * b:3 * b + 3, 3 * b:3 * b + 3] = E
-    return out
-
-
 def _turned(M: np.ndarray, E: np.ndarray, p: int) -> np.ndarray:
-    """Element matrices M (n, 6p, 6p) with components in the frames E (n, 3, 3), in global components."""
-    B = _blockdiag(E, p)
-    return B @ M @ np.transpose(B, (0, 2, 1))
+    """Element matrices M (n, 6p, 6p) with components in the frames E (n, 3, 3), in global components:
+    E M_ab E^T on each 3 x 3 block (two batched products; the block-diagonal frame matrix made the
+    state derivatives' mass five times slower)."""
+    n, d = len(M), 6 * p
+    A = M.reshape(n, d, 2 * p, 3) @ np.transpose(E, (0, 2, 1))[:, None]
+    return (E[:, None] @ A.reshape(n, 2 * p, 3, d)).reshape(n, d, d)
 
 
 def _weight_direction(gravity: np.ndarray, p: int) -> np.ndarray:
@@ -47,7 +43,8 @@ class ShellFamily:
     name: str
 
     structural: ClassVar[bool] = True
-    translation_invariant: ClassVar[bool] = False
+    translation_invariant: ClassVar[bool] = True  # terms of the corner differences only
+    mass_from_positions: ClassVar[bool] = True  # the mass matrix depends on the corners' positions only
     value_fields: ClassVar[tuple[str, ...]] = ("shells",)
     has_damping: ClassVar[bool] = False
 
@@ -90,9 +87,11 @@ class ShellFamily:
         w = (self._global_mass(a.corotational.X) @ _weight_direction(gravity, self.p)).reshape(len(a.nodes), self.p, 6)
         np.add.at(f, a.nodes.reshape(-1), w.reshape(-1, 6))
 
-    def exploded_terms(self, xs, Rs, lam):
+    def exploded_terms(self, xs, Rs, lam, mass: bool = True):
+        """mass=False: the tangent only (the mass turns with the corner positions alone, so a
+        rotation of a node leaves it unchanged: mass_from_positions)."""
         t = corotational_terms(self.arrays.corotational, xs, Rs, True)
-        return t.tangent, self._global_mass(xs)
+        return t.tangent, (self._global_mass(xs) if mass else None)
 
     def strain_energies(self, shapes: np.ndarray, x: np.ndarray, R: np.ndarray) -> np.ndarray:
         """(n_modes, 5) the shells' strain energy of mode shapes (n_modes, n_nodes, 6) at the state,
@@ -145,9 +144,10 @@ class ShellFamily:
         """item = {group position in Model.shells: [(property, weight), ...]}: a difference rule in a
         property value. The element terms are linear in the element constants (the local stiffness,
         the initial-stress resultants' map, the masses), so their change is the same corotational
-        evaluation with sum weight * constants(property); the constants of each property come from
-        the kernels (the triangle's ANDES scale depends on the section's Poisson ratio, so the
-        kernels are not linear in the section), once per change (kept in ``cache``)."""
+        evaluation with sum weight * constants(property). A quad's constants are linear in its section
+        and mass (the drilling penalty too, on the base section's branch): one kernel pass with the
+        rule applied to the sections; the triangle's ANDES scale depends on the section's Poisson
+        ratio, so its constants come from one kernel pass per property. Once per change (``cache``)."""
         a = self.arrays
         groups = np.array(sorted(int(g) for g in item), int)
         rows = np.flatnonzero(np.isin(a.groups, groups))
@@ -166,10 +166,19 @@ class ShellFamily:
                     continue
                 group = a.shell_groups[g]
                 where = f"shell group '{group.name}'"
-                for prop, weight in item[g]:
-                    C, m, _ = group_sections(replace(group, property=prop), X[on], where)
-                    one = corotational_setup(X[on], C, ids=a.element_ids[rows][on], initial_stress=GN is not None,
-                                             mass=m, lumped=a.lumped[rows][on])
+                ids, lumped = a.element_ids[rows][on], a.lumped[rows][on]
+                sections = [(*group_sections(replace(group, property=prop), X[on], where)[:2], weight)
+                            for prop, weight in item[g]]
+                if self.p == 4:  # linear in the section and mass: one element pass with their changes
+                    dC = sum(w * C for C, _, w in sections)
+                    dm = sum(w * m for _, m, w in sections)
+                    drill = drill_factor_penalty(X[on], dC, like=a.C[rows][on])
+                    parts = [(corotational_setup(X[on], dC, ids=ids, initial_stress=GN is not None, mass=dm,
+                                                 lumped=lumped, drill=drill, stress_matrices=False), 1.0)]
+                else:  # the triangle's ANDES scale is not linear in the section: the rule on whole setups
+                    parts = [(corotational_setup(X[on], C, ids=ids, initial_stress=GN is not None, mass=m,
+                                                 lumped=lumped), w) for C, m, w in sections]
+                for one, weight in parts:
                     K[on] += weight * one.K
                     M[on] += weight * one.M
                     if GN is not None:
