@@ -233,7 +233,7 @@ def verification_errors(result, floor: float = 1e-4):
     e = result.variable_errors_percent
     names = list(result.names) or [f"x{i + 1}" for i in range(len(e["initial"]))]
     pos = np.arange(len(names))
-    for j, (key, (colour, label)) in enumerate(style.items()):
+    for j, (key, (colour, _)) in enumerate(style.items()):
         ax.bar(pos + (j - 1) * 0.27, np.maximum(np.abs(np.asarray(e[key], float)), floor), 0.27, color=colour)
     ax.set_xticks(pos, names, rotation=60, ha="right", fontsize=7)
     ax.set_title("design variables\n|error| against the reference [%]", fontsize=9)

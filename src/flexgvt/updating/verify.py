@@ -75,7 +75,8 @@ class Verification:
                          f"{_worst(row['single_error_percent'])}")
         if not self.configurations:
             lines.append(f"  unseen '{p['configuration']}', max |frequency error|: multi-configuration "
-                         f"{_worst(p['multi_error_percent'])}, single-configuration {_worst(p['single_error_percent'])}")
+                         f"{_worst(p['multi_error_percent'])}, single-configuration "
+                         f"{_worst(p['single_error_percent'])}")
         return "\n".join(lines)
 
 
