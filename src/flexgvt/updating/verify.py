@@ -106,7 +106,7 @@ def _cantilever_setup():
     return case, sensors, variables, train, unseen, int(case.references["tip_node"])
 
 
-def _wingbox_setup(element_size: float = 0.2, local: float | None = None, bay: str = LOCAL_BAY):
+def _wingbox_model(element_size: float = 0.2, local: float | None = None, bay: str = LOCAL_BAY):
     """The shell wingbox (fg.cases.wingbox): 5 variables (density, E, rib, skin and spar thickness),
     training configurations unloaded, -1 g and 2.5 g, unseen the combined case. The loaded cases are
     post-buckled: each carries the imperfection in its buckling shape that takes the reference onto
@@ -143,6 +143,14 @@ def _wingbox_setup(element_size: float = 0.2, local: float | None = None, bay: s
                  shell("t_skins", skins, "thickness"), shell("t_spars", "spar_*", "thickness")]
     if local is not None:
         variables.append(shell(f"t_{bay}", bay, "thickness"))
+    return case, sensors, variables
+
+
+def _wingbox_setup(element_size: float = 0.2, local: float | None = None, bay: str = LOCAL_BAY):
+    """_wingbox_model's case, sensors and variables with the training configurations (the loaded
+    ones on their post-buckled paths), the unseen one and the tip node of the static readings."""
+    case, sensors, variables = _wingbox_model(element_size, local, bay)
+    model = case.model
     train = []
     for name in ("unloaded", "minus_1g", "plus_2_5g"):
         cfg = case.configurations[name]
@@ -166,37 +174,77 @@ def _surrogate(model, configs, sensors, n_modes, tip):
     return data
 
 
+@dataclass
+class Protocol:
+    """What every seed of a case shares (``verification_protocol(...)``): the reference case, sensors, variables
+    (bounds not yet set), training configurations (the loaded ones with their imperfections), the
+    unseen one, the surrogate data of both and the reference's mass properties."""
+
+    case: str
+    reference: object  # flexgvt.cases.Case
+    sensors: object
+    variables: list
+    train: list
+    unseen: object
+    data: list  # Measured per training configuration
+    unseen_data: Measured
+    mass_target: MassTarget
+    n_modes: int
+    local: float | None
+
+
+def verification_protocol(case: str = "cantilever", n_modes: int = 8, element_size: float = 0.2,
+             local: float = LOCAL_FACTOR) -> Protocol:
+    """The seed-independent part of verify(): the reference, its post-buckled training configurations
+    and its surrogate data; pass it to verify(protocol=...) to run several seeds on one reference
+    (the reference's static solves and buckling continuations are most of a coarse wingbox's set-up)."""
+    if case not in CASES:
+        raise ModelError(f"verify: unknown case '{case}'; choose one of {CASES}")
+    local = local if case == "wingbox_local" else None
+    ref, sensors, variables, train, unseen, tip = (_cantilever_setup() if case == "cantilever"
+                                                   else _wingbox_setup(element_size, local))
+    data = _surrogate(ref.model, [*train, unseen], sensors, n_modes, tip)
+    mp = mass_properties(ref.model)
+    target = MassTarget(mass=mp.mass, cg=tuple(mp.cg), inertia=tuple(np.diag(mp.inertia)))
+    return Protocol(case, ref, sensors, variables, train, unseen, data[:-1], data[-1], target, n_modes, local)
+
+
 def verify(case: str = "cantilever", seed: int = 1, n_modes: int = 8, method: str = "least_squares",
            mistuning: float = 0.05, bounds: float = 0.10, element_size: float = 0.2, local: float = LOCAL_FACTOR,
-           local_bounds: float = 0.30, tolerance: float | None = None) -> Verification:
+           local_bounds: float = 0.30, tolerance: float | None = None, protocol: Protocol | None = None
+           ) -> Verification:
     """Run the protocol on a built-in case ('cantilever': docs/method.md section 5 case 3, 150 beams, 12 variables,
     training configurations unloaded, self-weight and 3 g, unseen 2 g; 'wingbox': the shell box of case 4
     meshed at ``element_size`` [m], 5 variables, training unloaded, -1 g and 2.5 g, unseen the combined case;
     'wingbox_local': the wingbox whose reference has the bottom skin of the root bay at ``local`` times the
     others' thickness, which the model does not know: a sixth variable (that bay's skin) with
     +-``local_bounds``, started where the skins' variable is). tolerance: the optimiser's (its default when
-    None). Every model (initial, multi, single) is also judged in every configuration
+    None); protocol: a verification_protocol(...) of this case to reuse (then n_modes, element_size and local are its).
+    Every model (initial, multi, single) is also judged in every configuration
     (Verification.configurations)."""
-    if case not in CASES:
-        raise ModelError(f"verify: unknown case '{case}'; choose one of {CASES}")
-    if case == "wingbox_local" and not (0 < local and abs(local - 1.0) < local_bounds):
-        raise ModelError(f"verify: the local factor {local:g} must be positive and within the local bounds "
-                         f"1 +- {local_bounds:g}; widen local_bounds or choose a smaller difference")
     t0 = time.perf_counter()
-    ref, sensors, variables, train, unseen, tip = (
-        _cantilever_setup() if case == "cantilever"
-        else _wingbox_setup(element_size, local if case == "wingbox_local" else None))
+    if protocol is None:
+        if case == "wingbox_local" and not (0 < local and abs(local - 1.0) < local_bounds):
+            raise ModelError(f"verify: the local factor {local:g} must be positive and within the local bounds "
+                             f"1 +- {local_bounds:g}; widen local_bounds or choose a smaller difference")
+        protocol = verification_protocol(case, n_modes, element_size, local)
+    elif protocol.case != case:
+        raise ModelError(f"verify: the protocol given is case '{protocol.case}', not '{case}'; build it with "
+                         f"flexgvt.updating.verification_protocol('{case}', ...)")
+    elif protocol.local is not None and abs(protocol.local - 1.0) >= local_bounds:
+        raise ModelError(f"verify: the protocol's local factor {protocol.local:g} lies outside the local bounds "
+                         f"1 +- {local_bounds:g}; widen local_bounds")
+    ref, sensors, variables, train, unseen = (protocol.reference, protocol.sensors, protocol.variables,
+                                              protocol.train, protocol.unseen)
+    data, target, local = protocol.data, protocol.mass_target, protocol.local
     span = [local_bounds if v.name == f"t_{LOCAL_BAY}" else bounds for v in variables]
     variables = [type(v)(v.name, v.kind, v.attribute, v.targets, (1 - b, 1 + b)) for v, b in zip(variables, span)]
     rng = np.random.default_rng(seed)
     x_m = 1.0 + rng.uniform(-mistuning, mistuning, len(variables))
-    if case == "wingbox_local":  # the model's bay is like its other skins: its value relative to the reference's
+    if local is not None:  # the model's bay is like its other skins: its value relative to the reference's
         x_m[-1] = x_m[3] / local
     initial = ref.model.copy("initial (mistuned)")
     Parametrisation(ref.model, train, variables).apply(initial, x_m)
-    data = _surrogate(ref.model, train, sensors, n_modes, tip)
-    mp = mass_properties(ref.model)
-    target = MassTarget(mass=mp.mass, cg=tuple(mp.cg), inertia=tuple(np.diag(mp.inertia)))
     objective = Objective(frequency=1.0, mac=0.1, static=0.1, mass_limits=0.10)
     options = {} if tolerance is None else {"tolerance": tolerance}
     multi = update(initial, train, data, variables, mass_target=target, objective=objective, method=method,
@@ -206,7 +254,7 @@ def verify(case: str = "cantilever", seed: int = 1, n_modes: int = 8, method: st
     truth = 1.0 / x_m  # the reference, in the initial model's normalisation
     errors = {"initial": 100 * (1.0 / truth - 1.0), "multi": 100 * (multi.x / truth - 1.0),
               "single": 100 * (single.x / truth - 1.0)}
-    reference = _surrogate(ref.model, [unseen], sensors, n_modes, tip)[0]
+    reference = protocol.unseen_data
     models = {"initial": initial, "multi": multi.model, "single": single.model}
     configurations = {}
     for cfg, meas in zip([*train, unseen], [*data, reference]):
@@ -214,7 +262,7 @@ def verify(case: str = "cantilever", seed: int = 1, n_modes: int = 8, method: st
         row = {"reference_hz": meas.frequencies_hz.tolist(), "labels": list(meas.labels), "seen_by": seen_by,
                "unseen": cfg is unseen}
         for key, model in models.items():
-            f = _predicted(model, cfg, meas, sensors, n_modes)
+            f = _predicted(model, cfg, meas, sensors, protocol.n_modes)
             row[f"{key}_hz"] = f.tolist()
             row[f"{key}_error_percent"] = (100 * (f - meas.frequencies_hz) / meas.frequencies_hz).tolist()
         configurations[cfg.name] = row
