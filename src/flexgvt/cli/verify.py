@@ -56,7 +56,8 @@ def register(app: typer.Typer, console: Console) -> None:
                          "single-configuration [%]"], cells, key=2, justify=["right", "left"] + ["right"] * 4)
         if any("LOCAL" in lab for row in result.configurations.values() for lab in row["labels"]):
             console.print("LOCAL: a mode whose energy is mostly local (panel) deformation of the cross-sections "
-                          "(a skin bay's own bending), not a global bending or torsion mode", markup=False,
+                          "(a skin bay's own bending), not global bending (OOP, IP) or torsion (T); a second class "
+                          "after a slash holds over 30 % of the energy", markup=False,
                           highlight=False)
         data = result.to_dict()
         if out is not None:
