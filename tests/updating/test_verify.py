@@ -31,7 +31,7 @@ def test_verify_command_writes_the_documented_json(tmp_path):
                                       "--out", str(tmp_path / "fig")])
     assert result.exit_code == 0, result.output
     assert "'flatwise_2g' (unseen)" in result.output
-    assert "'flatwise_3g' (training (multi only))" in result.output
+    assert "'flatwise_3g' (seen by multi only)" in result.output
     data = json.loads(out.read_text())
     assert set(data) >= {"case", "seed", "mistuning", "variable_errors_percent", "prediction", "multi", "single"}
     assert len(data["multi"]["variables"]) == 12

@@ -68,8 +68,8 @@ class Verification:
             f"{np.abs(e['multi']).max():.3f} %, single-configuration {np.abs(e['single']).max():.3f} %",
             self.multi.summary()]
         for name, row in self.configurations.items():
-            seen = "unseen" if row["unseen"] else ("training" if "single" in row["seen_by"] else
-                                                    "training (multi only)")
+            seen = "unseen" if row["unseen"] else ("seen by both" if "single" in row["seen_by"] else
+                                                    "seen by multi only")
             lines.append(f"  '{name}' ({seen}), max |frequency error|: initial {_worst(row['initial_error_percent'])}, "
                          f"multi-configuration {_worst(row['multi_error_percent'])}, single-configuration "
                          f"{_worst(row['single_error_percent'])}")
@@ -106,7 +106,8 @@ def _cantilever_setup():
     return case, sensors, variables, train, unseen, int(case.references["tip_node"])
 
 
-def _wingbox_model(element_size: float = 0.2, local: float | None = None, bay: str = LOCAL_BAY):
+def _wingbox_model(element_size: float = 0.2, local: float | None = None, bay: str = LOCAL_BAY,
+                   rib_pitch: float = 0.5):
     """The shell wingbox (fg.cases.wingbox): 5 variables (density, E, rib, skin and spar thickness),
     training configurations unloaded, -1 g and 2.5 g, unseen the combined case. The loaded cases are
     post-buckled: each carries the imperfection in its buckling shape that takes the reference onto
@@ -117,7 +118,7 @@ def _wingbox_model(element_size: float = 0.2, local: float | None = None, bay: s
     skin thickness, joins the five (the skins' variable takes every other bay)."""
     from ..cases import wingbox
     from ..correlation import Sensors
-    case = wingbox(element_size=element_size, skin_bays=local is not None)
+    case = wingbox(element_size=element_size, rib_pitch=rib_pitch, skin_bays=local is not None)
     model = case.model
     xyz = model.xyz
     top = xyz[:, 2] > 0.079
@@ -146,10 +147,11 @@ def _wingbox_model(element_size: float = 0.2, local: float | None = None, bay: s
     return case, sensors, variables
 
 
-def _wingbox_setup(element_size: float = 0.2, local: float | None = None, bay: str = LOCAL_BAY):
+def _wingbox_setup(element_size: float = 0.2, local: float | None = None, bay: str = LOCAL_BAY,
+                   rib_pitch: float = 0.5):
     """_wingbox_model's case, sensors and variables with the training configurations (the loaded
     ones on their post-buckled paths), the unseen one and the tip node of the static readings."""
-    case, sensors, variables = _wingbox_model(element_size, local, bay)
+    case, sensors, variables = _wingbox_model(element_size, local, bay, rib_pitch)
     model = case.model
     train = []
     for name in ("unloaded", "minus_1g", "plus_2_5g"):
@@ -194,15 +196,16 @@ class Protocol:
 
 
 def verification_protocol(case: str = "cantilever", n_modes: int = 8, element_size: float = 0.2,
-             local: float = LOCAL_FACTOR) -> Protocol:
+                          local: float = LOCAL_FACTOR, rib_pitch: float = 0.5) -> Protocol:
     """The seed-independent part of verify(): the reference, its post-buckled training configurations
     and its surrogate data; pass it to verify(protocol=...) to run several seeds on one reference
-    (the reference's static solves and buckling continuations are most of a coarse wingbox's set-up)."""
+    (the reference's static solves and buckling continuations are most of a coarse wingbox's set-up).
+    rib_pitch: the wingbox's [m] (0.5 m, the original work's; a coarser pitch is a different box)."""
     if case not in CASES:
         raise ModelError(f"verify: unknown case '{case}'; choose one of {CASES}")
     local = local if case == "wingbox_local" else None
     ref, sensors, variables, train, unseen, tip = (_cantilever_setup() if case == "cantilever"
-                                                   else _wingbox_setup(element_size, local))
+                                                   else _wingbox_setup(element_size, local, rib_pitch=rib_pitch))
     data = _surrogate(ref.model, [*train, unseen], sensors, n_modes, tip)
     mp = mass_properties(ref.model)
     target = MassTarget(mass=mp.mass, cg=tuple(mp.cg), inertia=tuple(np.diag(mp.inertia)))
