@@ -217,7 +217,7 @@ def verification_errors(result, floor: float = 1e-4):
             if lost.any():
                 ax.plot(modes[lost] + (j - 1) * 0.27, np.full(lost.sum(), top / 2), "v", mfc="none", color=colour)
         labels = row.get("labels") or [""] * n
-        ax.set_xticks(modes, [f"{m}\n{lab}" for m, lab in zip(modes, labels)], fontsize=7)
+        ax.set_xticks(modes, [f"{m}: {lab}" for m, lab in zip(modes, labels)], fontsize=7, rotation=90)
         for tick, lab in zip(ax.get_xticklabels(), labels):
             if "LOCAL" in lab:
                 tick.set_color("tab:purple")
@@ -228,7 +228,7 @@ def verification_errors(result, floor: float = 1e-4):
         ax.set_ylim(floor / 2, top)
         ax.grid(True, axis="y", which="major", alpha=0.3)
     axes[0].set_ylabel("|frequency error| [%]")
-    axes[0].legend(fontsize=7, loc="upper left")
+    handles, keys = axes[0].get_legend_handles_labels()
     ax = axes[-1]
     e = result.variable_errors_percent
     names = list(result.names) or [f"x{i + 1}" for i in range(len(e["initial"]))]
@@ -239,6 +239,8 @@ def verification_errors(result, floor: float = 1e-4):
     ax.set_title("design variables\n|error| against the reference [%]", fontsize=9)
     ax.grid(True, axis="y", which="major", alpha=0.3)
     fig.suptitle(f"verification '{result.case}', seed {result.seed}: frequency errors per configuration "
-                 "(mode number and reference label below)", fontsize=10)
-    fig.tight_layout()
+                 f"(mode: reference label below; errors under {floor:g} % drawn at it)", fontsize=10)
+    fig.tight_layout(rect=(0, 0, 1, 0.88))
+    fig.legend(handles[:3], keys[:3], loc="upper center", bbox_to_anchor=(0.5, 0.94), ncol=3, fontsize=8,
+               frameon=False)
     return fig
