@@ -54,13 +54,19 @@ def main() -> None:
     ap.add_argument("--element-size", type=float, default=0.25)
     ap.add_argument("--factor", type=float, default=0.8, help="the reference bay's thickness against the others'")
     ap.add_argument("--out", type=Path, default=Path("bench/out/wingbox_local"))
+    ap.add_argument("--no-bay-variable", action="store_true", help="the five variables only: the model cannot "
+                    "represent the local difference")
+    ap.add_argument("--tolerance", type=float, default=None)
     args = ap.parse_args()
     args.out.mkdir(parents=True, exist_ok=True)
-    parts = [f"wingbox_local, element size {args.element_size:g} m, bay factor {args.factor:g}; "
+    parts = [f"wingbox_local, element size {args.element_size:g} m, bay factor {args.factor:g}, "
+             f"{'five variables (no bay variable)' if args.no_bay_variable else 'six variables'}, tolerance "
+             f"{args.tolerance or 'default'}; "
              f"load average {os.getloadavg()[0]:.1f} at the start (2 cores shared)"]
     for seed in args.seeds:
         t0, c0 = time.perf_counter(), time.process_time()
-        v = fg.updating.verify("wingbox_local", seed=seed, element_size=args.element_size, local=args.factor)
+        v = fg.updating.verify("wingbox_local", seed=seed, element_size=args.element_size, local=args.factor,
+                               bay_variable=not args.no_bay_variable, tolerance=args.tolerance)
         print(v.summary(), flush=True)
         (args.out / f"verification_{seed}.json").write_text(json.dumps(v.to_dict(), indent=1))
         verification_errors(v).savefig(args.out / f"errors_{seed}.png", dpi=120)

@@ -214,15 +214,17 @@ def verification_protocol(case: str = "cantilever", n_modes: int = 8, element_si
 
 def verify(case: str = "cantilever", seed: int = 1, n_modes: int = 8, method: str = "least_squares",
            mistuning: float = 0.05, bounds: float = 0.10, element_size: float = 0.2, local: float = LOCAL_FACTOR,
-           local_bounds: float = 0.30, tolerance: float | None = None, protocol: Protocol | None = None
-           ) -> Verification:
+           local_bounds: float = 0.30, tolerance: float | None = None, protocol: Protocol | None = None,
+           bay_variable: bool = True) -> Verification:
     """Run the protocol on a built-in case ('cantilever': docs/method.md section 5 case 3, 150 beams, 12 variables,
     training configurations unloaded, self-weight and 3 g, unseen 2 g; 'wingbox': the shell box of case 4
     meshed at ``element_size`` [m], 5 variables, training unloaded, -1 g and 2.5 g, unseen the combined case;
     'wingbox_local': the wingbox whose reference has the bottom skin of the root bay at ``local`` times the
     others' thickness, which the model does not know: a sixth variable (that bay's skin) with
     +-``local_bounds``, started where the skins' variable is). tolerance: the optimiser's (its default when
-    None); protocol: a verification_protocol(...) of this case to reuse (then n_modes, element_size and local are its).
+    None); protocol: a verification_protocol(...) of this case to reuse (then n_modes, element_size and local are
+    its); bay_variable=False: 'wingbox_local' with the five variables only (the skins' one takes the bay too),
+    the model unable to represent the local difference.
     Every model (initial, multi, single) is also judged in every configuration
     (Verification.configurations)."""
     t0 = time.perf_counter()
@@ -240,14 +242,20 @@ def verify(case: str = "cantilever", seed: int = 1, n_modes: int = 8, method: st
     ref, sensors, variables, train, unseen = (protocol.reference, protocol.sensors, protocol.variables,
                                               protocol.train, protocol.unseen)
     data, target, local = protocol.data, protocol.mass_target, protocol.local
+    if local is not None and not bay_variable:
+        variables = [shell("t_skins", "skin_*", "thickness") if v.name == "t_skins" else v for v in variables[:-1]]
     span = [local_bounds if v.name == f"t_{LOCAL_BAY}" else bounds for v in variables]
     variables = [type(v)(v.name, v.kind, v.attribute, v.targets, (1 - b, 1 + b)) for v, b in zip(variables, span)]
     rng = np.random.default_rng(seed)
     x_m = 1.0 + rng.uniform(-mistuning, mistuning, len(variables))
-    if local is not None:  # the model's bay is like its other skins: its value relative to the reference's
+    if local is not None and bay_variable:  # the model's bay is like its other skins: relative to the reference's
         x_m[-1] = x_m[3] / local
     initial = ref.model.copy("initial (mistuned)")
     Parametrisation(ref.model, train, variables).apply(initial, x_m)
+    if local is not None and not bay_variable:  # the bay back to the other skins' thickness
+        k = [g.name for g in initial.shells].index(LOCAL_BAY)
+        prop = initial.shells[k].property
+        initial.set_shell_group(k, property=shell_property(prop, {"thickness": prop.thickness / local}))
     objective = Objective(frequency=1.0, mac=0.1, static=0.1, mass_limits=0.10)
     options = {} if tolerance is None else {"tolerance": tolerance}
     multi = update(initial, train, data, variables, mass_target=target, objective=objective, method=method,
