@@ -137,6 +137,17 @@ def test_empty_parts_left_out(tmp_path):
     assert [p.name for p in (tmp_path / "figures").iterdir()] == ["only_deformed.png"]
 
 
+
+def test_local_modes_are_explained_where_a_table_has_them(tmp_path):
+    g = _beam()
+    row = dict(mode=1, label="1 OOP", measured_hz=1.0, initial_hz=1.01, updated_hz=1.0, initial_error_percent=1.0,
+               updated_error_percent=0.0)
+    texts = [write_report(ReportContent("box", configurations=[ConfigurationSection(
+        "c", g, g, [row, dict(row, mode=2, label=label)])]), tmp_path / label[2:].replace("/", "_")).read_text()
+        for label in ("2 OOP", "1 LOCAL/OOP")]
+    assert "LOCAL: a mode whose energy is mostly local" not in texts[0]
+    assert "LOCAL: a mode whose energy is mostly local" in texts[1]
+
 # ---------------------------------------------------------------- headless Chromium
 
 def _start(page: Path, workdir: Path, *args: str) -> subprocess.Popen:

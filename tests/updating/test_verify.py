@@ -30,7 +30,8 @@ def test_verify_command_writes_the_documented_json(tmp_path):
     result = CliRunner().invoke(app, ["verify", "cantilever", "--seed", "1", "--json", str(out),
                                       "--out", str(tmp_path / "fig")])
     assert result.exit_code == 0, result.output
-    assert "unseen 'flatwise_2g'" in result.output
+    assert "'flatwise_2g' (unseen)" in result.output
+    assert "'flatwise_3g' (seen by multi only)" in result.output
     data = json.loads(out.read_text())
     assert set(data) >= {"case", "seed", "mistuning", "variable_errors_percent", "prediction", "multi", "single"}
     assert len(data["multi"]["variables"]) == 12
@@ -38,6 +39,11 @@ def test_verify_command_writes_the_documented_json(tmp_path):
     row = data["multi"]["configurations"]["flatwise_3g"][0]
     assert set(row) >= {"measured_hz", "initial_hz", "updated_hz", "initial_error_percent", "updated_error_percent",
                         "updated_mac"}
-    assert (tmp_path / "fig" / "mac.png").stat().st_size > 10_000
+    for name in ("mac.png", "errors.png"):
+        assert (tmp_path / "fig" / name).stat().st_size > 10_000
+    rows = (tmp_path / "fig" / "frequencies.csv").read_text().splitlines()
+    assert len(rows) == 1 + 4 * 8 and rows[-1].startswith("flatwise_2g,True,,8,")
+    assert set(data["configurations"]) == {"unloaded", "self_weight", "flatwise_3g", "flatwise_2g"}
+    assert data["configurations"]["self_weight"]["seen_by"] == ["multi"]
     bad = CliRunner().invoke(app, ["verify", "fuselage"])
     assert bad.exit_code == 2 and "unknown case" in bad.output

@@ -42,13 +42,15 @@ def _divisions(length: float, size: float, least: int) -> int:
 
 def wingbox(element_size: float = 0.1, rib_pitch: float = 0.5, carried_mass: bool = True,
             span: float = SPAN, chord: float = CHORD, depth: float = DEPTH, skin: float = SKIN,
-            spar: float = SPAR, rib: float = RIB, mass: str = "lumped") -> Case:
+            spar: float = SPAR, rib: float = RIB, mass: str = "lumped", skin_bays: bool = False) -> Case:
     """The cantilever shell wingbox (see the module docstring) meshed with quads of about
     ``element_size`` [m] (at least 4 across the chord and 2 through the depth; the span spacing
     divides the rib pitch). Configurations: unloaded, minus_1g (self-weight, the box hanging as a
     wing at rest), plus_2_5g (a 2.5 g pull-up: inertial loads upward at 2.5 g) and combined (the
     unseen case: 0.77 g up and 0.49 g aft with a 5.6 kN m nose-up tip torque; tip deflection about
-    3.6 % of the span). mass: 'lumped' or 'consistent' shell mass."""
+    3.6 % of the span). mass: 'lumped' or 'consistent' shell mass. skin_bays: split each skin into
+    one group per rib bay, skin_top_bay01 ... skin_bottom_bayNN numbered from the root (the
+    pattern 'skin_*' still takes every skin; 'skin_bottom_bay01' one bay), for local variables."""
     if element_size <= 0 or rib_pitch <= 0:
         raise ModelError("wingbox: element_size and rib_pitch must be positive [m]")
     n_bays = int(round(span / rib_pitch))
@@ -92,8 +94,18 @@ def wingbox(element_size: float = 0.1, rib_pitch: float = 0.5, carried_mass: boo
              "spar_front": ShellProperty.isotropic(al, spar, "spar_front"),
              "spar_rear": ShellProperty.isotropic(al, spar, "spar_rear"),
              "ribs": ShellProperty.isotropic(al, rib, "ribs")}
+    groups = []
     for name, q in quads.items():
+        if skin_bays and name.startswith("skin_"):
+            bay = np.tile(np.arange(ny) // per_bay, nx)  # the skins' quads are chord-major over j
+            for b in range(n_bays):
+                label = f"{name}_bay{b + 1:02d}"
+                prop = ShellProperty.isotropic(al, skin, label, nsm=nsm)
+                model.add_shells(ids[q[bay == b]], prop, name=label, mass=mass)
+                groups.append(label)
+            continue
         model.add_shells(ids[q], props[name], name=name, mass=mass)
+        groups.append(name)
 
     root = ids[lattice[jj == 0]]
     clamp = {int(n): "123456" for n in root}
@@ -114,4 +126,4 @@ def wingbox(element_size: float = 0.1, rib_pitch: float = 0.5, carried_mass: boo
     return Case("wingbox", model, configs, wingbox.__doc__ or "",
                 references={"tip_nodes": tip.tolist(), "tip_spar_nodes": mid_tip, "root_nodes": root.tolist(),
                             "mesh": {"chord": nx, "depth": nz, "span": ny, "per_bay": per_bay},
-                            "groups": list(quads)})
+                            "groups": groups, "bays": n_bays})

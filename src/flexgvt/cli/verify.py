@@ -16,14 +16,16 @@ from .tables import print_table
 
 def register(app: typer.Typer, console: Console) -> None:
     @app.command()
-    def verify(case: str = typer.Argument("cantilever", help="cantilever or wingbox (docs/method.md section 5 "
-                                          "cases 3 and 4)"),
+    def verify(case: str = typer.Argument("cantilever", help="cantilever, wingbox or wingbox_local (docs/method.md "
+                                          "section 5 cases 3 and 4; wingbox_local: one root bay's bottom skin 20 % "
+                                          "thinner in the reference)"),
                seed: int = typer.Option(1, help="seed of the +-5 % mistuning"),
                method: str = typer.Option("least_squares", help="least_squares, trf, lm, slsqp, trust-constr or "
                                           "nelder-mead"),
                modes: int = typer.Option(8, help="measured modes per configuration"),
                element_size: float = typer.Option(0.2, help="the wingbox's mesh size [m]"),
-               out: Optional[Path] = typer.Option(None, help="folder for verification.json and the MAC figure"),
+               out: Optional[Path] = typer.Option(None, help="folder for verification.json, the tables "
+                                        "(frequencies.csv, variables.csv) and figures (errors.png, mac.png)"),
                json_path: Optional[Path] = typer.Option(None, "--json", help="write the figures as JSON")):
         """Mistune a reference model (seeded), update it against its own surrogate data in three load
         cases, and report variable and frequency errors and an unseen load case's prediction."""
@@ -43,26 +45,56 @@ def register(app: typer.Typer, console: Console) -> None:
         print_table(console, "design variables: error against the reference [%]",
                     ["variable", "initial [%]", "multi-configuration [%]", "single-configuration [%]",
                      "std (multi) [%]"], cells, justify=["left"] + ["right"] * 4)
-        for name, rows in result.multi.tables.items():
-            cells = [[str(r["mode"]), r["label"], f"{r['measured_hz']:.4f}", f"{r['initial_hz']:.4f}",
-                      f"{r['initial_error_percent']:+.3f}", f"{r['updated_hz']:.4f}",
-                      f"{r['updated_error_percent']:+.4f}", f"{r['updated_mac']:.4f}" if r["updated_mac"] else ""]
-                     for r in rows]
-            print_table(console, f"'{name}': frequencies [Hz] and errors [%]",
-                        ["mode", "label", "reference [Hz]", "initial [Hz]", "error [%]", "updated [Hz]", "error [%]",
-                         "MAC"], cells, key=2, justify=["right", "left"] + ["right"] * 6)
+        for name, row in result.configurations.items():
+            seen = ("unseen by both models" if row["unseen"] else "seen by both models" if "single" in row["seen_by"]
+                    else "seen by the multi-configuration model only")
+            cells = [[str(m + 1), row["labels"][m] if m < len(row["labels"]) else "", f"{f:.4f}",
+                      *[_pct(row[f"{k}_error_percent"][m]) for k in ("initial", "multi", "single")]]
+                     for m, f in enumerate(row["reference_hz"])]
+            print_table(console, f"'{name}' ({seen}): reference frequencies [Hz] and the models' errors [%]",
+                        ["mode", "label", "reference [Hz]", "initial [%]", "multi-configuration [%]",
+                         "single-configuration [%]"], cells, key=2, justify=["right", "left"] + ["right"] * 4)
+        if any("LOCAL" in lab for row in result.configurations.values() for lab in row["labels"]):
+            console.print("LOCAL: a mode whose energy is mostly local (panel) deformation of the cross-sections "
+                          "(a skin bay's own bending), not global bending (OOP, IP) or torsion (T); a second class "
+                          "after a slash holds over 30 % of the energy", markup=False,
+                          highlight=False)
         data = result.to_dict()
         if out is not None:
             out.mkdir(parents=True, exist_ok=True)
             (out / "verification.json").write_text(json.dumps(data, indent=1))
-            _mac_figure(result, out / "mac.png")
+            _figures(result, out)
             console.print(f"files in {out}/", markup=False, highlight=False)
         if json_path is not None:
             json_path.parent.mkdir(parents=True, exist_ok=True)
             json_path.write_text(json.dumps(data, indent=1))
 
 
-def _mac_figure(result, path: Path) -> None:
-    from ..report.plots import verification_mac
+def _pct(value: float) -> str:
+    return "no partner" if not np.isfinite(value) else f"{value:+.4f}"
 
-    verification_mac(result).savefig(path, dpi=120)
+
+def _figures(result, out: Path) -> None:
+    """mac.png (MAC after multi-configuration updating), errors.png (frequency errors of the three
+    models in every configuration and the variables' errors) and the tables as CSV."""
+    import csv
+
+    from ..report.plots import verification_errors, verification_mac
+
+    verification_mac(result).savefig(out / "mac.png", dpi=120)
+    verification_errors(result).savefig(out / "errors.png", dpi=120)
+    with open(out / "frequencies.csv", "w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(["configuration", "unseen", "seen_by", "mode", "label", "reference_hz", "initial_hz", "multi_hz",
+                    "single_hz", "initial_error_percent", "multi_error_percent", "single_error_percent"])
+        for name, row in result.configurations.items():
+            for m, f in enumerate(row["reference_hz"]):
+                w.writerow([name, row["unseen"], " ".join(row["seen_by"]), m + 1, row["labels"][m], f"{f:.9g}",
+                            *[f"{row[f'{k}_hz'][m]:.9g}" for k in ("initial", "multi", "single")],
+                            *[f"{row[f'{k}_error_percent'][m]:.6g}" for k in ("initial", "multi", "single")]])
+    with open(out / "variables.csv", "w", newline="") as fh:
+        w = csv.writer(fh)
+        e = result.variable_errors_percent
+        w.writerow(["variable", "initial_error_percent", "multi_error_percent", "single_error_percent"])
+        for k, name in enumerate(result.names):
+            w.writerow([name, *[f"{e[key][k]:.6g}" for key in ("initial", "multi", "single")]])

@@ -258,6 +258,10 @@ def _configuration(page: _Page, sec: ConfigurationSection, slug: str, figs_dir, 
             page.add("<p class=\"note\">model damping: the damping ratio of the paired mode of the updated model "
                      "from the dampers it carries (suspension cords, springs); the model has no structural "
                      "damping, so this is the suspension's share of the measured damping.</p>")
+        if any("LOCAL" in str(r.get("label", "")) for r in sec.frequency_table):
+            page.add("<p class=\"note\">LOCAL: a mode whose energy is mostly local (panel) deformation of the "
+                     "cross-sections (a skin bay's own bending, as after buckling), not global bending (OOP, IP) "
+                     "or torsion (T); a second class after a slash holds over 30 % of the energy.</p>")
         title = f"{sec.name}: frequency errors before and after updating"
         page.figure(interactive.frequency_errors(sec.frequency_table, title))
         _save_png(figures.frequency_errors, (sec.frequency_table, title), figs_dir, f"{slug}_frequency_errors",

@@ -191,3 +191,56 @@ def verification_mac(result):
     if im is not None:
         fig.colorbar(im, ax=axes[0].tolist(), shrink=0.8, label="MAC")
     return fig
+
+
+def verification_errors(result, floor: float = 1e-4):
+    """The verification's evidence (the original work's Figs. 4.14-4.21): |frequency error| [%] per
+    mode of the initial, single-configuration and multi-configuration models in every configuration
+    (the unseen one last; a panel title says which models saw it; LOCAL-labelled modes marked), and
+    the design variables' |error| [%]. Log scale, errors below ``floor`` [%] drawn at it; a mode with
+    no partner is drawn as an empty marker at the top."""
+    rows = result.configurations
+    k = len(rows) + 1
+    fig = _figure(figsize=(3.3 * k, 4.2))
+    axes = fig.subplots(1, k, sharey=True)
+    style = {"initial": ("0.6", "initial"), "single": ("tab:red", "single-configuration"),
+             "multi": ("tab:blue", "multi-configuration")}
+    top = 1e2
+    for ax, (name, row) in zip(axes, rows.items()):
+        n = len(row["reference_hz"])
+        modes = np.arange(1, n + 1)
+        for j, (key, (colour, label)) in enumerate(style.items()):
+            e = np.abs(np.asarray(row[f"{key}_error_percent"], float))
+            lost = np.isnan(e)
+            ax.bar(modes + (j - 1) * 0.27, np.maximum(np.where(lost, floor, e), floor), 0.27, color=colour,
+                   label=label)
+            if lost.any():
+                ax.plot(modes[lost] + (j - 1) * 0.27, np.full(lost.sum(), top / 2), "v", mfc="none", color=colour)
+        labels = row.get("labels") or [""] * n
+        ax.set_xticks(modes, [f"{m}: {lab}" for m, lab in zip(modes, labels)], fontsize=7, rotation=90)
+        for tick, lab in zip(ax.get_xticklabels(), labels):
+            if "LOCAL" in lab:
+                tick.set_color("tab:purple")
+        seen = "unseen by both" if row["unseen"] else ("seen by both" if "single" in row["seen_by"]
+                                                          else "seen by multi only")
+        ax.set_title(f"{name}\n({seen})", fontsize=9)
+        ax.set_yscale("log")
+        ax.set_ylim(floor / 2, top)
+        ax.grid(True, axis="y", which="major", alpha=0.3)
+    axes[0].set_ylabel("|frequency error| [%]")
+    handles, keys = axes[0].get_legend_handles_labels()
+    ax = axes[-1]
+    e = result.variable_errors_percent
+    names = list(result.names) or [f"x{i + 1}" for i in range(len(e["initial"]))]
+    pos = np.arange(len(names))
+    for j, (key, (colour, _)) in enumerate(style.items()):
+        ax.bar(pos + (j - 1) * 0.27, np.maximum(np.abs(np.asarray(e[key], float)), floor), 0.27, color=colour)
+    ax.set_xticks(pos, names, rotation=60, ha="right", fontsize=7)
+    ax.set_title("design variables\n|error| against the reference [%]", fontsize=9)
+    ax.grid(True, axis="y", which="major", alpha=0.3)
+    fig.suptitle(f"verification '{result.case}', seed {result.seed}: frequency errors per configuration "
+                 f"(mode: reference label below; errors under {floor:g} % drawn at it)", fontsize=10)
+    fig.tight_layout(rect=(0, 0, 1, 0.88))
+    fig.legend(handles[:3], keys[:3], loc="upper center", bbox_to_anchor=(0.5, 0.94), ncol=3, fontsize=8,
+               frameon=False)
+    return fig

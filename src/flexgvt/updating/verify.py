@@ -11,7 +11,7 @@ by single-configuration against multi-configuration updating are reported.
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -21,9 +21,11 @@ from ..fem import mass_properties, solve_modes, solve_static
 from .runner import update
 from .targets import MassTarget, Measured, Objective
 from ..fem.static import StaticSettings
-from .variables import Parametrisation, beam, shell
+from .variables import Parametrisation, beam, shell, shell_property
 
-CASES = ("cantilever", "wingbox")
+CASES = ("cantilever", "wingbox", "wingbox_local")
+LOCAL_BAY = "skin_bottom_bay01"  # the local study's bay: the bottom skin next to the root
+LOCAL_FACTOR = 0.8  # its skin thickness in the reference against the others' (20 % thinner)
 
 
 @dataclass
@@ -38,6 +40,8 @@ class Verification:
     variable_errors_percent: dict  # initial / multi / single: (n_var,) errors against the reference
     prediction: dict  # unseen configuration: reference, multi, single frequencies and errors
     seconds: float
+    configurations: dict = field(default_factory=dict)  # {name: reference, initial, multi, single Hz and errors}
+    names: list = field(default_factory=list)  # the design variables, in the order of the errors
 
     def to_dict(self) -> dict:
         """A JSON-ready dictionary (the documented --json layout of `flexgvt verify`)."""
@@ -45,7 +49,8 @@ class Verification:
         return jsonable({"case": self.case, "seed": self.seed, "seconds": self.seconds,
                 "mistuning": self.mistuning.tolist(),
                 "variable_errors_percent": {k: v.tolist() for k, v in self.variable_errors_percent.items()},
-                "prediction": self.prediction, "multi": self.multi.to_dict(),
+                "variables": self.names, "prediction": self.prediction, "configurations": self.configurations,
+                "multi": self.multi.to_dict(),
                 "single": {"configurations": self.single.tables, "variables": self.single.variables,
                            "seconds": self.single.seconds}})
 
@@ -57,14 +62,30 @@ class Verification:
     def summary(self) -> str:
         e = self.variable_errors_percent
         p = self.prediction
-        return "\n".join([
+        lines = [
             f"verification '{self.case}', seed {self.seed} ({self.seconds:.1f} s)",
             f"  design variables, max |error|: initial {np.abs(e['initial']).max():.2f} %, multi-configuration "
             f"{np.abs(e['multi']).max():.3f} %, single-configuration {np.abs(e['single']).max():.3f} %",
-            self.multi.summary(),
-            f"  unseen '{p['configuration']}', max |frequency error|: multi-configuration "
-            f"{max(abs(v) for v in p['multi_error_percent']):.3f} %, single-configuration "
-            f"{max(abs(v) for v in p['single_error_percent']):.3f} %"])
+            self.multi.summary()]
+        for name, row in self.configurations.items():
+            seen = "unseen" if row["unseen"] else ("seen by both" if "single" in row["seen_by"] else
+                                                    "seen by multi only")
+            lines.append(f"  '{name}' ({seen}), max |frequency error|: initial {_worst(row['initial_error_percent'])}, "
+                         f"multi-configuration {_worst(row['multi_error_percent'])}, single-configuration "
+                         f"{_worst(row['single_error_percent'])}")
+        if not self.configurations:
+            lines.append(f"  unseen '{p['configuration']}', max |frequency error|: multi-configuration "
+                         f"{_worst(p['multi_error_percent'])}, single-configuration "
+                         f"{_worst(p['single_error_percent'])}")
+        return "\n".join(lines)
+
+
+def _worst(errors) -> str:
+    """The largest |error| [%] of a list, with how many modes found no partner (NaN)."""
+    e = np.asarray(errors, float)
+    lost = int(np.isnan(e).sum())
+    head = f"{np.nanmax(np.abs(e)):.3f} %" if lost < len(e) else "-"
+    return head + (f" ({lost} unpaired)" if lost else "")
 
 
 def _cantilever_setup():
@@ -85,16 +106,19 @@ def _cantilever_setup():
     return case, sensors, variables, train, unseen, int(case.references["tip_node"])
 
 
-def _wingbox_setup(element_size: float = 0.2):
+def _wingbox_model(element_size: float = 0.2, local: float | None = None, bay: str = LOCAL_BAY,
+                   rib_pitch: float = 0.5):
     """The shell wingbox (fg.cases.wingbox): 5 variables (density, E, rib, skin and spar thickness),
     training configurations unloaded, -1 g and 2.5 g, unseen the combined case. The loaded cases are
     post-buckled: each carries the imperfection in its buckling shape that takes the reference onto
     its post-buckled path (solve_static's buckling='continue'), as a test article has its own.
     Sensors: vertical accelerometers at both spars' top corners every 2 m and chordwise ones at the
-    front spar, as a GVT of a wing instruments it."""
+    front spar, as a GVT of a wing instruments it. With ``local`` (a factor): the reference's skin
+    in rib bay ``bay`` is that factor of the others' thickness, and a sixth variable, that bay's
+    skin thickness, joins the five (the skins' variable takes every other bay)."""
     from ..cases import wingbox
     from ..correlation import Sensors
-    case = wingbox(element_size=element_size)
+    case = wingbox(element_size=element_size, rib_pitch=rib_pitch, skin_bays=local is not None)
     model = case.model
     xyz = model.xyz
     top = xyz[:, 2] > 0.079
@@ -105,8 +129,30 @@ def _wingbox_setup(element_size: float = 0.2):
     z = Sensors.uniaxial(corners, (0.0, 0.0, 1.0))
     x = Sensors.uniaxial(corners[::2], (1.0, 0.0, 0.0))
     sensors = Sensors(list(z) + list(x))
+    skins: str | list[str] = "skin_*"
+    if local is not None:
+        names = [g.name for g in model.shells]
+        if bay not in names:
+            raise ModelError(f"verify: no skin bay '{bay}' in the wingbox; name one of "
+                             f"{[n for n in names if n.startswith('skin_')][:3]} ... (skin_top_bayNN or "
+                             "skin_bottom_bayNN, numbered from the root)")
+        skins = [n for n in names if n.startswith("skin_") and n != bay]
+        k = names.index(bay)
+        prop = model.shells[k].property
+        model.set_shell_group(k, property=shell_property(prop, {"thickness": prop.thickness * local}))
     variables = [shell("rho", "*", "rho"), shell("E", "*", "E"), shell("t_ribs", "ribs", "thickness"),
-                 shell("t_skins", "skin_*", "thickness"), shell("t_spars", "spar_*", "thickness")]
+                 shell("t_skins", skins, "thickness"), shell("t_spars", "spar_*", "thickness")]
+    if local is not None:
+        variables.append(shell(f"t_{bay}", bay, "thickness"))
+    return case, sensors, variables
+
+
+def _wingbox_setup(element_size: float = 0.2, local: float | None = None, bay: str = LOCAL_BAY,
+                   rib_pitch: float = 0.5):
+    """_wingbox_model's case, sensors and variables with the training configurations (the loaded
+    ones on their post-buckled paths), the unseen one and the tip node of the static readings."""
+    case, sensors, variables = _wingbox_model(element_size, local, bay, rib_pitch)
+    model = case.model
     train = []
     for name in ("unloaded", "minus_1g", "plus_2_5g"):
         cfg = case.configurations[name]
@@ -130,42 +176,123 @@ def _surrogate(model, configs, sensors, n_modes, tip):
     return data
 
 
-def verify(case: str = "cantilever", seed: int = 1, n_modes: int = 8, method: str = "least_squares",
-           mistuning: float = 0.05, bounds: float = 0.10, element_size: float = 0.2) -> Verification:
-    """Run the protocol on a built-in case ('cantilever': docs/method.md section 5 case 3, 150 beams, 12 variables,
-    training configurations unloaded, self-weight and 3 g, unseen 2 g; 'wingbox': the shell box of case 4
-    meshed at ``element_size`` [m], 5 variables, training unloaded, -1 g and 2.5 g, unseen the combined case)."""
+@dataclass
+class Protocol:
+    """What every seed of a case shares (``verification_protocol(...)``): the reference case, sensors, variables
+    (bounds not yet set), training configurations (the loaded ones with their imperfections), the
+    unseen one, the surrogate data of both and the reference's mass properties."""
+
+    case: str
+    reference: object  # flexgvt.cases.Case
+    sensors: object
+    variables: list
+    train: list
+    unseen: object
+    data: list  # Measured per training configuration
+    unseen_data: Measured
+    mass_target: MassTarget
+    n_modes: int
+    local: float | None
+
+
+def verification_protocol(case: str = "cantilever", n_modes: int = 8, element_size: float = 0.2,
+                          local: float = LOCAL_FACTOR, rib_pitch: float = 0.5) -> Protocol:
+    """The seed-independent part of verify(): the reference, its post-buckled training configurations
+    and its surrogate data; pass it to verify(protocol=...) to run several seeds on one reference
+    (the reference's static solves and buckling continuations are most of a coarse wingbox's set-up).
+    rib_pitch: the wingbox's [m] (0.5 m, the original work's; a coarser pitch is a different box)."""
     if case not in CASES:
         raise ModelError(f"verify: unknown case '{case}'; choose one of {CASES}")
-    t0 = time.perf_counter()
+    local = local if case == "wingbox_local" else None
     ref, sensors, variables, train, unseen, tip = (_cantilever_setup() if case == "cantilever"
-                                                   else _wingbox_setup(element_size))
-    variables = [type(v)(v.name, v.kind, v.attribute, v.targets, (1 - bounds, 1 + bounds)) for v in variables]
-    rng = np.random.default_rng(seed)
-    x_m = 1.0 + rng.uniform(-mistuning, mistuning, len(variables))
-    initial = ref.model.copy("initial (mistuned)")
-    Parametrisation(ref.model, train, variables).apply(initial, x_m)
-    data = _surrogate(ref.model, train, sensors, n_modes, tip)
+                                                   else _wingbox_setup(element_size, local, rib_pitch=rib_pitch))
+    data = _surrogate(ref.model, [*train, unseen], sensors, n_modes, tip)
     mp = mass_properties(ref.model)
     target = MassTarget(mass=mp.mass, cg=tuple(mp.cg), inertia=tuple(np.diag(mp.inertia)))
+    return Protocol(case, ref, sensors, variables, train, unseen, data[:-1], data[-1], target, n_modes, local)
+
+
+def verify(case: str = "cantilever", seed: int = 1, n_modes: int = 8, method: str = "least_squares",
+           mistuning: float = 0.05, bounds: float = 0.10, element_size: float = 0.2, local: float = LOCAL_FACTOR,
+           local_bounds: float = 0.30, tolerance: float | None = None, protocol: Protocol | None = None,
+           bay_variable: bool = True) -> Verification:
+    """Run the protocol on a built-in case ('cantilever': docs/method.md section 5 case 3, 150 beams, 12 variables,
+    training configurations unloaded, self-weight and 3 g, unseen 2 g; 'wingbox': the shell box of case 4
+    meshed at ``element_size`` [m], 5 variables, training unloaded, -1 g and 2.5 g, unseen the combined case;
+    'wingbox_local': the wingbox whose reference has the bottom skin of the root bay at ``local`` times the
+    others' thickness, which the model does not know: a sixth variable (that bay's skin) with
+    +-``local_bounds``, started where the skins' variable is). tolerance: the optimiser's (its default when
+    None); protocol: a verification_protocol(...) of this case to reuse (then n_modes, element_size and local are
+    its); bay_variable=False: 'wingbox_local' with the five variables only (the skins' one takes the bay too),
+    the model unable to represent the local difference.
+    Every model (initial, multi, single) is also judged in every configuration
+    (Verification.configurations)."""
+    t0 = time.perf_counter()
+    if protocol is None:
+        if case == "wingbox_local" and not (0 < local and abs(local - 1.0) < local_bounds):
+            raise ModelError(f"verify: the local factor {local:g} must be positive and within the local bounds "
+                             f"1 +- {local_bounds:g}; widen local_bounds or choose a smaller difference")
+        protocol = verification_protocol(case, n_modes, element_size, local)
+    elif protocol.case != case:
+        raise ModelError(f"verify: the protocol given is case '{protocol.case}', not '{case}'; build it with "
+                         f"flexgvt.updating.verification_protocol('{case}', ...)")
+    elif protocol.local is not None and abs(protocol.local - 1.0) >= local_bounds:
+        raise ModelError(f"verify: the protocol's local factor {protocol.local:g} lies outside the local bounds "
+                         f"1 +- {local_bounds:g}; widen local_bounds")
+    ref, sensors, variables, train, unseen = (protocol.reference, protocol.sensors, protocol.variables,
+                                              protocol.train, protocol.unseen)
+    data, target, local = protocol.data, protocol.mass_target, protocol.local
+    if local is not None and not bay_variable:
+        variables = [shell("t_skins", "skin_*", "thickness") if v.name == "t_skins" else v for v in variables[:-1]]
+    span = [local_bounds if v.name == f"t_{LOCAL_BAY}" else bounds for v in variables]
+    variables = [type(v)(v.name, v.kind, v.attribute, v.targets, (1 - b, 1 + b)) for v, b in zip(variables, span)]
+    rng = np.random.default_rng(seed)
+    x_m = 1.0 + rng.uniform(-mistuning, mistuning, len(variables))
+    if local is not None and bay_variable:  # the model's bay is like its other skins: relative to the reference's
+        x_m[-1] = x_m[3] / local
+    initial = ref.model.copy("initial (mistuned)")
+    Parametrisation(ref.model, train, variables).apply(initial, x_m)
+    if local is not None and not bay_variable:  # the bay back to the other skins' thickness
+        k = [g.name for g in initial.shells].index(LOCAL_BAY)
+        prop = initial.shells[k].property
+        initial.set_shell_group(k, property=shell_property(prop, {"thickness": prop.thickness / local}))
     objective = Objective(frequency=1.0, mac=0.1, static=0.1, mass_limits=0.10)
-    multi = update(initial, train, data, variables, mass_target=target, objective=objective, method=method)
-    single = update(initial, train[:1], data[:1], variables, mass_target=target, objective=objective, method=method)
+    options = {} if tolerance is None else {"tolerance": tolerance}
+    multi = update(initial, train, data, variables, mass_target=target, objective=objective, method=method,
+                   **options)
+    single = update(initial, train[:1], data[:1], variables, mass_target=target, objective=objective,
+                    method=method, **options)
     truth = 1.0 / x_m  # the reference, in the initial model's normalisation
     errors = {"initial": 100 * (1.0 / truth - 1.0), "multi": 100 * (multi.x / truth - 1.0),
               "single": 100 * (single.x / truth - 1.0)}
-    reference = _surrogate(ref.model, [unseen], sensors, n_modes, tip)[0]
-    prediction = {"configuration": unseen.name, "reference_hz": reference.frequencies_hz.tolist()}
-    for key, result in (("multi", multi), ("single", single)):
-        state = solve_static(result.model, unseen)
-        modes = solve_modes(state, n_modes + 4)
-        from ..correlation import pair
-        pairing = pair(_as_modal_set(reference), modes, sensors=sensors)
-        f = np.full(len(reference.frequencies_hz), np.nan)
-        f[pairing.measured] = modes.frequencies_hz[pairing.analytical]
-        prediction[f"{key}_hz"] = f.tolist()
-        prediction[f"{key}_error_percent"] = (100 * (f - reference.frequencies_hz) / reference.frequencies_hz).tolist()
-    return Verification(case, seed, x_m, multi, single, errors, prediction, time.perf_counter() - t0)
+    reference = protocol.unseen_data
+    models = {"initial": initial, "multi": multi.model, "single": single.model}
+    configurations = {}
+    for cfg, meas in zip([*train, unseen], [*data, reference]):
+        seen_by = [] if cfg is unseen else ["multi", "single"] if cfg is train[0] else ["multi"]
+        row = {"reference_hz": meas.frequencies_hz.tolist(), "labels": list(meas.labels), "seen_by": seen_by,
+               "unseen": cfg is unseen}
+        for key, model in models.items():
+            f = _predicted(model, cfg, meas, sensors, protocol.n_modes)
+            row[f"{key}_hz"] = f.tolist()
+            row[f"{key}_error_percent"] = (100 * (f - meas.frequencies_hz) / meas.frequencies_hz).tolist()
+        configurations[cfg.name] = row
+    u = configurations[unseen.name]
+    prediction = {"configuration": unseen.name, "reference_hz": u["reference_hz"], "labels": u["labels"]}
+    prediction.update({k: u[k] for k in ("multi_hz", "multi_error_percent", "single_hz", "single_error_percent")})
+    return Verification(case, seed, x_m, multi, single, errors, prediction, time.perf_counter() - t0,
+                        configurations, [v.name for v in variables])
+
+
+def _predicted(model, cfg, meas: Measured, sensors, n_modes: int) -> np.ndarray:
+    """The frequencies [Hz] of ``model`` in ``cfg`` paired (MAC at the sensors) with the measured modes;
+    NaN where a measured mode finds no partner."""
+    from ..correlation import pair
+    modes = solve_modes(solve_static(model, cfg), n_modes + 4)
+    pairing = pair(_as_modal_set(meas), modes, sensors=sensors)
+    f = np.full(len(meas.frequencies_hz), np.nan)
+    f[pairing.measured] = modes.frequencies_hz[pairing.analytical]
+    return f
 
 
 def _as_modal_set(meas: Measured):
