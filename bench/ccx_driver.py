@@ -55,6 +55,7 @@ class CcxRun:
     shapes: dict[int, np.ndarray]  # node id -> (n_modes, 3) modal translations (last n_modes DISP blocks)
     displacements: dict[int, np.ndarray]  # node id -> (3,) last printed static displacement [m]
     reaction: np.ndarray  # (3,) total reaction force of the fixed nodes at the end of the static step [N]
+    mass_kg: float  # the elements' mass (EMAS of a static step; nan without one)
     cpu_s: float
     wall_s: float
     peak_rss_mb: float
@@ -133,9 +134,9 @@ def s8r_deck(model, fixed: list[int] | np.ndarray, steps: list, imperfection: Ca
             d = g / norm
             lines += ["*STEP, NLGEOM, INC=500", "*STATIC", f"{step.first:g}, 1.0, 1e-6, {step.largest:g}", "*DLOAD",
                       f"EALL, GRAV, {G0 * norm:.10g}, {d[0]:.10g}, {d[1]:.10g}, {d[2]:.10g}",
-                      "*NODE PRINT, NSET=ROOT, TOTALS=ONLY", "RF"]
+                      "*NODE PRINT, NSET=ROOT, TOTALS=ONLY", "RF", "*EL PRINT, ELSET=EALL, TOTALS=ONLY", "EMAS"]
             if step.loads:
-                lines[-4:-4] = ["*CLOAD"] + [f"{n}, {d}, {v:.10g}" for n, d, v in step.loads]
+                lines[-6:-6] = ["*CLOAD"] + [f"{n}, {d}, {v:.10g}" for n, d, v in step.loads]
             if step.print_nodes:
                 lines[lines.index("*NSET, NSET=ROOT"):lines.index("*NSET, NSET=ROOT")] = \
                     ["*NSET, NSET=PRINTED"] + _lines(step.print_nodes)
@@ -163,8 +164,12 @@ def read_frequencies(dat: Path) -> np.ndarray:
 
 
 def read_printed(dat: Path, heading: str) -> list[list[float]]:
-    """Rows (node id then values) of the last block of the .dat file whose heading starts with ``heading``."""
+    """Rows (node id then values) of the last block of the .dat file whose heading starts with
+    ``heading``, before any eigenvalue output (print requests carry over into a frequency step,
+    which prints them for every mode)."""
     text = dat.read_text().splitlines()
+    eigen = [k for k, line in enumerate(text) if "E I G E N V A L U E" in line]
+    text = text[:eigen[0]] if eigen else text
     starts = [k for k, line in enumerate(text) if line.strip().startswith(heading)]
     if not starts:
         return []
@@ -209,6 +214,50 @@ class CcxTimeout(RuntimeError):
         self.cpu_s, self.wall_s = cpu_s, wall_s
 
 
+def read_frd_nodes(frd: Path) -> dict[int, np.ndarray]:
+    """The node coordinates block of a .frd file (the expanded nodes of shells included)."""
+    out, inside = {}, False
+    with frd.open() as f:
+        for line in f:
+            if line.startswith("    2C"):
+                inside = True
+            elif inside and line.startswith(" -1"):
+                out[int(line[3:13])] = np.array([float(line[13 + 12 * k:25 + 12 * k]) for k in range(3)])
+            elif inside and line.startswith(" -3"):
+                break
+    return out
+
+
+def _deck_nodes(deck: str) -> dict[int, np.ndarray]:
+    out, inside = {}, False
+    for line in deck.splitlines():
+        if line.startswith("*"):
+            inside = line.strip().upper() == "*NODE"
+        elif inside:
+            parts = line.split(",")
+            out[int(parts[0])] = np.array([float(v) for v in parts[1:4]])
+    return out
+
+
+def _mid_surface(blocks: list[dict], frd: Path, deck: str, nodes: list[int]) -> dict[int, int]:
+    """frd node id of each shell node: itself, or (when CalculiX wrote its expanded 3-D nodes, as it does
+    in a PERTURBATION step) the expanded node at the shell node's own position (mid-surface)."""
+    missing = [n for n in nodes if n not in blocks[0]]
+    if not missing:
+        return {n: n for n in nodes}
+    from scipy.spatial import cKDTree
+    frd_xyz = read_frd_nodes(frd)
+    have = np.array([n for n in blocks[0] if n in frd_xyz])
+    tree = cKDTree(np.array([frd_xyz[n] for n in have]))
+    mine = _deck_nodes(deck)
+    d, k = tree.query(np.array([mine[n] for n in missing]))
+    if d.max() > 1e-7:
+        raise RuntimeError(f"ccx: no expanded node at shell node {missing[int(np.argmax(d))]} ({d.max():.3g} m off)")
+    out = {n: n for n in nodes if n in blocks[0]}
+    out.update({n: int(have[j]) for n, j in zip(missing, k)})
+    return out
+
+
 def run_ccx(deck: str, name: str, keep: Path | None = None, threads: int = 2, nice: int = 0,
             shapes_of: list[int] | None = None, timeout: float | None = None) -> CcxRun:
     """Run ``deck`` as ``name``.inp in a temporary folder (or ``keep``); CPU seconds from the child's
@@ -240,16 +289,25 @@ def run_ccx(deck: str, name: str, keep: Path | None = None, threads: int = 2, ni
         if p.returncode != 0 or "*ERROR" in p.stdout:
             tail = "\n".join((p.stdout + p.stderr).splitlines()[-15:])
             raise RuntimeError(f"ccx {name} failed (return code {p.returncode}):\n{tail}")
-        dat, frd = work / f"{name}.dat", work / f"{name}.frd"
-        freq = read_frequencies(dat) if "*FREQUENCY" in deck else np.zeros(0)
-        shapes = {}
-        if len(freq):
-            blocks = read_frd_displacements(frd)[-len(freq):]
-            nodes = shapes_of if shapes_of is not None else sorted(blocks[0])
-            shapes = {int(n): np.array([b[int(n)] for b in blocks]) for n in nodes}
-        printed = read_printed(dat, "displacements (vx,vy,vz)")
-        rf = read_printed(dat, "total force (fx,fy,fz)")
-        return CcxRun(freq, shapes, {int(r[0]): np.array(r[1:4]) for r in printed},
-                      np.array(rf[-1][-3:]) if rf else np.zeros(3),
-                      (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime), wall,
-                      after.ru_maxrss / 1024)
+        return read_run(work, name, deck, shapes_of,
+                        (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime), wall,
+                        after.ru_maxrss / 1024)
+
+
+def read_run(work: Path, name: str, deck: str, shapes_of: list[int] | None = None, cpu_s: float = float("nan"),
+             wall_s: float = float("nan"), peak_rss_mb: float = float("nan")) -> CcxRun:
+    """The results of a finished run of ``deck`` as ``name`` in folder ``work``."""
+    dat, frd = work / f"{name}.dat", work / f"{name}.frd"
+    freq = read_frequencies(dat) if "*FREQUENCY" in deck else np.zeros(0)
+    shapes = {}
+    if len(freq):
+        blocks = read_frd_displacements(frd)[-len(freq):]
+        nodes = [int(n) for n in (shapes_of if shapes_of is not None else sorted(blocks[0]))]
+        at = _mid_surface(blocks, frd, deck, nodes) if blocks else {}
+        shapes = {n: np.array([b[at[n]] for b in blocks]) for n in nodes}
+    printed = read_printed(dat, "displacements (vx,vy,vz)")
+    rf = read_printed(dat, "total force (fx,fy,fz)")
+    mass = read_printed(dat, "total mass for set")
+    return CcxRun(freq, shapes, {int(r[0]): np.array(r[1:4]) for r in printed},
+                  np.array(rf[-1][-3:]) if rf else np.zeros(3), mass[-1][0] if mass else float("nan"),
+                  cpu_s, wall_s, peak_rss_mb)

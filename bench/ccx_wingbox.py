@@ -4,9 +4,9 @@ tests/fem/test_wingbox_calculix.py, bench/bench_wingbox.py and the stored refere
     python bench/ccx_wingbox.py reference --sizes 0.25 0.125 0.1 --json tests/data/wingbox_ccx.json
 
 The loaded configurations are post-buckled (the compressed skin wrinkles below 1 g), so both
-solvers get the same stress-free geometry: the compressed skin (bottom at -1 g, top at 2.5 g)
-offset along z by w0 = a sin(pi x / chord) sin(pi y / rib pitch), a = 0.8 mm (a tenth of the skin:
-flexgvt's default imperfection size), one half-wave per bay across the chord and along the span
+solvers get the same stress-free geometry: the compressed skin (bottom at -1 g, top at 2.5 g and
+in the combined case) offset along z by w0 = a sin(pi x / chord) sin(pi y / rib pitch), a = 0.8 mm
+(a tenth of the skin: flexgvt's default imperfection size), one half-wave per bay across the chord and along the span
 with the sign alternating from bay to bay (the continuous plate's buckling mode over ribs that
 hold it out of plane), outward in the root bay. The function of position, not a mesh's buckling
 shape, so every mesh of either solver carries the same imperfection.
@@ -156,18 +156,24 @@ def run_calculix(element_size: float, name: str, n_modes: int = 15, nice: int = 
     steps = ([Static(GRAVITY[name], first, largest, tuple(int(n) for n in tip), loads)] if GRAVITY[name] else []) + \
         [Frequency(n_modes)]
     deck, info = s8r_deck(model, case.references["root_nodes"], steps, imperfection(name))
-    r = run_ccx(deck, name, keep=keep, nice=nice, timeout=timeout)
+    r = run_ccx(deck, name, keep=keep, nice=nice, timeout=timeout, shapes_of=[int(n) for n in model.node_ids])
+    return calculix_result(r, case, name, element_size, info["n_nodes"])
+
+
+def calculix_result(r, case, name: str, element_size: float, n_nodes: int) -> dict:
+    """run_calculix's answer from a CcxRun (ccx_driver.run_ccx or read_run)."""
+    model = case.model
+    pts, tip = points(model)
     corner = [int(n) for n in model.node_ids]
     shapes_all = np.array([r.shapes[n] for n in corner]).transpose(1, 0, 2)  # (modes, corners, 3)
     cls, _ = classify(shapes_all, model.xyz, node_masses(model))
     out = {"solver": "calculix", "element_size": element_size, "configuration": name,
-           "nodes": info["n_nodes"], "frequencies_hz": r.frequencies_hz.tolist(), "classes": cls,
+           "nodes": n_nodes, "frequencies_hz": r.frequencies_hz.tolist(), "classes": cls,
            "shapes": np.array([r.shapes[int(n)] for n in pts]).transpose(1, 0, 2).tolist(),
            "cpu_s": r.cpu_s, "wall_s": r.wall_s, "peak_rss_mb": r.peak_rss_mb}
     if GRAVITY[name]:
         out["tip_w_m"] = float(np.mean([r.displacements[int(n)][2] for n in tip]))
-        if not loads:
-            out["mass_kg"] = float(np.linalg.norm(r.reaction) / (9.80665 * np.linalg.norm(GRAVITY[name])))
+        out["mass_kg"] = r.mass_kg  # the elements' (EMAS): the root's RF total of expanded shells is not the weight
     return out
 
 
@@ -196,17 +202,20 @@ def global_pairs(test: dict, reference: dict, n: int = 5, least_mac: float = 0.8
     return out
 
 
+def _head() -> dict:
+    return {"ccx": version(), "date": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="minutes"),
+            "element": "S8R (quads of fg.cases.wingbox with mid-side nodes), carried mass as the skins' density "
+                       "raised by nsm / t", "imperfection": __doc__.split("\n\n")[2].replace("\n", " ")}
+
+
 def cmd_reference(args):
-    out = {"source": "python bench/ccx_wingbox.py reference " + " ".join(sys.argv[2:]), "ccx": version(),
-           "date": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="minutes"),
-           "element": "S8R (quads of fg.cases.wingbox with mid-side nodes), carried mass as the skins' density "
-                      "raised by nsm / t", "imperfection": __doc__.split("\n\n")[1].replace("\n", " "),
-           "runs": []}
+    out = {"source": "python bench/ccx_wingbox.py reference " + " ".join(sys.argv[2:]), **_head(), "runs": []}
     if args.json and Path(args.json).exists():
         out["runs"] = json.loads(Path(args.json).read_text())["runs"]
     for size in args.sizes:
         for name in args.configurations:
-            r = run_calculix(size, name, args.modes, nice=args.nice)
+            r = run_calculix(size, name, args.modes, nice=args.nice,
+                             keep=Path(args.keep) / f"{name}_{size:g}" if args.keep else None)
             r.pop("shapes") if args.no_shapes else None
             out["runs"] = [x for x in out["runs"] if not (x["element_size"] == size and x["configuration"] == name)]
             out["runs"].append(r)
@@ -216,17 +225,52 @@ def cmd_reference(args):
                 Path(args.json).write_text(json.dumps(out, indent=1))
 
 
+def cmd_store(args):
+    """tests/data/wingbox_ccx.json from reference runs' JSON files: the mesh sequence and, for each
+    configuration, the finest mesh's run as the reference (shapes at the corners every metre)."""
+    runs, head = [], _head()
+    for path in args.inputs:
+        data = json.loads(Path(path).read_text())
+        if "rows" in data:  # a bench/bench_wingbox.py result: its CalculiX runs
+            data = {"source": "python bench/bench_wingbox.py", "ccx": data["ccx"], "runs": [
+                r["calculix"] for r in data["rows"] if "frequencies_hz" in r.get("calculix", {})]}
+        runs += data["runs"]
+    sequence, reference = {}, {}
+    for r in sorted(runs, key=lambda r: -r["element_size"]):
+        name = r["configuration"]
+        keys = ("nodes", "tip_w_m", "mass_kg", "cpu_s")
+        sequence.setdefault(name, {})[f"{r['element_size']:g}"] = {
+            **{k: r[k] for k in keys if k in r}, "frequencies_hz": [round(f, 5) for f in r["frequencies_hz"]],
+            "classes": r["classes"]}
+        reference[name] = {"element_size": r["element_size"], **{k: r[k] for k in ("tip_w_m", "mass_kg") if k in r},
+                           "frequencies_hz": r["frequencies_hz"], "classes": r["classes"],
+                           "shapes": np.round(corners_every_metre(r["shapes"]), 6).tolist()}
+    out = dict(head)
+    out["sources"] = [json.loads(Path(p).read_text()).get("source", f"python bench/bench_wingbox.py ({p})")
+                      for p in args.inputs]
+    out["points"] = ("shapes: (modes, 64, 3) translations of the box's corners (x 0 and 1 m, z -0.08 and 0.08 m, "
+                     "in that order) at y = 1, 2, ... 16 m")
+    out["flexgvt_mesh"] = args.flexgvt_mesh
+    masses = [r["mass_kg"] for r in runs if r.get("mass_kg") == r.get("mass_kg") and "mass_kg" in r]
+    out["mass_kg"] = masses[0] if masses else None  # CalculiX's EMAS (every mesh: the same plates)
+    out["mesh_sequence"], out["reference"] = sequence, reference
+    Path(args.json).write_text(json.dumps(out, indent=0))
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("command", choices=("reference",))
+    parser.add_argument("command", choices=("reference", "store"))
+    parser.add_argument("inputs", nargs="*", help="store: the reference runs' JSON files")
+    parser.add_argument("--flexgvt-mesh", type=float, default=0.1, help="store: flexgvt's converged-enough mesh")
     parser.add_argument("--sizes", type=float, nargs="+", default=[0.25])
     parser.add_argument("--configurations", nargs="+", default=list(GRAVITY))
     parser.add_argument("--modes", type=int, default=15)
     parser.add_argument("--nice", type=int, default=10)
     parser.add_argument("--no-shapes", action="store_true")
     parser.add_argument("--json")
+    parser.add_argument("--keep", help="folder to keep CalculiX's files in")
     args = parser.parse_args()
-    {"reference": cmd_reference}[args.command](args)
+    {"reference": cmd_reference, "store": cmd_store}[args.command](args)
 
 
 if __name__ == "__main__":
