@@ -1,7 +1,10 @@
 """The wingbox (fg.cases.wingbox) in flexgvt and in CalculiX S8R on the same plates, for
 tests/fem/test_wingbox_calculix.py, bench/bench_wingbox.py and the stored references in tests/data.
 
-    python bench/ccx_wingbox.py reference --sizes 0.25 0.125 0.1 --json tests/data/wingbox_ccx.json
+    python bench/ccx_wingbox.py reference --sizes 0.25 --configurations minus_1g --json runs.json
+    python bench/ccx_wingbox.py store runs.json bench_wingbox.json --json tests/data/wingbox_ccx.json
+
+(store: the mesh sequence of every run given, and each configuration's finest run as its reference.)
 
 The loaded configurations are post-buckled (the compressed skin wrinkles below 1 g), so both
 solvers get the same stress-free geometry: the compressed skin (bottom at -1 g, top at 2.5 g and
@@ -202,10 +205,13 @@ def global_pairs(test: dict, reference: dict, n: int = 5, least_mac: float = 0.8
     return out
 
 
+_IMPERFECTION = next(p for p in __doc__.split("\n\n") if p.startswith("The loaded"))
+
+
 def _head() -> dict:
     return {"ccx": version(), "date": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="minutes"),
             "element": "S8R (quads of fg.cases.wingbox with mid-side nodes), carried mass as the skins' density "
-                       "raised by nsm / t", "imperfection": __doc__.split("\n\n")[2].replace("\n", " ")}
+                       "raised by nsm / t", "imperfection": _IMPERFECTION.replace("\n", " ")}
 
 
 def cmd_reference(args):
