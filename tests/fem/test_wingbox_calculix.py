@@ -39,10 +39,11 @@ def _flexgvt(size: float, name: str, n_modes: int) -> dict:
 
 def test_mass_and_unloaded_modes_against_converged_calculix():
     """Mass within 0.5 % of CalculiX's (EMAS of its elements) and the first 10 unloaded modes within
-    1 % of its converged S8R (0.25 m: within 0.15 % of 0.5 m's quartic extrapolation), each paired by
-    MAC > 0.99 with the same class, flexgvt at 0.1 m. Measured: mass -0.0002 %, modes +0.03 to +0.57 %."""
+    1 % of its S8R at 0.1 m (0.25 -> 0.1 m moved them by 0.01-0.38 %), each paired by MAC > 0.99 with
+    the same class, flexgvt at 0.0625 m. Measured: mass -0.0002 %, modes +0.02 to +0.31 % (at 0.1 m
+    flexgvt's mode 10 is +0.95 %, too near the bound for a test)."""
     ref = _reference("unloaded")
-    f = _flexgvt(0.1, "unloaded", 15)
+    f = _flexgvt(0.0625, "unloaded", 15)
     assert f["mass_kg"] == pytest.approx(REF["mass_kg"], rel=0.005)
     pairs = global_pairs(f, ref, 10)
     assert [p["reference_mode"] for p in pairs] == list(range(1, 11))
