@@ -33,6 +33,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "src"))
 
 from box_mesh import box, flexgvt_model, s8r_input  # noqa: E402
+from ccx_driver import run_ccx  # noqa: E402
 
 import flexgvt as fg  # noqa: E402
 
@@ -44,51 +45,14 @@ def clocks() -> tuple[float, float]:
 
 
 # ----------------------------------------------------------------------------- CalculiX
-def read_frequencies(dat: Path) -> np.ndarray:
-    """Frequencies [Hz] of the last eigenvalue table of a CalculiX .dat file."""
-    text = dat.read_text().splitlines()
-    start = max(k for k, line in enumerate(text) if "E I G E N V A L U E   O U T P U T" in line)
-    out = []
-    for line in text[start + 1:]:
-        parts = line.split()
-        if len(parts) == 5 and parts[0].isdigit():
-            out.append(float(parts[3]))
-        elif out and not line.strip():
-            break
-    return np.array(out)
-
-
-def read_tip(dat: Path) -> float:
-    """Mean vertical displacement [m] of the tip nodes in the last printed block of the .dat file."""
-    text = dat.read_text().splitlines()
-    start = max(k for k, line in enumerate(text) if line.strip().startswith("displacements (vx,vy,vz)"))
-    w = []
-    for line in text[start + 1:]:
-        parts = line.split()
-        if len(parts) == 4:
-            w.append(float(parts[3]))
-        elif w:
-            break
-    return float(np.mean(w))
-
-
 def calculix(mesh, gravity: bool, n_modes: int = N_MODES) -> dict:
     """One CalculiX run (OMP_NUM_THREADS=2): frequencies, tip sag, wall and CPU seconds."""
     name = "minus_1g" if gravity else "unloaded"
-    with tempfile.TemporaryDirectory() as tmp:
-        work = Path(tmp)
-        (work / f"{name}.inp").write_text(s8r_input(mesh, n_modes, gravity))
-        before = resource.getrusage(resource.RUSAGE_CHILDREN)
-        t = time.perf_counter()
-        subprocess.run(["ccx", name], cwd=work, check=True, capture_output=True, text=True,
-                       env={"OMP_NUM_THREADS": "2", "PATH": "/usr/bin:/bin"})
-        wall = time.perf_counter() - t
-        after = resource.getrusage(resource.RUSAGE_CHILDREN)
-        out = {"wall_s": wall, "cpu_s": (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime),
-               "peak_rss_mb": after.ru_maxrss / 1024,
-               "frequencies_hz": read_frequencies(work / f"{name}.dat").tolist()}
-        if gravity:
-            out["tip_w_m"] = read_tip(work / f"{name}.dat")
+    r = run_ccx(s8r_input(mesh, n_modes, gravity), name, shapes_of=[])
+    out = {"wall_s": r.wall_s, "cpu_s": r.cpu_s, "peak_rss_mb": r.peak_rss_mb,
+           "frequencies_hz": r.frequencies_hz.tolist()}
+    if gravity:
+        out["tip_w_m"] = float(np.mean([u[2] for u in r.displacements.values()]))
     return out
 
 

@@ -16,11 +16,16 @@ import argparse
 import json
 import shutil
 import subprocess
+import sys
 import tempfile
 import time
 from pathlib import Path
 
 import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+
+from ccx_driver import read_frd_displacements, read_frequencies  # noqa: E402
 
 L, B, T = 1.5, 0.05, 0.003
 E, NU, RHO = 70e9, 0.33, 2700.0
@@ -96,33 +101,11 @@ def write_input(path: Path, n_chord: int, n_span: int, n_modes: int, gravity: bo
     return xyz
 
 
-def read_frequencies(dat: Path) -> np.ndarray:
-    """Frequencies [Hz] of the last eigenvalue table of a CalculiX .dat file."""
-    text = dat.read_text().splitlines()
-    start = max(k for k, line in enumerate(text) if "E I G E N V A L U E   O U T P U T" in line)
-    out = []
-    for line in text[start + 1:]:
-        parts = line.split()
-        if len(parts) == 5 and parts[0].isdigit():
-            out.append(float(parts[3]))
-        elif out and not line.strip():
-            break
-    return np.array(out)
-
-
 def read_mode_shapes(frd: Path, n_modes: int) -> np.ndarray:
     """(n_modes, n_points, 3) displacements of the last n_modes DISP blocks of a .frd file, at every
     node CalculiX writes (the shell's expanded nodes, numbered the same in both runs)."""
-    blocks, current = [], None
-    for line in frd.read_text().splitlines():
-        if line.startswith(" -4  DISP"):
-            current = {}
-        elif current is not None and line.startswith(" -1"):
-            current[int(line[3:13])] = [float(line[13 + 12 * k:25 + 12 * k]) for k in range(3)]
-        elif current is not None and line.startswith(" -3"):
-            blocks.append(np.array([current[n] for n in sorted(current)]))
-            current = None
-    return np.array(blocks[-n_modes:])
+    blocks = read_frd_displacements(frd)[-n_modes:]
+    return np.array([[b[n] for n in sorted(b)] for b in blocks])
 
 
 def run(n_chord: int, n_span: int, n_modes: int = 15, keep: Path | None = None, bricks: int = 0) -> dict:
