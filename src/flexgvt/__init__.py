@@ -14,13 +14,14 @@ from .errors import FlexGVTError
 from .fem import (MassProperties, Modes, ModeTracking, State, StaticSettings, mass_properties, modes_versus_load,
                   solve_linear_static, solve_modes, solve_static, track_modes)
 from .model import (CircularTubeSection, Configuration, Cord, DistributedLoad, GeneralSection, Material, Model,
-                    NodalLoad, RectangularSection, RodSection, Spring, TaperedSection)
+                    NodalLoad, RectangularSection, RodSection, Spring, SpringTable, TaperedSection)
 
 __version__ = "0.1.0"
 
 __all__ = ["CircularTubeSection", "Configuration", "Cord", "DistributedLoad", "FlexGVTError", "GeneralSection",
            "MassProperties", "Material", "Model", "ModeTracking", "Modes", "NodalLoad", "RectangularSection",
-           "RodSection", "Spring", "State", "TaperedSection", "StaticSettings", "blas_threads", "cases", "errors",
+           "RodSection", "Spring", "SpringTable", "State", "TaperedSection", "StaticSettings", "blas_threads", "cases",
+           "errors",
            "fem", "mass_properties", "model", "modes_versus_load", "solve_linear_static", "solve_modes", "solve_static",
            "track_modes"]
 
