@@ -173,3 +173,22 @@ def test_ctrl_c_prints_where_the_run_stopped_and_exits_130(project, monkeypatch)
     text = " ".join(out.output.split())
     assert "stopped (Ctrl-C): interrupted in the updating after 7 stored evaluations" in text
     assert "best objective 0.0123" in text and "a rerun resumes" in text
+
+
+def test_show_marks_the_springs_that_follow_a_table():
+    """`flexgvt show model`'s spring table names the components with a force-deflection table (their K
+    is the table's slope at zero) and leaves the column out when no spring has one."""
+    from rich.console import Console
+
+    import flexgvt as fg
+    from flexgvt.cli.show import _springs
+
+    tabled = fg.cases.swept_wing(n_wing=4, n_body=2, n_fin=2, root_hardening=0.02).model.springs[:2]
+    console = Console(width=250, record=True)
+    _springs(console, tabled, [], "springs")
+    text = console.export_text()
+    assert "table components" in text
+    assert [line.split("│")[-2].strip() for line in text.splitlines() if "root_spring" in line] == ["4,6"]
+    plain = Console(width=250, record=True)
+    _springs(plain, fg.cases.swept_wing(n_wing=4, n_body=2, n_fin=2).model.springs[:2], [], "springs")
+    assert "table components" not in plain.export_text()

@@ -100,13 +100,18 @@ def _springs(console: Console, springs, sources, title: str) -> None:
     for k, s in enumerate(springs):
         src = sources[k] if k < len(sources) else None
         k6, c6 = np.asarray(s.stiffness, float), np.asarray(s.damping, float)
+        tabled = ",".join(str(c + 1) for c, t in enumerate(s.tables or ()) if t is not None)
         rows.append([k + 1, s.name, "" if s.id is None else s.id, "" if src is None else f"{src[0]} {src[1]}",
                      f"{s.node_a}-{'ground' if s.node_b is None else s.node_b}", _vec(k6[:3]), _vec(k6[3:]),
-                     _vec(c6[:3]) if np.any(c6[:3]) else "", _vec(c6[3:]) if np.any(c6[3:]) else ""])
-    if rows:
-        print_table(console, title, ["#", "name", "id", "Nastran", "nodes", "K 1-3 [N/m]", "K 4-6 [N m/rad]",
-                                     "C 1-3 [N s/m]", "C 4-6 [N m s/rad]"], rows, key=3,
-                    justify=["right", "left", "right", "left", "left", "right", "right", "right", "right"])
+                     _vec(c6[:3]) if np.any(c6[:3]) else "", _vec(c6[3:]) if np.any(c6[3:]) else "", tabled])
+    if not rows:
+        return
+    heads = ["#", "name", "id", "Nastran", "nodes", "K 1-3 [N/m]", "K 4-6 [N m/rad]", "C 1-3 [N s/m]",
+             "C 4-6 [N m s/rad]", "table components (K at zero)"]
+    justify = ["right", "left", "right", "left", "left", "right", "right", "right", "right", "left"]
+    if not any(r[-1] for r in rows):
+        rows, heads, justify = [r[:-1] for r in rows], heads[:-1], justify[:-1]
+    print_table(console, title, heads, rows, key=3, justify=justify)
 
 
 def _configurations(console: Console, configs: dict) -> None:
