@@ -108,3 +108,14 @@ def test_solve_reads_a_deck_in_units_by_their_usual_names(tmp_path):
     assert all(f > 0 for k in a for f in a[k]["frequencies_hz"])
     result = runner.invoke(app, ["solve", str(deck), "--units", "mm-kg-fortnight"])
     assert result.exit_code == 2 and "--units" in result.output and "mm-t-s" in result.output
+
+
+def test_solve_takes_the_buckling_setting(tmp_path):
+    """`flexgvt solve --buckling`: an unknown choice is refused with the choices named; 'stop' reaches
+    the static solve (a case that does not lose stability solves as before)."""
+    bad = runner.invoke(app, ["solve", "cantilever_strip", "-c", "unloaded", "--buckling", "sideways"])
+    assert bad.exit_code != 0 and "must be one of" in bad.output and "continue" in bad.output
+    out = tmp_path / "r.json"
+    ok = runner.invoke(app, ["solve", "cantilever_strip", "--buckling", "stop", "--modes", "3", "--json", str(out)])
+    assert ok.exit_code == 0, ok.output
+    assert all(len(c["frequencies_hz"]) == 3 for c in json.loads(out.read_text())["configurations"].values())

@@ -66,13 +66,13 @@ def _fail(exc: Exception) -> None:
     raise typer.Exit(code=2)
 
 
-def _solve_with_progress(model, cfg):
+def _solve_with_progress(model, cfg, settings=None):
     from ..fem import solve_static
 
     with Progress(TextColumn(f"[cyan]{cfg.name}[/] nonlinear static"), BarColumn(),
                   TextColumn("{task.percentage:>5.1f} %"), TimeElapsedColumn(), console=console, transient=True) as bar:
         task = bar.add_task("solve", total=1.0)
-        return solve_static(model, cfg, progress=lambda lam: bar.update(task, completed=lam))
+        return solve_static(model, cfg, settings=settings, progress=lambda lam: bar.update(task, completed=lam))
 
 
 def _result_record(state, modes, timings) -> dict:
@@ -125,9 +125,16 @@ def solve(case: str = typer.Argument(..., help="built-in case (cantilever_strip,
           cbar_torsional_inertia: bool = typer.Option(False, help="bulk data: add rho*Ip torsional inertia to CBAR "
                                                       "mass (Nastran's CBAR has none, the default)"),
           mass_frame: str = typer.Option("deformed", help="mass matrix about the deformed state (physical) or the "
-                                         "undeformed one (as Nastran SOL 400 and OpenSees)")):
+                                         "undeformed one (as Nastran SOL 400 and OpenSees)"),
+          buckling: str = typer.Option("warn", help="an unstable final state (a buckled skin, a limit point): warn "
+                                       "(locate it), stop (error with the last stable state), continue (onto the "
+                                       "post-buckled path with a small imperfection in the buckling shape), ignore"),
+          imperfection: float = typer.Option(0.0, help="--buckling continue: the imperfection's largest offset [m] "
+                                             "(0: a tenth of the thinnest buckled shell's thickness)")):
     """Static shape and pre-stressed modes of each configuration of a built-in case or a Nastran deck."""
     try:
+        from ..fem import StaticSettings
+        settings = StaticSettings(buckling=buckling.lower(), imperfection=imperfection)
         if case.lower().endswith((".bdf", ".dat", ".nas", ".blk")):
             from ..io.nastran import Units, read_bdf
             from ..workflow.units import unit_system
@@ -155,7 +162,7 @@ def solve(case: str = typer.Argument(..., help="built-in case (cantilever_strip,
             with warnings.catch_warnings(record=True) as caught:  # the cautions are printed below, once
                 warnings.simplefilter("always")
                 t0 = time.perf_counter()
-                st = _solve_with_progress(model, configurations[name])
+                st = _solve_with_progress(model, configurations[name], settings)
                 t1 = time.perf_counter()
                 if methods.get(name) is not None:
                     from ..workflow.deck import deck_modes
