@@ -73,6 +73,29 @@ def coord_axes(bdf, cid: int | None, xyz_basic: np.ndarray, what: str) -> np.nda
     return beta.T @ axes
 
 
+
+def basic_dofs(deck, nid: int, dofs: list[int], where: str, noun: str, what: str, remedy: str) -> set[int]:
+    """DOF indices 0-5 in basic axes of the components ``dofs`` (0-5, in grid ``nid``'s displacement
+    system CD). A CD whose named components do not line up with basic axes is refused with
+    ``remedy`` (the message names the ``noun`` and ``what`` components)."""
+    cd = deck.bdf.nodes[nid].cd
+    if cd in (None, 0):
+        return set(dofs)
+    T = coord_axes(deck.bdf, cd, deck.xyz_deck[nid], f"{where} at {noun} {nid}")
+    out: set[int] = set()
+    for base in (0, 3):
+        group = [d - base for d in dofs if base <= d < base + 3]
+        if not group:
+            continue
+        P = T[:, group] @ T[:, group].T  # projector on the named directions, basic axes
+        diag = np.diag(P)
+        if not (np.allclose(P, np.diag(diag), atol=1e-9) and np.allclose(diag, np.round(diag), atol=1e-9)):
+            raise ModelError(f"{where}: {noun} {nid} has CD={cd} and its {what} "
+                             f"{''.join(str(base + g + 1) for g in group)} do not line up with basic axes; {remedy}")
+        out.update(base + int(k) for k in np.flatnonzero(np.round(diag) == 1))
+    return out
+
+
 def frame_from_x(ex: np.ndarray) -> np.ndarray:
     """Orthonormal frame (columns) whose first axis is along ex."""
     x = ex / np.linalg.norm(ex)

@@ -13,12 +13,10 @@ not exist, scalar points (component 0) and a DOF in both sets are errors naming 
 
 from __future__ import annotations
 
-import numpy as np
-
 from ...errors import ModelError
 from ...model import Model
 from ._deck import Deck, Family, Findings, Parts
-from ._grids import coord_axes
+from ._grids import basic_dofs
 
 CARDS = ("ASET", "ASET1", "OMIT", "OMIT1")
 
@@ -28,25 +26,9 @@ def _basic_dofs(deck: Deck, nid: int, comps: str, where: str) -> set[int]:
     comps = str(comps).strip()
     if not comps or any(c not in "123456" for c in comps):
         raise ModelError(f"{where}: components {comps!r} must be digits 1-6 (scalar points are not supported)")
-    dofs = sorted({int(c) - 1 for c in comps})
-    cd = deck.bdf.nodes[nid].cd
-    if cd in (None, 0):
-        return set(dofs)
-    T = coord_axes(deck.bdf, cd, deck.xyz_deck[nid], f"{where} at grid {nid}")
-    out: set[int] = set()
-    for base in (0, 3):
-        group = [d - base for d in dofs if base <= d < base + 3]
-        if not group:
-            continue
-        P = T[:, group] @ T[:, group].T  # projector on the named directions, basic axes
-        diag = np.diag(P)
-        if not (np.allclose(P, np.diag(diag), atol=1e-9) and np.allclose(diag, np.round(diag), atol=1e-9)):
-            raise ModelError(f"{where}: grid {nid} has CD={cd} and its components "
-                             f"{''.join(str(base + g + 1) for g in group)} do not line up with basic axes; "
-                             "flexgvt's DOFs are in basic axes: give the grid a CD aligned with basic or name "
-                             "all three translations/rotations")
-        out.update(base + int(i) for i in np.flatnonzero(np.round(diag) == 1))
-    return out
+    return basic_dofs(deck, nid, sorted({int(c) - 1 for c in comps}), where, "grid", "components",
+                      "flexgvt's DOFs are in basic axes: give the grid a CD aligned with basic or name all three "
+                      "translations/rotations")
 
 
 def _read_sets(deck: Deck, cards, log: Findings) -> dict[int, set[int]]:

@@ -13,7 +13,7 @@ from ...errors import FileFormatError, ModelError
 from ...model import Configuration, DistributedLoad, Model, NodalLoad, RodSection
 from ._common import EigenMethod
 from ._deck import Deck, Findings, Parts
-from ._grids import coord_axes
+from ._grids import basic_dofs, coord_axes
 from ._limits import MAX_ENFORCED_SIZES
 from ._plates import membrane_rotation_fixes
 
@@ -413,23 +413,10 @@ class _Subcases:
         dofs = sorted({int(c) for c in comps})
         if any(not 1 <= d <= 6 for d in dofs):
             raise FileFormatError(f"{where}: components {comps!r} must be digits 1-6")
-        cd = self.deck.bdf.nodes[nid].cd
-        out = fixed.setdefault(int(nid), set())
-        if cd in (None, 0):
-            out.update(d - 1 for d in dofs)
-            return
-        T = coord_axes(self.deck.bdf, cd, self.deck.xyz_deck[nid], f"{where} at node {nid}")
-        for base, group in ((0, [d - 1 for d in dofs if d <= 3]), (3, [d - 4 for d in dofs if d > 3])):
-            if not group:
-                continue
-            P = T[:, group] @ T[:, group].T  # projector on the constrained directions, basic axes
-            diag = np.diag(P)
-            if not (np.allclose(P, np.diag(diag), atol=1e-9) and np.allclose(diag, np.round(diag), atol=1e-9)):
-                raise ModelError(f"{where}: node {nid} has CD={cd} and its constrained components "
-                                 f"{''.join(str(base + g + 1) for g in group)} do not line up with basic axes; "
-                                 "flexgvt fixes DOFs in basic axes. Constrain all three translations/rotations, use "
-                                 "a CD aligned with basic, or replace the SPC by a stiff CBUSH in that system")
-            out.update(base + i for i in np.flatnonzero(np.round(diag) == 1))
+        fixed.setdefault(int(nid), set()).update(basic_dofs(
+            self.deck, nid, [d - 1 for d in dofs], where, "node", "constrained components",
+            "flexgvt fixes DOFs in basic axes. Constrain all three translations/rotations, use a CD aligned with "
+            "basic, or replace the SPC by a stiff CBUSH in that system"))
 
     def _prescribe(self, prescribed: dict, nid: int, comps: str, value: float, where: str) -> None:
         """Enforced value [deck units] on components of a node (basic axes only)."""
