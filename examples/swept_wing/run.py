@@ -168,9 +168,10 @@ def main(argv=None) -> dict:
                       "wind_tunnel": {"frequencies": rows2, "variables": vars2, "message": stage2.message,
                                       "warnings": stage2.warnings, "seconds": stage2.seconds}},
            "summary": summary}
-    (args.out / "swept_wing.json").write_text(json.dumps(out, indent=1, default=float))
+    text = json.dumps(out, indent=1, default=float)
+    (args.out / "swept_wing.json").write_text(text)
     if args.json is not None:
-        args.json.write_text(json.dumps(out, indent=1, default=float))
+        args.json.write_text(text)
     return out
 
 
