@@ -21,6 +21,7 @@ from pathlib import Path
 import numpy as np
 
 import flexgvt as fg
+from table_spring_modes import ratio_panel  # bench/ beside this script
 
 
 def sweep(hardening: float | None, loads: np.ndarray, n_modes: int, n_wing: int) -> dict:
@@ -48,17 +49,7 @@ def figure(result: dict, path: Path) -> None:
 
     fig = Figure(figsize=(10, 4.2), layout="constrained")
     ax, bx = fig.subplots(1, 2)
-    loads = [r["load_N"] for r in result["hardening"]["rows"]]
-    f_h = np.array([r["frequencies_hz"] for r in result["hardening"]["rows"]])
-    f_l = np.array([r["frequencies_hz"] for r in result["linear"]["rows"]])
-    for j, label in enumerate(result["hardening"]["labels"]):
-        ax.plot(loads, f_h[:, j] / f_h[0, j], "-o", color=f"C{j}", ms=3, label=f"{label} ({f_h[0, j]:.2f} Hz)")
-        ax.plot(loads, f_l[:, j] / f_l[0, j], "--", color=f"C{j}", lw=1)
-    ax.set_xlabel("tip load [N]")
-    ax.set_ylabel("f / f(0)")
-    ax.set_title("swept wing: hardening root spring (solid), linear (dashed)")
-    ax.legend(fontsize=8)
-    ax.grid(alpha=0.3)
+    ratio_panel(ax, result["hardening"], result["linear"], "swept wing: hardening root spring (solid), linear (dashed)")
     for key, style in (("hardening", "-o"), ("linear", "--s")):
         rows = result[key]["rows"]
         bx.plot([r["load_N"] for r in rows], [r["tip_z_m"] for r in rows], style, ms=3, label=f"tip z, {key} root")

@@ -72,24 +72,30 @@ def sweep(tabled: bool, loads: np.ndarray, n_modes: int, smooth: bool = True) ->
     return {"labels": list(tracking.labels), "rows": rows}
 
 
+def ratio_panel(ax, solid: dict, dashed: dict, title: str) -> None:
+    """Each tracked mode's f / f(0) against the load: the sweep ``solid`` (its rows' load_N and
+    frequencies_hz, and its labels) as lines with points, ``dashed`` in the same colours."""
+    loads = [r["load_N"] for r in solid["rows"]]
+    f_s = np.array([r["frequencies_hz"] for r in solid["rows"]])
+    f_d = np.array([r["frequencies_hz"] for r in dashed["rows"]])
+    labels = solid["labels"] or [f"mode {j + 1}" for j in range(f_s.shape[1])]
+    for j in range(f_s.shape[1]):
+        colour = f"C{j}"
+        ax.plot(loads, f_s[:, j] / f_s[0, j], "-o", color=colour, ms=3, label=f"{labels[j]} ({f_s[0, j]:.2f} Hz)")
+        ax.plot(loads, f_d[:, j] / f_d[0, j], "--", color=colour, lw=1)
+    ax.set_xlabel("tip load [N]")
+    ax.set_ylabel("f / f(0)")
+    ax.set_title(title)
+    ax.legend(fontsize=8)
+    ax.grid(alpha=0.3)
+
+
 def figure(result: dict, path: Path) -> None:
     from matplotlib.figure import Figure
 
     fig = Figure(figsize=(10, 4.2), layout="constrained")
     ax, bx = fig.subplots(1, 2)
-    loads = [r["load_N"] for r in result["table"]["rows"]]
-    f_t = np.array([r["frequencies_hz"] for r in result["table"]["rows"]])
-    f_l = np.array([r["frequencies_hz"] for r in result["linear"]["rows"]])
-    labels = result["table"]["labels"] or [f"mode {j + 1}" for j in range(f_t.shape[1])]
-    for j in range(f_t.shape[1]):
-        colour = f"C{j}"
-        ax.plot(loads, f_t[:, j] / f_t[0, j], "-o", color=colour, ms=3, label=f"{labels[j]} ({f_t[0, j]:.2f} Hz)")
-        ax.plot(loads, f_l[:, j] / f_l[0, j], "--", color=colour, lw=1)
-    ax.set_xlabel("tip load [N]")
-    ax.set_ylabel("f / f(0)")
-    ax.set_title("modes against load: table root spring (solid), linear (dashed)")
-    ax.legend(fontsize=8)
-    ax.grid(alpha=0.3)
+    ratio_panel(ax, result["table"], result["linear"], "modes against load: table root spring (solid), linear (dashed)")
     x, f = TABLES[5]
     table = SpringTable.make(x, f, smooth=result["smooth"])
     fine = np.linspace(x[0], x[-1], 301)
