@@ -105,8 +105,19 @@ class Point:
     constraint_jacobian: np.ndarray | None = None
     unpaired: dict[str, list[int]] = field(default_factory=dict)
     seconds: float = 0.0
+    n_prior: int = 0  # trailing rows that are the variables' prior (Objective.prior), not data
 
     @property
     def objective(self) -> float:
         return float(self.residuals @ self.residuals)
+
+    @property
+    def data_residuals(self) -> np.ndarray:
+        """The residuals of the test data alone (the prior's rows left out)."""
+        return self.residuals[:len(self.residuals) - self.n_prior]
+
+    @property
+    def data_jacobian(self) -> np.ndarray | None:
+        """The Jacobian of data_residuals."""
+        return None if self.jacobian is None else self.jacobian[:self.jacobian.shape[0] - self.n_prior]
 

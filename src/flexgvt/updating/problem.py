@@ -26,6 +26,7 @@ from .cache import PointCache
 from .derivatives import shared_changes
 from .masstargets import MassResiduals
 from .pairing import PairingPolicy
+from .prior import measurement_variance, prior_std
 from .points import Block, ConfigurationPoint, DesignPointFailure, Point
 from .remote import remote_points
 from .targets import MassTarget, Measured, Objective
@@ -80,6 +81,7 @@ class UpdatingProblem:
         self.pairing = PairingPolicy(self.objective)
         self.blocks = ConfigurationBlocks(self.par, self.work, self.objective, self.measured, follow_sensors)
         self.mass_residuals = MassResiduals(mass_target, self.objective, self.par, self.work)
+        self.prior_weights = self._prior_weights()
         self.cache = PointCache()
         self.workers: list | None = None  # Dask actors evaluating the configurations (updating.parallel)
         self.n_solves = 0
@@ -90,6 +92,21 @@ class UpdatingProblem:
                 if not 1 <= int(comp) <= 6:
                     raise ModelError(f"static deflection ({node}, {comp}) of configuration '{m.configuration}': the "
                                      "component must be 1-6")
+
+    def _prior_weights(self) -> np.ndarray | None:
+        """(n,) weights w of the prior rows w (x - 1) (Objective.prior 'bounds'): sigma / s_k, sigma the
+        standard deviation of one weighted frequency residual from the measured scatter and s_k the
+        standard deviation of a uniform distribution over variable k's bounds, so that |r|^2 / sigma^2
+        is the negative log posterior (up to a constant) of a Gaussian prior of variance s_k^2."""
+        if self.objective.prior == "none":
+            return None
+        sigma2 = measurement_variance(list(self.measured.values()), self.objective, self.blocks.frequency_weights)
+        if sigma2 is None:
+            raise ModelError("updating: objective prior 'bounds' weighs each variable's prior against the measured "
+                             "frequency scatter, and no configuration gives frequency standard deviations; give "
+                             "them (Measured.frequency_std_hz; a project's identified modes carry PolyMAX's), or "
+                             "set prior = 'none'")
+        return np.sqrt(sigma2) / prior_std(self.par.variables)
 
     def __getstate__(self) -> dict:
         """Pickled as its definition (for a worker process): states, caches and systems stay behind."""
@@ -224,16 +241,19 @@ class UpdatingProblem:
         mres, mnames, _ = self.mass_residuals.vector(mp)
         blocks = [points[c.name].block for c in self.configurations]
         mcon, mcon_names = self.mass_residuals.constraints(mp)
-        point = Point(x.copy(), np.concatenate([b.residuals for b in blocks] + [mres]),
-                      [n for b in blocks for n in b.names] + mnames, points, mp,
+        w = self.prior_weights
+        prior = [] if w is None else [w * (x - 1.0)]
+        pnames = [] if w is None else [f"prior {n}" for n in self.par.names]
+        point = Point(x.copy(), np.concatenate([b.residuals for b in blocks] + [mres] + prior),
+                      [n for b in blocks for n in b.names] + mnames + pnames, points, mp,
                       constraints=np.concatenate([b.constraints for b in blocks] + [mcon]),
                       constraint_names=[n for b in blocks for n in b.constraint_names] + mcon_names,
                       unpaired={c.name: np.flatnonzero(points[c.name].paired < 0).tolist()
-                                for c in self.configurations})
+                                for c in self.configurations}, n_prior=len(pnames))
         if gradient:
             nv = len(self.par)
             dmp = self.mass_residuals.derivatives(x, changes)
-            point.jacobian = np.vstack([b.jacobian for b in blocks] + [dmp])
+            point.jacobian = np.vstack([b.jacobian for b in blocks] + [dmp] + ([] if w is None else [np.diag(w)]))
             crows = [b.constraint_jacobian for b in blocks]
             if len(mcon):
                 rel_d = dmp / self.mass_residuals.weights()[:, None]

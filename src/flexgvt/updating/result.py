@@ -140,7 +140,7 @@ def identifiability(problem: UpdatingProblem, point: Point, max_relative_std: fl
     """Rank and condition of the (weighted, normalised) sensitivity matrix, the directions the data
     cannot see, and which variables the data constrain (judge): sigma from the measured frequency
     standard deviations where given, else from the residual (s^2 = |r|^2 / (m - n))."""
-    J = point.jacobian
+    J = point.data_jacobian  # what the data see (a prior's rows would make every variable look identified)
     names = problem.par.names
     m, n = J.shape
     s, vt, null, rank = _null(J)
@@ -244,7 +244,7 @@ def _residual_variance(problem: UpdatingProblem, point: Point, m: int, n: int) -
         # Weighted residuals w (f - fm)/fm have standard deviation w sd/fm each: their common value.
         return float(np.median((problem.objective.frequency * weights * rel) ** 2)), "measured standard deviations"
     if m > n:
-        return float(point.residuals @ point.residuals / (m - n)), "residual (m - n degrees of freedom)"
+        return float(point.data_residuals @ point.data_residuals / (m - n)), "residual (m - n degrees of freedom)"
     return float("nan"), "none (no redundancy and no measured standard deviations): standard deviations unknown"
 
 

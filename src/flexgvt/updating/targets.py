@@ -9,7 +9,7 @@ import numpy as np
 
 from ..errors import ModelError
 from ..modal import ModalSet
-from .settings import setting
+from .settings import check_settings, setting
 
 
 @dataclass(frozen=True)
@@ -133,3 +133,12 @@ class Objective:
     max_frequency_ratio: float | None = setting(2.0, "pairing: modes farther apart in frequency than this factor "
                                                 "are not paired", gt=1)
     orthogonality: float = setting(0.0, "weight of the cross-orthogonality residuals XOR - I", ge=0)
+    prior: str = setting("none", "none: least squares on the test data alone; bounds: the most probable point "
+                         "of the posterior (MAP): each variable also carries a Gaussian prior about its "
+                         "initial value with the variance of a uniform distribution over its bounds, "
+                         "weighed against the data by the measured frequency standard deviations, so "
+                         "directions the data hardly see stay near the initial model instead of wandering",
+                         choices=("none", "bounds"))
+
+    def __post_init__(self) -> None:
+        check_settings(self, "objective")

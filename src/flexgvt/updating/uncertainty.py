@@ -13,7 +13,8 @@ up by the fit's chi^2 per degree of freedom when the residual is larger than the
 (a model error or an under-stated scatter: the Birge ratio), or from the residual alone without them.
 
 Sampling route: an affine-invariant ensemble MCMC (emcee, optional dependency ``flexgvt[mcmc]``)
-of the same residuals, log p(x) = -|r(x)|^2 / (2 sigma^2) inside the bounds (uniform prior), each
+of the same residuals, log p(x) = -|r(x)|^2 / (2 sigma^2) inside the bounds (uniform prior; with
+Objective.prior 'bounds' the residuals carry the Gaussian prior's rows too), each
 retained sample's predicted frequencies giving the percentile interval.
 """
 
@@ -28,6 +29,7 @@ import numpy as np
 from ..errors import ModelError, SolverError
 from ..model import Configuration, Model
 from .points import DesignPointFailure
+from .prior import measurement_variance, prior_std
 from .settings import UncertaintySettings
 from .targets import Measured, Objective
 from .variables import Parametrisation, Variable
@@ -112,24 +114,6 @@ def _quantile(level: float, dof: float | None) -> float:
     """The two-sided quantile of ``level``: normal (dof None) or Student's t on dof (scipy's are slow)."""
     from scipy.stats import norm, t
     return float(norm.ppf(0.5 + level / 2) if dof is None else t.ppf(0.5 + level / 2, dof))
-
-
-def prior_std(variables: Sequence[Variable]) -> np.ndarray:
-    """(n,) standard deviation of a uniform distribution over each variable's normalised bounds."""
-    return np.array([(v.bounds[1] - v.bounds[0]) / np.sqrt(12.0) for v in variables])
-
-
-def measurement_variance(measured: Sequence[Measured], objective: Objective,
-                         weights: Callable[[Measured], np.ndarray]) -> float | None:
-    """Variance of one weighted frequency residual w (f - fm) / fm from the measured standard
-    deviations (``weights``: the objective's per-mode weights of a Measured), None when none are given."""
-    with_std = [m for m in measured if m.frequency_std_hz is not None and np.any(m.frequency_std_hz > 0)]
-    if not with_std:
-        return None
-    terms = np.concatenate([objective.frequency * weights(m) * m.frequency_std_hz / m.frequencies_hz
-                            for m in with_std])
-    terms = terms[terms > 0]
-    return float(np.mean(terms**2))
 
 
 def parameter_covariance(jacobian: np.ndarray, residuals: np.ndarray, sigma2_measured: float | None = None,

@@ -66,7 +66,8 @@ def variable_covariance(project: Project, result: UpdateResult, problem: Updatin
     """The updated variables' covariance at the answer (its Jacobian and residuals)."""
     sigma2 = measurement_variance(list(problem.measured.values()), problem.objective, problem.blocks.frequency_weights)
     prior = prior_std(project.variables) if settings.prior == "bounds" else None
-    return parameter_covariance(result.final.jacobian, result.final.residuals, sigma2, prior, settings.scale_to_fit)
+    return parameter_covariance(result.final.data_jacobian, result.final.data_residuals, sigma2, prior,
+                                settings.scale_to_fit)
 
 
 def add_bounds(project: Project, result: UpdateResult, prediction: Prediction, identified: dict[str, Identified],
