@@ -47,7 +47,11 @@ def test_demo_predicts_the_as_built_aircraft_and_its_report_renders(tmp_path):
     assert result.exit_code == 0, result.output
     data = json.loads((tmp_path / "demo.json").read_text())
     rows = data["free_free"]["updated"]
-    assert len(rows) == 7 and all(abs(r["error_percent"]) < 2.0 and r["mac"] > 0.95 for r in rows)
+    # A mode of a close cluster (the 3 OOP / 1 T pair, 0.9 % apart) is judged by the span of its
+    # cluster's predicted modes, an isolated one by its own MAC.
+    assert len(rows) == 7 and all(abs(r["error_percent"]) < 2.0 for r in rows)
+    assert all((r["mac"] if r["subspace_mac"] is None else r["subspace_mac"]) > 0.95 for r in rows)
+    assert sum(r["subspace_mac"] is not None for r in rows) == 2
     assert data["max_abs_error_percent"]["updated"] < data["max_abs_error_percent"]["initial"]
     for name, c in data["configurations"].items():
         assert c["updated_rms_error_percent"] < c["initial_rms_error_percent"], name

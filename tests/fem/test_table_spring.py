@@ -188,7 +188,9 @@ def test_straight_table_is_the_linear_spring():
         state = fg.solve_static(model, cfg)
         results.append((state.displacements, fg.solve_modes(state, 6, label=False).frequencies_hz))
     np.testing.assert_allclose(results[1][0], results[0][0], rtol=0, atol=1e-12)
-    np.testing.assert_allclose(results[1][1], results[0][1], rtol=1e-10)
+    # The modes' round-off: one model's frequencies through SuperLU and through PARDISO differ by up to
+    # 1.1e-9 (the 16.4 Hz mode; measured 2026-11-27), so 1e-8.
+    np.testing.assert_allclose(results[1][1], results[0][1], rtol=1e-8)
 
 
 # ---------------------------------------------------------------- the peer: OpenSeesPy

@@ -38,7 +38,8 @@ def prediction_rows(rows: list[dict]) -> tuple[list[str], list[list[str]]]:
     from .tables import header
     keys: list[str] = []
     for r in rows:
-        keys += [k for k in r if k not in keys and not k.endswith("_mac") and k != "reference_label"]
+        keys += [k for k in r if k not in keys and (not k.endswith("_mac") or k == "subspace_mac")
+                 and k != "reference_label"]
     return ([header(k) for k in keys],
             [[_fmt(r.get(k), 2 if k.endswith("percent") else 4) for k in keys] for r in rows])
 

@@ -102,6 +102,7 @@ method = "least_squares"   # least_squares (Levenberg-Marquardt, then bounded), 
 starts = 1                 # multi-start
 max_iterations = 100       # function evaluations (the default)
 tolerance = 1e-4           # relative, on the cost, step and gradient (default 1e-10): 1e-4 is a 0.01 % step
+max_relative_std = 0.1     # variables the data know to no better than +-10 % are held (default 0.5)
 
 [prediction]               # suspension removed: free-free modes, and proposed suspensions
 free_free = true
