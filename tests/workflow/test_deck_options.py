@@ -110,3 +110,14 @@ def test_unsupported_cards_from_a_project(tmp_path):
 def test_deck_options_are_checked(tmp_path, options, match):
     with pytest.raises(ProjectError, match=match):
         _load(tmp_path, f"[model.options]\n{options}")
+
+
+def test_a_deck_asking_for_guyan_reduction_is_solved_whole_and_says_so(tmp_path):
+    """ASET/OMIT in a project's deck: the project works on the full model (updating needs its exact
+    modes and sensitivities) and says so once, naming the sets and where the reduced modes are."""
+    with pytest.warns(FlexGVTWarning, match=r"Guyan reduction \(ASET\).*full model.*flexgvt solve"):
+        project = _load(tmp_path, "", "ASET1,3,2\n")
+    assert project.model.n_nodes == 2
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", FlexGVTWarning)
+        _load(tmp_path, "")  # no sets: no such warning

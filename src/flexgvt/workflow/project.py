@@ -131,6 +131,12 @@ def _read_deck(bdf: Path, spec, where: str):
         raise ProjectError(f"{where}: model.bdf: {exc}") from None
     for w in caught:
         warnings.warn(f"{where}: model.bdf: {w.message}", FlexGVTWarning, stacklevel=3)
+    sets = [k for k in ("ASET", "OMIT") if deck.options.get(k)]
+    if sets:  # a design decision, said once: updating needs the full model's exact modes and sensitivities
+        warnings.warn(f"{where}: model.bdf asks for Guyan reduction ({'/'.join(sets)}); a project identifies, "
+                      "updates and predicts with the full model (exact modes and sensitivities, which the "
+                      "reduction only approximates). `flexgvt solve` on the deck gives the reduced modes as "
+                      "Nastran prints them", FlexGVTWarning, stacklevel=3)
     return deck
 
 
