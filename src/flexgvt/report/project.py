@@ -219,7 +219,7 @@ def _stage_sections(res) -> list[StageSection]:
                          "about the project's initial model"),
                         ("updating", f"{len(up.variables)} variables, {up.method}: {_stop_note(up)}"),
                         ("objective", f"{up.initial.objective:.4g} -> {up.final.objective:.4g} in "
-                                      f"{len(up.history) - 1} iterations ({up.solves} solves, {up.seconds:.1f} s)"
+                                      f"{_iterations(up)} ({up.solves} solves, {up.seconds:.1f} s)"
                                       + (" (read back from the store)" if s.resumed else ""))]
             for name, table in up.tables.items():
                 rows, why = _frequency_rows(res.identified.get(name), up, name, table, None)
@@ -228,6 +228,16 @@ def _stage_sections(res) -> list[StageSection]:
         out.append(StageSection(st.name, summary, s.fixed, [] if up is None else _variable_rows(up), frequencies,
                                 notes, mass_rows(st, up)))
     return out
+
+
+def _iterations(up) -> str:
+    """'54 iterations', or over the solves of the identifiability holds: '54 + 0 iterations (30, then 15
+    variables)' (the history shown is the last solve's)."""
+    solves = up.stages or []
+    if len(solves) < 2:
+        return f"{len(up.history) - 1} iterations"
+    return (f"{' + '.join(str(r['iterations']) for r in solves)} iterations "
+            f"({', then '.join(str(len(r['variables'])) for r in solves)} variables)")
 
 
 def build_report_content(res):
@@ -242,7 +252,7 @@ def build_report_content(res):
     if up is not None:
         summary += [("updating", f"{len(up.variables)} variables, {up.method}: {_stop_note(up)}"),
                     ("objective", f"{up.initial.objective:.4g} -> {up.final.objective:.4g} in "
-                                  f"{len(up.history) - 1} iterations ({up.solves} solves, {up.seconds:.1f} s)")]
+                                  f"{_iterations(up)} ({up.solves} solves, {up.seconds:.1f} s)")]
         variables = _variable_rows(up)
         history = [float(h["objective"]) for h in up.history]
     summary.append(("run time", ", ".join(f"{k} {v:.1f} s" for k, v in res.timings.items())))
