@@ -25,13 +25,14 @@ def test_one_model_many_configurations_without_copying():
     assert len({id(s.system.cm) for s in states.values()}) == 1  # the model's arrays are compiled once
 
 
-def test_cholmod_and_superlu_paths_reach_the_same_equilibrium():
+def test_symmetric_and_superlu_paths_reach_the_same_equilibrium():
+    """StaticSettings(cholmod=True): the installed symmetric factorisation (PARDISO, or CHOLMOD)."""
     import pytest
 
-    from flexgvt.fem.linsolve import HAVE_CHOLMOD
+    from flexgvt.fem.linsolve import HAVE_FAST
 
-    if not HAVE_CHOLMOD:
-        pytest.skip("scikit-sparse not installed: only the SuperLU path exists here")
+    if not HAVE_FAST:
+        pytest.skip("neither pypardiso nor scikit-sparse is installed: only the SuperLU path exists here")
     case = fg.cases.strip_366()
     cfg = case.configurations["outboard"]
     a = fg.solve_static(case.model, cfg, settings=fg.StaticSettings(cholmod=True))
