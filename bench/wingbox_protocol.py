@@ -52,11 +52,11 @@ def main(argv=None) -> None:
               f"multi {len(m.history) - 1} iterations, {m.gradients} Jacobians, {m.solves} solves, {m.seconds:.1f} s "
               f"({m.message}); single {len(s.history) - 1} iterations, {s.gradients} Jacobians, {s.solves} solves, "
               f"{s.seconds:.1f} s")
-        print(f"    variables {v.names}: initial {np.round(e['initial'], 3)} %, multi {e['multi']} %, "
-              f"single {np.round(e['single'], 4)} %")
+        print(f"    variables {v.names}: initial {np.round(e['initial'], 3)} %; max |error| multi "
+              f"{np.abs(e['multi']).max():.1e} %, single {np.abs(e['single']).max():.1e} %")
         print(f"    unseen combined case, max |frequency error|: multi "
-              f"{np.nanmax(np.abs(v.prediction['multi_error_percent'])):.2e} %, single "
-              f"{np.nanmax(np.abs(v.prediction['single_error_percent'])):.3f} %")
+              f"{np.nanmax(np.abs(v.prediction['multi_error_percent'])):.1e} %, single "
+              f"{np.nanmax(np.abs(v.prediction['single_error_percent'])):.1e} %")
         if args.trace:
             _trace(m)
     print(f"whole protocol: {time.perf_counter() - w0:.1f} s wall, {time.process_time() - c0:.1f} s CPU; "
