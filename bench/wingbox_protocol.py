@@ -26,8 +26,8 @@ def _trace(result) -> None:
         names = result.final.residual_names
         top = np.argsort(-np.abs(r))[:3]
         step = "" if last is None else f" |dx| {np.linalg.norm(x - last):.2e}"
-        print(f"    it {row['iteration']:3d} objective {row['objective']:.3e}{step}  x {np.array2string(x, precision=6)}"
-              f"  largest: " + ", ".join(f"{names[i]} {r[i]:+.1e}" for i in top))
+        print(f"    it {row['iteration']:3d} objective {row['objective']:.3e}{step}  "
+              f"x {np.array2string(x, precision=6)}  largest: " + ", ".join(f"{names[i]} {r[i]:+.1e}" for i in top))
         last = x
 
 
