@@ -3,6 +3,8 @@ residual, tangent and mass matrix against finite differences of the assembly, an
 Jacobian of frequencies and static deflections about a deformed state against finite
 differences of whole solves."""
 
+import dataclasses
+
 import numpy as np
 import pytest
 from test_gradients import TIGHT, _check
@@ -102,3 +104,26 @@ def test_shell_variables_are_refused_where_they_cannot_scale():
         up.Parametrisation(model, cfgs, [up.shell("m", "tip", "nsm")])
     with pytest.raises(ModelError, match="must be one of"):
         up.Parametrisation(model, cfgs, [up.shell("w", "tip", "width")])
+
+
+def test_one_design_change_serves_configurations_with_different_imperfections():
+    """A variable's ValueChange is computed once per design point for every configuration; a
+    configuration's imperfection moves its shells' stress-free geometry, so the change's cached
+    element constants must be those of that geometry (they were the first configuration's: the
+    wingbox's post-buckled configurations had their E and skin-thickness slopes 1.6 % off)."""
+    from flexgvt.updating.derivatives import value_change
+    model, cfgs, ids = shell_strip()
+    bumped = dataclasses.replace(cfgs[0], name="imperfect",
+                                 imperfection={int(i): (0.0, 0.0, 0.002) for i in ids[:, 6]})
+    par = up.Parametrisation(model, [cfgs[0], bumped], [up.shell("t", ["root", "outer"], "thickness")])
+    work = model.copy()
+    x0 = np.ones(1)
+    par.apply(work, x0)
+    perfect, imperfect = (fg.solve_static(work, c, settings=TIGHT) for c in (cfgs[0], bumped))
+    shared = value_change(par, work, x0, 0, "")
+    partial_derivatives(par, work, x0, perfect, 0, shared)  # fills the change's cache first
+    got = partial_derivatives(par, work, x0, imperfect, 0, shared)
+    fresh = partial_derivatives(par, work, x0, imperfect, 0)
+    for a, b in zip(got, fresh):
+        a, b = (m.toarray() if hasattr(m, "toarray") else m for m in (a, b))
+        np.testing.assert_array_equal(a, b)

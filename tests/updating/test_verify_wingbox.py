@@ -30,18 +30,20 @@ def test_verify_refuses_a_local_factor_outside_its_bounds_and_a_foreign_protocol
 
 
 @pytest.mark.skipif(os.environ.get("FLEXGVT_LONG") != "1",
-                    reason="the three-seed wingbox protocol takes minutes (docs/updating.md, 'Coarse meshes'); "
-                           "run it with FLEXGVT_LONG=1")
+                    reason="the three-seed wingbox protocol takes about 2.5 min on one core (docs/updating.md, "
+                           "'Coarse meshes'); run it with FLEXGVT_LONG=1")
 def test_three_seeds_on_the_coarse_post_buckled_wingbox():
     """Issue 31's protocol at 0.25 m (two elements per rib bay: the loaded configurations buckle),
     one reference for the three seeds: multi-configuration updating recovers every variable within
-    0.5 % and predicts the unseen combined case within 0.2 %; the single-configuration result is
-    reported beside it."""
+    0.5 % and predicts the unseen combined case within 0.2 %, in a few Gauss-Newton iterations (noise-
+    free data, exact Jacobian: 3-4 measured; an inexact Jacobian row made it crawl for 64); the
+    single-configuration result is reported beside it."""
     protocol = up.verification_protocol("wingbox", element_size=0.25)
     for seed in (1, 2, 3):
         v = up.verify("wingbox", seed=seed, protocol=protocol, tolerance=1e-6)
         e = v.variable_errors_percent
         assert abs(e["initial"]).max() > 2.0
+        assert len(v.multi.history) - 1 <= 8, (seed, len(v.multi.history) - 1)
         assert abs(e["multi"]).max() < 0.5, (seed, e["multi"])
         assert max(abs(x) for x in v.prediction["multi_error_percent"]) < 0.2, seed
         for row in v.configurations.values():  # every model judged everywhere, the single one beside

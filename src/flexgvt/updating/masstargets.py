@@ -48,10 +48,7 @@ class MassResiduals:
             names.append("mass")
             refs.append(t.mass)
         if t.cg is not None:
-            for a, c0 in zip("xyz", t.cg):
-                # A reference cg within a nanometre of zero is a symmetry plane's round-off (the
-                # wingbox's 5e-20 m): it takes the absolute scale, not itself.
-                scale = abs(c0) if abs(c0) > _ROUND_OFF_CG else t.cg_scale
+            for a, c0, scale in zip("xyz", t.cg, self.cg_scales()):
                 vals.append(w.cg * (mp.cg["xyz".index(a)] - c0) / scale)
                 names.append(f"cg_{a}")
                 refs.append(scale)
@@ -72,6 +69,15 @@ class MassResiduals:
         vals = [v for r in rel for v in (w.mass_limits - r, w.mass_limits + r)]
         names = [n for m in mnames for n in (f"{m} <= +{w.mass_limits:g}", f"{m} >= -{w.mass_limits:g}")]
         return np.array(vals), names
+
+    def cg_scales(self) -> np.ndarray:
+        """(3,) [m] what each cg error is divided by: |reference|, or the target's cg_scale where the
+        reference lies within a nanometre of zero (a symmetry plane's round-off, the wingbox's 5e-20
+        m). The residuals and their derivatives share it: dividing the derivative by the round-off
+        made the wingbox's cg_z row O(1) noise beside a zero residual, a false constraint that
+        held the multi-configuration update to a crawl (docs/updating.md, 'Coarse meshes')."""
+        c0 = np.abs(np.asarray(self.target.cg, float))
+        return np.where(c0 > _ROUND_OFF_CG, c0, self.target.cg_scale)
 
     def weights(self) -> np.ndarray:
         """The weight of each mass residual (1 where its weight is 0, for the relative limits)."""
@@ -121,8 +127,8 @@ class MassResiduals:
         if t.mass is not None:
             rows.append(w.mass * dm / t.mass)
         if t.cg is not None:
-            for a, c0 in enumerate(t.cg):
-                rows.append(w.cg * dc[a] / (abs(c0) if abs(c0) > 0 else t.cg_scale))
+            for a, scale in enumerate(self.cg_scales()):
+                rows.append(w.cg * dc[a] / scale)
         if t.inertia is not None:
             for a, i0 in enumerate(t.inertia):
                 rows.append(w.inertia * dIcg[a] / i0)

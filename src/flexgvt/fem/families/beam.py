@@ -119,10 +119,11 @@ class BeamFamily:
             f = np.zeros((len(rows), 12))
             f[:, 0:3] = lam * dw1[:, None] * gravity[None, :]
             f[:, 6:9] = lam * dw2[:, None] * gravity[None, :]
-            # The element-axes mass matrices do not depend on the state: once per change, for
-            # every configuration's system (they share the model's elements).
-            local = cache.get("local_mass")
+            # The element-axes mass matrices do not depend on the state: once per change and
+            # element lengths (a configuration's imperfection changes them), for every system.
+            key = ("local_mass", sub.L0.tobytes())
+            local = cache.get(key)
             if local is None:
-                local = cache["local_mass"] = local_mass_matrices(dsub)
+                local = cache[key] = local_mass_matrices(dsub)
             M = beam_mass_matrices(x, R, sub, local)
         return Derivative(rows, g, f, K, M)

@@ -147,16 +147,19 @@ class ShellFamily:
         evaluation with sum weight * constants(property). A quad's constants are linear in its section
         and mass (the drilling penalty too, on the base section's branch): one kernel pass with the
         rule applied to the sections; the triangle's ANDES scale depends on the section's Poisson
-        ratio, so its constants come from one kernel pass per property. Once per change (``cache``)."""
+        ratio, so its constants come from one kernel pass per property. Once per change and reference
+        geometry (``cache``)."""
         a = self.arrays
         groups = np.array(sorted(int(g) for g in item), int)
         rows = np.flatnonzero(np.isin(a.groups, groups))
         if not len(rows):
             return Derivative(rows)
-        key = ("shell", self.name)
+        base = a.corotational
+        # Keyed by the elements' reference geometry too: one change serves every configuration, and
+        # a configuration's imperfection (Configuration.imperfection) moves its shells' reference.
+        key = ("shell", self.name, base.X[rows].tobytes())
         data = cache.get(key)
         if data is None:
-            base = a.corotational
             K, M = np.zeros((len(rows),) + base.K.shape[1:]), np.zeros((len(rows),) + base.K.shape[1:])
             GN = None if base.GN is None else np.zeros((len(rows),) + base.GN.shape[1:])
             X = base.X[rows]
