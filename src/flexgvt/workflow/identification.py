@@ -190,8 +190,9 @@ def _from_frfs(project: Project, name: str, t) -> ModalSet:
 
 def read_modes(path: Path, name: str = "", key: str | None = None) -> ModalSet:
     """Identified modes from UFF 55 (.uff/.unv), CSV (mode,frequency_hz,damping_ratio[,label][,<point><+-XYZ>
-    shape columns...]; lines starting with '#' are comments, e.g. the data's source) or JSON (the layout ModalSet.as_dict writes, or any object with
-    'frequencies_hz' or 'measured_hz'; ``key`` selects a sub-object, dotted for nesting)."""
+    shape columns...]; lines starting with '#' are comments, e.g. the data's source) or JSON (the layout
+    ModalSet.as_dict writes, or any object with 'frequencies_hz' or 'measured_hz'; ``key`` selects a sub-object,
+    dotted for nesting)."""
     suffix = path.suffix.lower()
     if suffix in (".uff", ".unv"):
         from ..io.uff import read_uff
