@@ -137,6 +137,9 @@ def test_swept_wing_project(tmp_path, swept_wing_small):
     html = (tmp_path / "results" / "report.html").read_text()
     assert all(f"Stage {k} of 3: {n}" in html for k, n in ((1, "component tests"), (2, "shaker table"),
                                                           (3, "wind tunnel")))
+    # The summary gives every stage; the final-stage sections say whose they are.
+    assert "stage 2: shaker table</th><td>15 variables on shaker_table: objective" in html
+    assert "Design variables (stage 3: wind tunnel)" in html
 
 
 def test_strip_366_gvt(tmp_path):
