@@ -56,12 +56,19 @@ def test_xhale_lab(tmp_path):
     assert first["bungee_outboard_heavy_hz"] < first["bungee_outboard_hz"]
 
 
-def test_swept_wing(tmp_path):
+@pytest.fixture(scope="module")
+def swept_wing_small(tmp_path_factory):
+    """examples/swept_wing/run.py --small: (its returned tables, the JSON it wrote)."""
+    tmp = tmp_path_factory.mktemp("swept_wing")
+    out = _load(EXAMPLES / "swept_wing" / "run.py").main(["--out", str(tmp / "o"), "--json", str(tmp / "w.json"),
+                                                           "--small"])
+    return out, json.loads((tmp / "w.json").read_text())
+
+
+def test_swept_wing(swept_wing_small):
     """Both stages run from the case (small settings); each lowers its stage's error; stage 2 changes
     only the root spring; the tables carry the original work's columns."""
-    out = _load(EXAMPLES / "swept_wing" / "run.py").main(["--out", str(tmp_path / "o"), "--json",
-                                                           str(tmp_path / "w.json"), "--small"])
-    saved = json.loads((tmp_path / "w.json").read_text())
+    out, saved = swept_wing_small
     assert set(saved) == {"stage0", "stages", "summary"} and set(saved["stages"]) == {"shaker_table", "wind_tunnel"}
     assert saved["stage0"]["E_spar_ply"] == 45e9 and saved["stage0"]["rho_printed"] == 890.0
     for name, stage in out["stages"].items():
@@ -77,6 +84,62 @@ def test_swept_wing(tmp_path):
     # Stage 2 reaches the wind-tunnel OOP 1 and IP 1 within 1 %, as the original work did.
     wt = out["stages"]["wind_tunnel"]["frequencies"]
     assert abs(wt[0]["updated_error_percent"]) < 1.0 and abs(wt[1]["updated_error_percent"]) < 1.0
+
+
+# run.py --small's settings, set on a copy of the project file (each line must be there exactly once).
+SMALL = {"n_wing = 20 ": "n_wing = 10 ", "max_iterations = 100 ": "max_iterations = 10 ", "starts = 4 ": "starts = 1 "}
+
+
+def test_swept_wing_project(tmp_path, swept_wing_small):
+    """examples/swept_wing/project.toml (at run.py's --small settings) runs the chapter-5 procedure with
+    flexgvt run: the component tests as fixed inputs, then the shaker-table stage, then the root spring
+    on the wind-tunnel GVT from stage 1's model; each stage in results.json and the report; its
+    variables and frequencies are the Python example's."""
+    import shutil
+
+    from typer.testing import CliRunner
+
+    from flexgvt.cli.main import app
+
+    text = (EXAMPLES / "swept_wing" / "project.toml").read_text()
+    for old, new in SMALL.items():
+        assert text.count(old) == 1, old
+        text = text.replace(old, new)
+    shutil.copytree(EXAMPLES / "swept_wing" / "data", tmp_path / "data")
+    (tmp_path / "project.toml").write_text(text)
+    got = CliRunner().invoke(app, ["run", str(tmp_path / "project.toml")], env={"COLUMNS": "120"})
+    assert got.exit_code == 0, got.output
+    for title in ("stage 1 of 3 ('component tests'): fixed inputs", "stage 2 of 3 ('shaker table'): shaker_table",
+                  "stage 3 of 3 ('wind tunnel'): design variables"):
+        assert title in got.output  # each stage's table on the console
+    res = json.loads((tmp_path / "results" / "results.json").read_text())
+    s0, s1, s2 = res["stages"]
+    assert [s["name"] for s in res["stages"]] == ["component tests", "shaker table", "wind tunnel"]
+    assert {r["name"]: r["value"] for r in s0["fixed_inputs"]}["E12_spar"] == 45e9 and s0["variables"] == []
+    assert s1["configurations"] == ["shaker_table"] and len(s1["variables"]) == 15
+    assert [(r["name"], r["lower"], r["upper"]) for r in s2["variables"]] == [
+        (n, 0.25, 4.0) for n in ("K_x", "K_y", "K_z", "M_x", "M_y", "M_z")]
+    # Stage 2 starts from stage 1's answer and holds the four rigid components (unidentifiable = "fix").
+    final1 = {r["name"]: r["final"] for r in s1["variables"]}
+    assert all(r["initial"] == pytest.approx(final1[r["name"]], rel=1e-12) for r in s2["variables"])
+    assert [r["name"] for r in s2["variables"] if r["fixed"]] == ["K_x", "K_y", "K_z", "M_y"]
+    assert [(r["name"], r["final"]) for r in res["updating"]["variables"]] == [
+        (r["name"], r["final"]) for r in s2["variables"]]  # `updating`: the final stage's
+    # The same numbers as the Python example (run.py --small): the stage-0 inputs move one variable by
+    # a rounding unit (G12's mean 2.01e9 - 1.2e-6 Pa set to 2.01e9), so to well inside the optimiser's steps.
+    example = swept_wing_small[1]["stages"]
+    for mine, theirs in ((s1, example["shaker_table"]), (s2, example["wind_tunnel"])):
+        assert [r["final"] for r in mine["variables"]] == pytest.approx([r["final"] for r in theirs["variables"]],
+                                                                        rel=1e-6)
+        rows = next(iter(mine["frequencies"].values()))
+        for key in ("initial_hz", "updated_hz"):
+            assert [r[key] for r in rows] == pytest.approx([r[key] for r in theirs["frequencies"]], rel=1e-8)
+    html = (tmp_path / "results" / "report.html").read_text()
+    assert all(f"Stage {k} of 3: {n}" in html for k, n in ((1, "component tests"), (2, "shaker table"),
+                                                          (3, "wind tunnel")))
+    # The summary gives every stage; the final-stage sections say whose they are.
+    assert "stage 2: shaker table</th><td>15 variables on shaker_table: objective" in html
+    assert "Design variables (stage 3: wind tunnel)" in html
 
 
 def test_strip_366_gvt(tmp_path):

@@ -298,3 +298,16 @@ def test_frf_auto_mac_and_comac_sections_render(tmp_path):
         assert next(csv.DictReader(fh))["frac"] == "0.612"
     with open(tmp_path / "tables" / "design_variables.csv", newline="") as fh:
         assert [r["unit"] for r in csv.DictReader(fh)] == ["Pa", "N/m", "Pa", "kg/m^3"]
+
+
+def test_an_identifiable_variable_without_a_sigma_is_not_called_unidentifiable():
+    """No more residuals than variables (no sigma at all): the identifiable ones read 'sigma unknown'
+    (or 'at bound'), not 'not identifiable' beside identifiable = yes."""
+    from flexgvt.report.figures import STATUS_COLOURS, design_variables, variable_bars
+
+    rows = [dict(name=n, change_percent=c, std_percent=None, bounds=(0.8, 1.2), at_bound=b, identifiable=i)
+            for n, c, b, i in (("E", -10.6, False, True), ("rho", 5.0, True, True), ("G", 20.0, True, False))]
+    d = variable_bars(rows)
+    assert d["status"] == ["sigma unknown", "at bound", "not identifiable"]
+    assert "sigma unknown" in STATUS_COLOURS
+    design_variables(rows)  # the PNG's legend takes the new status

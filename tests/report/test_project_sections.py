@@ -222,3 +222,18 @@ def test_the_project_report_renders_in_chromium(run_result, tmp_path):
     check = check_page(page, tmp_path, screenshot=tmp_path / "shot.png")
     n_divs = len(re.findall(r'class="plotly-graph-div"', page.read_text()))
     assert check.errors == [] and len(check.plots) == n_divs and check.undrawn == []
+
+
+def test_a_table_of_frequencies_only_shows_no_measured_damping():
+    """A modes CSV without damping_ratio reads as zero damping: the report shows it as unknown ('-'),
+    not as a measured 0.00 %; a measured damping (or a zero one with its std) is shown."""
+    from flexgvt.modal import ModalSet
+    from flexgvt.report.testdata import measured_damping, test_mode_rows
+
+    bare = ModalSet(np.array([2.49, 7.15]), np.zeros(2), None)
+    assert measured_damping(bare, 0) == {"measured_damping_percent": None, "measured_damping_std_percent": None}
+    assert [r["damping_percent"] for r in test_mode_rows(bare)] == [None, None]
+    damped = ModalSet(np.array([2.49, 7.15]), np.array([0.0, 0.012]), None)
+    assert [r["damping_percent"] for r in test_mode_rows(damped)] == [0.0, pytest.approx(1.2)]
+    zero_with_std = ModalSet(np.array([2.49]), np.zeros(1), None, damping_std=np.array([0.001]))
+    assert measured_damping(zero_with_std, 0)["measured_damping_percent"] == 0.0

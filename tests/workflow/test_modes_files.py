@@ -82,3 +82,15 @@ def test_identified_is_a_modal_set_whose_measured_method_is_deprecated(tmp_path,
     monkeypatch.setattr(ident, "measured", lambda it, project: ("measured", it.name))
     with pytest.warns(DeprecationWarning, match=r"flexgvt.workflow.measured\(item, project\)"):
         assert item.measured(None) == ("measured", "outboard")
+
+
+def test_csv_comment_lines(tmp_path):
+    """'#' lines (a table's source) are skipped anywhere; a bad line's number counts them."""
+    path = tmp_path / "gvt.csv"
+    path.write_text("# source: the original work, Table 5.8\nmode,frequency_hz,label\n1,2.49,OOP 1\n"
+                    "  # a note between rows\n2,7.15,IP 1/RB\n")
+    m = read_modes(path)
+    assert list(m.frequencies_hz) == [2.49, 7.15] and m.labels == ("OOP 1", "IP 1/RB") and m.shapes is None
+    path.write_text("# source\nmode,frequency_hz\n1,2.49\n# note\n2,x\n")
+    with pytest.raises(ProjectError, match="line 5: not a number"):
+        read_modes(path)

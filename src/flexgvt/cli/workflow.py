@@ -3,13 +3,14 @@
 from __future__ import annotations
 
 import json
+import warnings
 from pathlib import Path
 from typing import Optional
 
 import typer
 from rich.console import Console
 
-from ..errors import FlexGVTError
+from ..errors import FlexGVTError, FlexGVTWarning
 
 
 def fail(console: Console, exc: Exception) -> None:
@@ -51,6 +52,70 @@ def print_prediction(console: Console, title: str, rows: list[dict]) -> None:
     headers, cells = prediction_rows(rows)
     print_table(console, title, headers, cells, key=2 if len(headers) > 1 and headers[1] == "label" else 1,
                 justify=["left" if h == "label" else "right" for h in headers])
+
+
+def _g(v) -> str:
+    return "" if v is None else f"{v:.6g}"
+
+
+def frequency_cells(rows: list[dict]) -> tuple[list[str], list[list[str]]]:
+    """An updating table's rows (flexgvt.updating's layout: measured, initial and updated frequency,
+    errors, MACs) as headers with units and cells; an unpaired mode's row says so."""
+    mac = any(r.get("initial_mac") is not None or r.get("updated_mac") is not None for r in rows)
+    headers = ["mode", "label", "measured [Hz]", "initial [Hz]", "error [%]", "updated [Hz]", "error [%]"]
+    headers += ["MAC initial", "MAC updated"] if mac else []
+    cells = []
+    for r in rows:
+        row = [str(r.get("mode", "")), str(r.get("label") or ""), _fmt(r.get("measured_hz")),
+               _fmt(r.get("initial_hz")), _fmt(r.get("initial_error_percent"), 2),
+               _fmt(r.get("updated_hz")) if r.get("updated_hz") is not None else "unpaired",
+               _fmt(r.get("updated_error_percent"), 2)]
+        cells.append(row + ([_fmt(r.get("initial_mac"), 3), _fmt(r.get("updated_mac"), 3)] if mac else []))
+    return headers, cells
+
+
+def variable_cells(rows: list[dict]) -> tuple[list[str], list[list[str]]]:
+    """Design-variable rows (initial, final, change, normalised bounds, status) as headers and cells."""
+    headers = ["variable", "initial", "final", "change [%]", "bounds", "note"]
+    cells = []
+    for r in rows:
+        note = "held (not identifiable)" if r.get("fixed") else ", ".join(
+            w for w, on in (("at bound", r.get("at_bound")), ("not identifiable", not r.get("identifiable", True)))
+            if on)
+        cells.append([str(r["name"]), _g(r.get("initial")), _g(r.get("final")), _fmt(r.get("change_percent"), 2),
+                      f"{r['lower']:g} - {r['upper']:g}" if r.get("lower") is not None else "", note])
+    return headers, cells
+
+
+def print_updating(console: Console, title: str, frequencies: dict, variables: list[dict]) -> None:
+    """One updating's frequency table per configuration and its design variables."""
+    from .tables import print_table
+    for name, rows in frequencies.items():
+        headers, cells = frequency_cells(rows)
+        print_table(console, f"{title}: {name}", headers, cells, key=2,
+                    justify=["left" if h == "label" else "right" for h in headers])
+    headers, cells = variable_cells(variables)
+    print_table(console, f"{title}: design variables", headers, cells,
+                justify=["left" if h in ("variable", "note") else "right" for h in headers])
+
+
+def print_stages(console: Console, stages: list[dict]) -> None:
+    """Each stage of a staged updating (results.json's ``stages`` entries) as its own tables: a stage
+    of fixed inputs its values, an updating stage its frequencies and variables."""
+    from .tables import print_table
+    for k, st in enumerate(stages):
+        title = f"stage {k + 1} of {len(stages)} ('{st['name']}')"
+        if st["fixed_inputs"]:
+            print_table(console, f"{title}: fixed inputs",
+                        ["variable", "attribute", "before", "set to", "change [%]"],
+                        [[r["name"], f"{r['kind']} {r['attribute']}", _g(r["before"]), _g(r["value"]),
+                          _fmt(r.get("change_percent"), 2)] for r in st["fixed_inputs"]],
+                        justify=["left", "left", "right", "right", "right"])
+        if st["variables"]:
+            print_updating(console, title, st["frequencies"], st["variables"])
+        for r in st.get("mass_properties") or ():
+            console.print(f"  {r['property']}: measured {r['measured']:.6g}, initial {r['initial']:.6g}, updated "
+                          f"{r['updated']:.6g}", markup=False, highlight=False)
 
 
 def run_with_progress(console: Console, job, verbose: bool = False):
@@ -113,12 +178,25 @@ def register(app: typer.Typer, console: Console) -> None:
             console.rule(f"[bold]{escape(p.spec.project.name)}[/]")
 
             def job(log, iteration):
-                res = run_project(p, progress=log, iterations=iteration, fresh=fresh)
+                with warnings.catch_warnings():  # flexgvt's cautions as log lines, in place, without source lines
+                    shown = warnings.showwarning
+
+                    def show(message, category, filename, lineno, file=None, line=None):
+                        if issubclass(category, FlexGVTWarning):
+                            log(f"warning: {message}")
+                        else:
+                            shown(message, category, filename, lineno, file, line)
+                    warnings.showwarning = show
+                    res = run_project(p, progress=log, iterations=iteration, fresh=fresh)
                 if report:  # --report (the default) as before: the face renders, the workflow only returns results
                     from ..report import write_project_report
                     write_project_report(res)
                 return res
             res = run_with_progress(console, job, verbose)
+            if res.stages:
+                print_stages(console, [s.to_dict() for s in res.stages])
+            elif res.update is not None:
+                print_updating(console, "updating", res.update.tables, res.update.variables)
             for key, pred in res.predictions.items():
                 print_prediction(console, f"free-flying prediction, {key} model", pred.rows)
             console.print(f"outputs in {p.output}/: " + ", ".join(Path(f).name for f in res.files.values()),

@@ -277,6 +277,8 @@ class ReportContent:
     prediction_modes: {configuration: rows} the full mode list of each predicted configuration,
     shown as a table each under the prediction table.
     stages: the stages of a staged updating (StageSection), shown after the summary.
+    variables_title, history_title: the headings of the variables and history sections (a staged
+    run's name the final updating stage).
     """
 
     title: str
@@ -290,6 +292,8 @@ class ReportContent:
     notes: list[str] = field(default_factory=list)
     prediction_modes: dict[str, list[dict[str, Any]]] = field(default_factory=dict)
     stages: list[StageSection] = field(default_factory=list)
+    variables_title: str = "Design variables"
+    history_title: str = "Optimiser history"
 
     def __post_init__(self):
         names = [c.name for c in self.configurations]

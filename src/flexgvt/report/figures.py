@@ -170,8 +170,9 @@ def variable_bars(rows: list[dict]) -> dict:
     variable's bound half-range (a one-sigma band wider than the bounds says only that the data do
     not pin the variable inside them) and at twice the largest change, so one huge sigma cannot
     squash the others; clipped bars are annotated with their sigma. status: 'identifiable',
-    'at bound', 'sigma > bounds' (wider than its bounds) or 'not identifiable' (the data cannot see
-    it: identifiable False, or no finite sigma). range: the change axis [%] (the bars and their
+    'at bound', 'sigma > bounds' (wider than its bounds), 'sigma unknown' (identifiable, but the data
+    give no standard deviation, e.g. no more residuals than variables) or 'not identifiable' (the
+    data cannot see it: identifiable False). range: the change axis [%] (the bars and their
     drawn sigmas, padded)."""
     change = np.array([np.nan if r.get("change_percent") is None else float(r["change_percent"]) for r in rows])
     std = np.array([np.nan if r.get("std_percent") is None else float(r["std_percent"]) for r in rows])
@@ -181,8 +182,10 @@ def variable_bars(rows: list[dict]) -> dict:
         bounds = r.get("bounds")
         half = 100 * (float(bounds[1]) - float(bounds[0])) / 2 if bounds is not None and len(bounds) == 2 else np.inf
         clip.append(min(half, 2 * core))
-        if r.get("identifiable") is False or not np.isfinite(s):
+        if r.get("identifiable") is False:
             status.append("not identifiable")
+        elif not np.isfinite(s):  # e.g. no more residuals than variables and no measured standard deviations
+            status.append("at bound" if r.get("at_bound") else "sigma unknown")
         elif s > half:
             status.append("sigma > bounds")
         elif r.get("at_bound"):
@@ -208,7 +211,7 @@ def sigma_text(v: float) -> str:
 
 
 STATUS_COLOURS = {"identifiable": BLUE, "at bound": ORANGE, "sigma > bounds": "#8fb3e6",
-                  "not identifiable": "#bbbbbb"}
+                  "sigma unknown": "#c9d6e8", "not identifiable": "#bbbbbb"}
 
 
 def design_variables(rows: list[dict]):

@@ -327,13 +327,13 @@ def render(content: ReportContent, figs_dir: Path | None = None, tabs_dir: Path 
     for sec in content.configurations:
         _configuration(page, sec, _slug(sec.name, taken), figs_dir, tabs_dir, written)
     if content.variables:
-        page.section("variables", "Design variables")
+        page.section("variables", content.variables_title)
         page.figure(interactive.design_variables(content.variables))
         _save_png(figures.design_variables, (content.variables,), figs_dir, "design_variables", written)
         _table(page, content.variables, tabs_dir, "design_variables", written)
         page.end()
     if content.history:
-        page.section("history", "Optimiser history")
+        page.section("history", content.history_title)
         page.figure(interactive.history(content.history))
         _save_png(figures.history, (content.history,), figs_dir, "history", written)
         page.end()

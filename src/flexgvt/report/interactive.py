@@ -285,7 +285,8 @@ def design_variables(rows: list[dict]):
     names = [_esc(n) for n in d["names"]]
     x = list(range(len(rows)))
     change = [float(v) if np.isfinite(v) else 0.0 for v in d["change"]]
-    sigma = [f"{v:.3g} %" if np.isfinite(v) else "none (not identifiable)" for v in d["std"]]
+    sigma = [f"{v:.3g} %" if np.isfinite(v) else "none (not identifiable)" if st == "not identifiable" else "unknown"
+             for v, st in zip(d["std"], d["status"])]
     traces = []
     for st, colour in STATUS_COLOURS.items():
         ks = [k for k in x if d["status"][k] == st]

@@ -249,10 +249,18 @@ def build_report_content(res):
     for name, item in res.identified.items():
         summary.append((f"test data {name}", f"{len(item.frequencies_hz)} modes from {item.source}"))
     variables, history = [], []
-    if up is not None:
+    staged = getattr(res, "stages", None) or []
+    for k, s in enumerate(staged):  # one line per stage; the final stage's updating is one of them
+        u = s.update
+        summary.append((f"stage {k + 1}: {s.stage.name}", f"{len(s.fixed)} fixed inputs set" if u is None else
+                        f"{len(u.variables)} variables on {', '.join(s.stage.configurations) or 'the mass properties'}"
+                        f": objective {u.initial.objective:.4g} -> {u.final.objective:.4g} in {_iterations(u)}; "
+                        f"{_stop_note(u)}"))
+    if up is not None and not staged:
         summary += [("updating", f"{len(up.variables)} variables, {up.method}: {_stop_note(up)}"),
                     ("objective", f"{up.initial.objective:.4g} -> {up.final.objective:.4g} in "
                                   f"{_iterations(up)} ({up.solves} solves, {up.seconds:.1f} s)")]
+    if up is not None:
         variables = _variable_rows(up)
         history = [float(h["objective"]) for h in up.history]
     summary.append(("run time", ", ".join(f"{k} {v:.1f} s" for k, v in res.timings.items())))
@@ -299,13 +307,18 @@ def build_report_content(res):
     if up is not None and up.identifiability.get("unidentifiable"):
         notes.append(f"variables the data cannot see: {up.identifiability['unidentifiable']}")
     stages = _stage_sections(res)
+    final = next((s.stage for s in reversed(staged) if s.update is not None), None)
+    variables_title, history_title = "Design variables", "Optimiser history"
+    if final is not None:  # the final updating stage's
+        variables_title += f" (stage {final.index + 1}: {final.name})"
+        history_title += f" (stage {final.index + 1}: {final.name})"
     if stages:
         summary.insert(3, ("stages", " -> ".join(f"{k + 1}. {s.name}" for k, s in enumerate(stages))))
         notes.append("Staged updating: each stage starts from the model the previous one produced; the "
                      "configuration sections show the stage that last updated on them, the design variables and "
                      "history the final updating stage's, the prediction the final model's.")
     return ReportContent(f"flexgvt: {spec.project.name}", summary, sections, variables, history, evolution,
-                         prediction, title, notes, modes, stages)
+                         prediction, title, notes, modes, stages, variables_title, history_title)
 
 
 def _level(bounds: dict) -> str:

@@ -63,9 +63,16 @@ def unpaired_reason(row: dict, update, name: str) -> str:
     return ""
 
 
+def damping_known(item) -> bool:
+    """Whether the test data give damping: not when every ratio is exactly 0 with no standard deviation
+    (what the readers fill in for a table of frequencies only, e.g. a CSV without damping_ratio)."""
+    z = item.damping_ratio
+    return z is not None and (item.damping_std is not None or bool(np.any(np.asarray(z) != 0)))
+
+
 def measured_damping(item, i: int) -> dict:
     """The measured damping of mode i [%] and its standard deviation [%] (None where unknown)."""
-    z = None if item.damping_ratio is None else item.damping_ratio[i]
+    z = item.damping_ratio[i] if damping_known(item) else None
     sd = None if item.damping_std is None else item.damping_std[i]
     return {"measured_damping_percent": _percent(z), "measured_damping_std_percent": _percent(sd)}
 
@@ -76,12 +83,12 @@ def test_mode_rows(item, labels=()) -> list[dict]:
     from ..ema import mpc, mpd
 
     q = (mpc(item.shapes), mpd(item.shapes)) if item.shapes is not None else (None, None)
-    rows = []
+    rows, known = [], damping_known(item)
     for i, f in enumerate(item.frequencies_hz):
         sd = None if item.frequency_std_hz is None else float(item.frequency_std_hz[i])
         label = item.labels[i] if i < len(item.labels) and item.labels[i] else (labels[i] if i < len(labels) else "")
         row = {"mode": i + 1, "label": label, "frequency_hz": float(f),
-               "frequency_std_hz": sd, "damping_percent": _percent(item.damping_ratio[i]),
+               "frequency_std_hz": sd, "damping_percent": _percent(item.damping_ratio[i]) if known else None,
                "damping_std_percent": None if item.damping_std is None else _percent(item.damping_std[i])}
         if q[0] is not None:
             row.update(mpc=float(q[0][i]), mpd_deg=float(q[1][i]))

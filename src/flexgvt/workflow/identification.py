@@ -190,8 +190,9 @@ def _from_frfs(project: Project, name: str, t) -> ModalSet:
 
 def read_modes(path: Path, name: str = "", key: str | None = None) -> ModalSet:
     """Identified modes from UFF 55 (.uff/.unv), CSV (mode,frequency_hz,damping_ratio[,label][,<point><+-XYZ>
-    shape columns...]) or JSON (the layout ModalSet.as_dict writes, or any object with
-    'frequencies_hz' or 'measured_hz'; ``key`` selects a sub-object, dotted for nesting)."""
+    shape columns...]; lines starting with '#' are comments, e.g. the data's source) or JSON (the layout
+    ModalSet.as_dict writes, or any object with 'frequencies_hz' or 'measured_hz'; ``key`` selects a sub-object,
+    dotted for nesting)."""
     suffix = path.suffix.lower()
     if suffix in (".uff", ".unv"):
         from ..io.uff import read_uff
@@ -256,9 +257,11 @@ def _from_json(obj, path: Path, name: str) -> ModalSet:
 def _read_csv(path: Path, name: str) -> ModalSet:
     import re
     try:
-        rows = list(csv.reader(path.read_text().splitlines()))
+        lines = [(n, s) for n, s in enumerate(path.read_text().splitlines(), start=1)
+                 if not s.lstrip().startswith("#")]  # comments: e.g. the data's source
     except UnicodeDecodeError:
         raise ProjectError(f"{path}: not a text file") from None
+    rows = list(csv.reader(s for _, s in lines))
     if len(rows) < 2 or len(rows[0]) < 2:
         raise ProjectError(f"{path}: expected a header (mode,frequency_hz,damping_ratio,...) and one row per mode")
     head = [h.strip() for h in rows[0]]
@@ -267,7 +270,7 @@ def _read_csv(path: Path, name: str) -> ModalSet:
     channels = [(k, re.fullmatch(r"(\d+)([+-])([XYZ])", h)) for k, h in enumerate(head)]
     channels = [(k, m) for k, m in channels if m]
     f, z, labels, shapes = [], [], [], []
-    for i, r in enumerate(rows[1:], start=2):
+    for (i, _), r in zip(lines[1:], rows[1:]):
         if not any(c.strip() for c in r):
             continue
         try:
