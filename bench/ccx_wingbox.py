@@ -233,27 +233,31 @@ def cmd_reference(args):
 
 def cmd_store(args):
     """tests/data/wingbox_ccx.json from reference runs' JSON files: the mesh sequence and, for each
-    configuration, the finest mesh's run as the reference (shapes at the corners every metre)."""
+    configuration, the finest mesh's run as the reference (shapes at the corners every metre). An
+    existing --json file is merged into: its configurations and meshes stay unless a run replaces them."""
     runs, head = [], _head()
+    old = json.loads(Path(args.json).read_text()) if Path(args.json).exists() else {}
     for path in args.inputs:
         data = json.loads(Path(path).read_text())
         if "rows" in data:  # a bench/bench_wingbox.py result: its CalculiX runs
             data = {"source": "python bench/bench_wingbox.py", "ccx": data["ccx"], "runs": [
                 r["calculix"] for r in data["rows"] if "frequencies_hz" in r.get("calculix", {})]}
         runs += data["runs"]
-    sequence, reference = {}, {}
+    sequence, reference = old.get("mesh_sequence", {}), old.get("reference", {})
     for r in sorted(runs, key=lambda r: -r["element_size"]):
         name = r["configuration"]
         keys = ("nodes", "tip_w_m", "mass_kg", "cpu_s")
         sequence.setdefault(name, {})[f"{r['element_size']:g}"] = {
             **{k: r[k] for k in keys if k in r}, "frequencies_hz": [round(f, 5) for f in r["frequencies_hz"]],
             "classes": r["classes"]}
+        if name in reference and reference[name]["element_size"] < r["element_size"]:
+            continue  # a finer stored reference stands
         reference[name] = {"element_size": r["element_size"], **{k: r[k] for k in ("tip_w_m", "mass_kg") if k in r},
                            "frequencies_hz": r["frequencies_hz"], "classes": r["classes"],
                            "shapes": np.round(corners_every_metre(r["shapes"]), 6).tolist()}
     out = dict(head)
-    out["sources"] = [json.loads(Path(p).read_text()).get("source", f"python bench/bench_wingbox.py ({p})")
-                      for p in args.inputs]
+    out["sources"] = old.get("sources", []) + [
+        json.loads(Path(p).read_text()).get("source", f"python bench/bench_wingbox.py ({p})") for p in args.inputs]
     out["points"] = ("shapes: (modes, 64, 3) translations of the box's corners (x 0 and 1 m, z -0.08 and 0.08 m, "
                      "in that order) at y = 1, 2, ... 16 m")
     out["flexgvt_mesh"] = args.flexgvt_mesh
