@@ -26,7 +26,7 @@ from flexgvt.report.plots import verification_errors
 def _worst(errors) -> str:
     e = np.asarray(errors, float)
     lost = int(np.isnan(e).sum())
-    text = f"{np.nanmax(np.abs(e)):.3f}" if lost < len(e) else "-"
+    text = f"{np.nanmax(np.abs(e)):.3g}" if lost < len(e) else "-"
     return text + (f" ({lost} unpaired)" if lost else "")
 
 
@@ -38,7 +38,7 @@ def table(v) -> str:
              "|---|---|---|---|"]
     for k, name in enumerate(v.names):
         m, s = (" (held)" if name in held[key] else "" for key in ("multi", "single"))
-        lines.append(f"| {name} | {e['initial'][k]:+.3f} | {e['multi'][k]:+.4f}{m} | {e['single'][k]:+.4f}{s} |")
+        lines.append(f"| {name} | {e['initial'][k]:+.3f} | {e['multi'][k]:+.3g}{m} | {e['single'][k]:+.3g}{s} |")
     lines += ["", "| configuration | seen by | largest frequency error: initial [%] | multi [%] | single [%] |",
               "|---|---|---|---|---|"]
     for name, row in v.configurations.items():

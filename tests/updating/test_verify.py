@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 from typer.testing import CliRunner
 
+import flexgvt as fg
 from flexgvt import updating as up
 from flexgvt.cli.main import app
 
@@ -47,3 +48,32 @@ def test_verify_command_writes_the_documented_json(tmp_path):
     assert data["configurations"]["self_weight"]["seen_by"] == ["multi"]
     bad = CliRunner().invoke(app, ["verify", "fuselage"])
     assert bad.exit_code == 2 and "unknown case" in bad.output
+
+
+def test_a_model_that_buckles_is_judged_on_its_post_buckled_path():
+    """verify judges a model in a configuration from zero load (_predicted); where the model's path loses
+    stability and the reference's did not (the wingbox whose skins all buckle at -1 g once the thin bay
+    is averaged away), the primary path's unstable equilibrium must not be what is compared: the model
+    is followed onto its post-buckled path, as the reference was. The narrow strip of
+    tests/fem/test_buckling.py at 1.15 x its lateral-torsional critical force."""
+    from flexgvt.correlation import Sensors
+    from flexgvt.fem.static import StaticSettings
+    from flexgvt.updating.verify import _predicted
+
+    model = fg.Model("narrow strip")  # tests/fem/test_buckling.py's strip: P_cr 38.2 N
+    ids = model.add_nodes(np.c_[np.zeros(41), np.linspace(0, 1.0, 41), np.zeros(41)])
+    section = fg.RectangularSection(width=0.003, height=0.05)
+    model.add_beams(np.c_[ids[:-1], ids[1:]], fg.Material("Al", E=70e9, nu=0.33, rho=2700.0), section,
+                    orientation=(0, 0, 1))
+    config = fg.Configuration("tip force", fixed={int(ids[0]): "123456"},
+                              forces=(fg.NodalLoad(int(ids[-1]), force=(0, 0, -1.15 * 38.2)),))
+    with pytest.warns(fg.errors.FlexGVTWarning, match="post-buckled path"):
+        buckled = fg.solve_static(model, config, settings=StaticSettings(buckling="continue"))
+    modes = fg.solve_modes(buckled, 3)
+    sensors = Sensors.triaxial(list(model.node_ids[5::5]))
+    shapes = np.asarray(sensors.matrix(buckled.node_ids, buckled) @ modes.matrix()).T
+    meas = up.Measured("tip force", modes.frequencies_hz, shapes, sensors)
+    with pytest.warns(fg.errors.FlexGVTWarning, match="post-buckled path"):
+        f = _predicted(model, config, meas, sensors, 3)  # config: the perfect strip, as the model has it
+    assert np.all(np.isfinite(f)) and np.all(f > 0)
+    np.testing.assert_allclose(f, modes.frequencies_hz, rtol=1e-6)
