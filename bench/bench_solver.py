@@ -28,6 +28,7 @@ from collections import defaultdict
 from pathlib import Path
 
 import numpy as np
+import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 T_START = time.perf_counter()
@@ -44,6 +45,7 @@ SECTION = "## Nonlinear static + pre-stressed modes (beams)"
 N_MODES = 20
 INCREMENTS = 20
 SETTINGS = fg.StaticSettings(increments=INCREMENTS, max_increment_growth=1.0)
+BACKEND_NAME = {"pardiso": "PARDISO", "cholmod": "CHOLMOD"}.get(next(iter(fg_linsolve.BACKENDS), ""), "SuperLU")
 SETTINGS_SUPERLU = fg.StaticSettings(increments=INCREMENTS, max_increment_growth=1.0, cholmod=False)
 EIG_TOL = 1e-12  # the floor's eigensolve converges the Ritz values as tightly as flexgvt's own (ARPACK's
 # default, machine precision, costs the 1,000-element problem 53 shift-invert solves instead of 42)
@@ -223,6 +225,46 @@ def pardiso_refactor(mats):
     return time.perf_counter() - t
 
 
+def _on_union(mats):
+    """The symmetric parts of ``mats`` as data arrays on one sorted CSC pattern holding them all
+    (every diagonal entry present), as flexgvt's analysed pattern holds every iteration's tangent."""
+    sym = [(0.5 * (K + K.T)).tocsc() for K in mats]
+    n = sym[0].shape[0]
+    union = (sum(abs(S) for S in sym) + sp.identity(n, format="csc")).tocsc()
+    union.sort_indices()
+    cols = np.repeat(np.arange(n), np.diff(union.indptr))
+    key = cols.astype(np.int64) * n + union.indices
+    datas = []
+    for S in sym:
+        S = S.tocoo()
+        d = np.zeros(len(key))
+        np.add.at(d, np.searchsorted(key, S.col.astype(np.int64) * n + S.row), S.data)
+        datas.append(d)
+    return union, datas
+
+
+def pardiso_ldl_refactor(mats):
+    """flexgvt's own PARDISO path (fem._pardiso.PardisoLDL through MKL's ctypes entry): one analysis
+    of the pattern, a numeric refactorisation per matrix (data gathering excluded)."""
+    from flexgvt.fem._pardiso import PardisoLDL
+    union, datas = _on_union(mats)
+    t = time.perf_counter()
+    f = PardisoLDL(union.indptr, union.indices, union.shape[0])
+    for d in datas:
+        f.refactor(d)
+    return time.perf_counter() - t
+
+
+def eig_pardiso(K, M):
+    """eigsh shift-invert at 0 with flexgvt's PARDISO factor of K as OPinv."""
+    from flexgvt.fem._pardiso import PardisoLDL
+    union, (d,) = _on_union([K])
+    f = PardisoLDL(union.indptr, union.indices, union.shape[0])
+    f.refactor(d)
+    op = spla.LinearOperator(K.shape, matvec=f.solve_A, dtype=float)
+    return spla.eigsh(K, k=N_MODES, M=M, sigma=0.0, which="LM", OPinv=op, tol=EIG_TOL)[0]
+
+
 def eig_cholmod(K, M):
     from sksparse.cholmod import cholesky
     f = cholesky(K, mode="simplicial")  # as flexgvt factorises
@@ -320,10 +362,10 @@ def profile_breakdown(model, cfg):
         wrap(fg_system.System, "newton_matrix",
              "Newton matrix assembled (modes: symmetric part of the element tangents)"),
         wrap(fg_linsolve.CholmodCache, "factor_blocks",
-             "Newton matrix (symmetric part of the element tangents + alpha M) scattered into CHOLMOD's pattern"),
-        wrap(fg_linsolve.CholmodCache, "factor", "CHOLMOD: assembled matrix gathered onto the analysed pattern"),
-        wrap(fg_linsolve.CholmodCache, "_analyse", "CHOLMOD symbolic analysis (pattern pruned of zeros, AMD)"),
-        wrap(fg_linsolve.CholmodCache, "_refactor", "CHOLMOD numeric refactorisation (+ pivot check)"),
+             "Newton matrix (symmetric part of the element tangents + alpha M) scattered into the analysed pattern"),
+        wrap(fg_linsolve.CholmodCache, "factor", "assembled matrix gathered onto the analysed pattern"),
+        wrap(fg_linsolve.CholmodCache, "_analyse", f"{BACKEND_NAME} symbolic analysis (pattern pruned of zeros)"),
+        wrap(fg_linsolve.CholmodCache, "_refactor", f"{BACKEND_NAME} numeric refactorisation (+ pivot check)"),
         wrap(fg_system.System, "evaluate", "evaluate: rest (force scatter, point loads, reduce)"),
         wrap(fg_system.System, "update", "state update (compiled nodal spins)"),
         wrap(fg_system.System, "mass_matrix", "mass matrix: rest (corotated element matrices)"),
@@ -451,19 +493,26 @@ def main(argv=None):
         if "pardiso" in libs:
             fl["pardiso"] = best(lambda: pardiso_full(sample), 1)[0] * scale
             fl["pardiso_refactor"] = pardiso_refactor(sample) * scale
-        # The floor is the factorisation flexgvt itself uses: CHOLMOD refactorisation where installed.
-        uses_cholmod = fg_linsolve.HAVE_CHOLMOD and SETTINGS.cholmod and "cholmod_refactor" in fl
-        fl["factor"] = fl["cholmod_refactor"] if uses_cholmod else fl["splu"]
-        fl["factor_kind"] = "CHOLMOD refactor" if uses_cholmod else "SuperLU"
-        # ... and the eigensolve with the factorisation flexgvt uses for it (CHOLMOD where installed).
-        fl["eig_used"] = fl["eig_cholmod"] if uses_cholmod else fl["eigsh"]
+            fl["pardiso_ldl"] = min(settle() or pardiso_ldl_refactor(mats) for _ in range(reps))
+            fl["eig_pardiso"], _ = best(lambda: eig_pardiso(K, M), reps)
+        # The floor is the factorisation flexgvt itself uses (fem.linsolve.BACKENDS[0]): PARDISO's or
+        # CHOLMOD's refactorisation where installed, else SuperLU; the eigensolve through the same.
+        backend = fg_linsolve.BACKENDS[0] if fg_linsolve.BACKENDS and SETTINGS.cholmod else None
+        uses_cholmod = backend == "cholmod" and "cholmod_refactor" in fl
+        uses_pardiso = backend == "pardiso" and "pardiso_ldl" in fl
+        fl["factor"] = (fl["cholmod_refactor"] if uses_cholmod else fl["pardiso_ldl"] if uses_pardiso
+                        else fl["splu"])
+        fl["factor_kind"] = ("CHOLMOD refactor" if uses_cholmod else "PARDISO refactor" if uses_pardiso
+                             else "SuperLU")
+        fl["eig_used"] = (fl["eig_cholmod"] if uses_cholmod else fl["eig_pardiso"] if uses_pardiso
+                          else fl["eigsh"])
         floor = fl["factor"] + fl["eig_used"]
         total = t_static + t_modes
         # The same comparison in alternating rounds (ours, then its floor), so that both sample the
         # machine in the same state: the median of the per-round ratios is robust to the shared
         # VM's drifts, which can move the floor by 30 % between the blocks of repeats above.
         paired = []
-        if uses_cholmod and n < 5000:
+        if (uses_cholmod or uses_pardiso) and n < 5000:
             for _ in range(reps):
                 gc.collect()
                 # The floor's eigsh runs BLAS on two threads, and OpenBLAS' threads spin for about
@@ -473,8 +522,8 @@ def main(argv=None):
                 ts, tm, _, _ = ours()
                 gc.collect()
                 time.sleep(0.3)  # the floor from an idle machine too (a first burst can run faster)
-                tf = cholmod_refactor(mats)
-                te, _ = best(lambda: eig_cholmod(K, M), 1)
+                tf = cholmod_refactor(mats) if uses_cholmod else pardiso_ldl_refactor(mats)
+                te, _ = best(lambda: (eig_cholmod if uses_cholmod else eig_pardiso)(K, M), 1)
                 paired.append((ts + tm) / (tf + te))
         f_floor = np.sort(freqs_from_eigenvalues(lam_floor))
         # Conditioning: the same eigenproblem with another shift (exact arithmetic gives the same modes).
@@ -575,7 +624,8 @@ def render(results, prof, cpu, ncores, vers, libs, warmup, t_first, t_import, sp
              "and first-call overheads. Each size is also run once untimed before timing.")
     L.append("")
     L.append("**Floor** = the sparse factorisations the Newton solve needs (one per Newton iteration, with the "
-             "library flexgvt uses (CHOLMOD analyse-once + refactor where scikit-sparse is installed, else SuperLU), "
+             "library flexgvt uses (PARDISO's or CHOLMOD's analyse-once + refactor, fem.linsolve.BACKENDS[0], where "
+             "installed, else SuperLU), "
              "on the very matrices flexgvt factorised, their exactly-zero entries left out as both do: the strip "
              "bends in its symmetry plane, so half of the element pattern is zero) + the eigensolve alone "
              f"(`eigsh(K, {N_MODES}, M, sigma=0, tol={EIG_TOL:g})`, flexgvt's tolerance, same K and M, "
@@ -648,10 +698,12 @@ def render(results, prof, cpu, ncores, vers, libs, warmup, t_first, t_import, sp
         hdr += " CHOLMOD (new each) | CHOLMOD (analyse once, refactor) |"
         sep += "---:|---:|"
     if has_pa:
-        hdr += " PARDISO (pypardiso factorize) | PARDISO (analyse once, phase 22) |"
-        sep += "---:|---:|"
-    hdr += " eigsh (SuperLU) |" + (" eigsh (CHOLMOD OPinv) |" if has_ch else "")
-    sep += "---:|" + ("---:|" if has_ch else "")
+        hdr += (" PARDISO (pypardiso factorize) | PARDISO (pypardiso, analyse once, phase 22) |"
+                " PARDISO (flexgvt's ctypes path, analyse once, refactor) |")
+        sep += "---:|---:|---:|"
+    hdr += " eigsh (SuperLU) |" + (" eigsh (CHOLMOD OPinv) |" if has_ch else "") + (
+        " eigsh (PARDISO OPinv) |" if has_pa else "")
+    sep += "---:|" + ("---:|" if has_ch else "") + ("---:|" if has_pa else "")
     L += [hdr, sep]
     ok = [r for r in results if "failed" not in r]
     for r in ok:
@@ -660,8 +712,9 @@ def render(results, prof, cpu, ncores, vers, libs, warmup, t_first, t_import, sp
         if has_ch:
             row += f" {fmt(f['cholmod'])} | {fmt(f['cholmod_refactor'])} |"
         if has_pa:
-            row += f" {fmt(f['pardiso'])} | {fmt(f['pardiso_refactor'])} |"
-        row += f" {fmt(f['eigsh'])} |" + (f" {fmt(f['eig_cholmod'])} |" if has_ch else "")
+            row += f" {fmt(f['pardiso'])} | {fmt(f['pardiso_refactor'])} | {fmt(f['pardiso_ldl'])} |"
+        row += f" {fmt(f['eigsh'])} |" + (f" {fmt(f['eig_cholmod'])} |" if has_ch else "") + (
+            f" {fmt(f['eig_pardiso'])} |" if has_pa else "")
         L.append(row)
     L.append("")
     L.append("Accuracy cross-check (OpenSees peer, consistent mass; torsional inertia matched by passing J = Ip and "
