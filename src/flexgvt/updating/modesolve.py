@@ -22,7 +22,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..errors import SolverError
-from ..fem.linsolve import superlu
+from ..fem.linsolve import BACKENDS, CholmodCache, superlu
 
 _TOLERANCE = 1e-12  # relative preconditioned residual of the conjugate gradients
 _FLOOR = 1e-8  # a residual that stops falling (round-off of the stiff entries, ~1e-11) is accepted below this
@@ -32,7 +32,8 @@ _MAX_ITERATIONS = 200
 class ModeSolver:
     """G_i r for the modes of one configuration at one design point: K (symmetric tangent), M, and
     the computed eigenpairs lam (m,), phi (n_free, m) (mass-normalised); K - sigma M is factorised
-    once (SuperLU). ``iterations`` counts the block iterations (each one solve with the factor)."""
+    once (the installed symmetric factorisation, fem.linsolve.BACKENDS[0], else SuperLU).
+    ``iterations`` counts the block iterations (each one solve with the factor)."""
 
     def __init__(self, K: sp.csc_matrix, M: sp.csc_matrix, lam: np.ndarray, phi: np.ndarray):
         self.K, self.M = K, M
@@ -44,10 +45,19 @@ class ModeSolver:
             raise SolverError("ModeSolver: the modes are not mass-normalised (phi^T M phi != I)")
         low = min(float(self.lam.min()), 0.0)
         self.sigma = low - 0.1 * max(float(self.lam.max()) - low, 1e-12)
-        try:
-            self._lu = superlu((K - self.sigma * M).tocsc())
-        except RuntimeError as exc:
-            raise SolverError(f"ModeSolver: K - sigma M is singular ({exc}); a mode below sigma was missed") from None
+        A = (K - self.sigma * M).tocsc()
+        # K - sigma M is symmetric positive definite (sigma below every eigenvalue): the installed
+        # symmetric factorisation (PARDISO, CHOLMOD) where there is one, else SuperLU.
+        self._cache = CholmodCache() if BACKENDS else None
+        factor = self._cache.factor(0.5 * (A + A.T)) if self._cache is not None else None
+        if factor is not None:
+            self._solve = factor.solve_A
+        else:
+            try:
+                self._solve = superlu(A).solve
+            except RuntimeError as exc:
+                raise SolverError(f"ModeSolver: K - sigma M is singular ({exc}); a mode below sigma was "
+                                  "missed") from None
         self.iterations = 0
 
     def _project(self, X: np.ndarray) -> np.ndarray:
@@ -91,7 +101,7 @@ class ModeSolver:
         if not np.any(b):
             return x
         r = b.copy()
-        z = self._project(self._lu.solve(r))
+        z = self._project(self._solve(r))
         p = z.copy()
         rz = np.sum(r * z, axis=0)
         rz0 = np.where(rz > 0, rz, 1.0)
@@ -108,7 +118,7 @@ class ModeSolver:
             x += alpha * p
             r -= alpha * q
             self.iterations += 1
-            z = self._project(self._lu.solve(r))
+            z = self._project(self._solve(r))
             rz_new = np.sum(r * z, axis=0)
             res = np.sqrt(np.abs(rz_new) / rz0)
             better = res < 0.5 * best
