@@ -25,6 +25,7 @@ class PairingPolicy:
     def __init__(self, objective: Objective):
         self.objective = objective
         self.reference: dict[str, tuple[float, np.ndarray]] = {}
+        self.moves = 0  # times a point's better fit replaced a reference (cached points may pair otherwise)
 
     def reference_of(self, point, measured: dict[str, Measured]) -> dict:
         """{configuration: (-inf, paired analytical shapes)} of ``point`` (a Point), for the
@@ -80,6 +81,7 @@ class PairingPolicy:
         fit = float(np.mean(closeness[np.flatnonzero(ok), paired[ok]] ** 2)) if ok.any() else np.inf
         if previous is None or fit < best:
             self.reference[name] = (fit, phi[:, np.maximum(paired, 0)] * ok[None, :])
+            self.moves += 1
         return paired, np.full(len(fm), np.nan), None
 
     def explain(self, meas: Measured, p) -> tuple[Unpaired, ...]:

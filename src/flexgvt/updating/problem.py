@@ -83,6 +83,8 @@ class UpdatingProblem:
         self.mass_residuals = MassResiduals(mass_target, self.objective, self.par, self.work)
         self.prior_weights = self._prior_weights()
         self.cache = PointCache()
+        self._reference: dict | None = None  # the reference set last (set_pairing_reference) ...
+        self._moves_at_set = 0  # ... and the pairing's moves then
         self.workers: list | None = None  # Dask actors evaluating the configurations (updating.parallel)
         self.n_solves = 0
         self.n_gradients = 0
@@ -126,10 +128,14 @@ class UpdatingProblem:
 
     def set_pairing_reference(self, reference: dict) -> None:
         """Pair from now on against ``reference`` (from reference_of) and warm-start from its states;
-        cached points are dropped, as their pairing may differ."""
+        cached points are dropped, as their pairing may differ (kept when ``reference`` is the very
+        one set last and no point has moved the pairing since: they were paired against it, so the
+        answer evaluated again reuses its point)."""
+        if reference is not self._reference or self.pairing.moves != self._moves_at_set:
+            self.cache.clear()
         self.pairing.reference = dict(reference.get("pairing", {}))
         self.states.update(reference.get("states", {}))
-        self.cache.clear()
+        self._reference, self._moves_at_set = reference, self.pairing.moves
 
     @property
     def x0(self) -> np.ndarray:
