@@ -308,17 +308,15 @@ def build_report_content(res):
         notes.append(f"variables the data cannot see: {up.identifiability['unidentifiable']}")
     stages = _stage_sections(res)
     final = next((s.stage for s in reversed(staged) if s.update is not None), None)
-    variables_title, history_title = "Design variables", "Optimiser history"
-    if final is not None:  # the final updating stage's
-        variables_title += f" (stage {final.index + 1}: {final.name})"
-        history_title += f" (stage {final.index + 1}: {final.name})"
+    whose = "" if final is None else f" (stage {final.index + 1}: {final.name})"  # the final updating stage's
     if stages:
         summary.insert(3, ("stages", " -> ".join(f"{k + 1}. {s.name}" for k, s in enumerate(stages))))
         notes.append("Staged updating: each stage starts from the model the previous one produced; the "
                      "configuration sections show the stage that last updated on them, the design variables and "
                      "history the final updating stage's, the prediction the final model's.")
     return ReportContent(f"flexgvt: {spec.project.name}", summary, sections, variables, history, evolution,
-                         prediction, title, notes, modes, stages, variables_title, history_title)
+                         prediction, title, notes, modes, stages, "Design variables" + whose,
+                         "Optimiser history" + whose)
 
 
 def _level(bounds: dict) -> str:

@@ -109,6 +109,12 @@ def _select(modes, keep: np.ndarray):
                    energy_fractions=pick(modes.energy_fractions))
 
 
+def guyan_sets(deck) -> dict:
+    """The deck's Guyan-reduction sets: {'ASET' and/or 'OMIT': {grid: components}}, those it gives."""
+    options = getattr(deck, "options", {}) or {}
+    return {k: options[k] for k in ("ASET", "OMIT") if options.get(k)}
+
+
 def solve_deck(deck: BdfDeck | str | Path, n_modes: int | None = None, configurations: Iterable[str] | None = None,
                mass_frame: str = "deformed",
                **read_options) -> dict[str, SubcaseResult]:
@@ -126,8 +132,7 @@ def solve_deck(deck: BdfDeck | str | Path, n_modes: int | None = None, configura
     if isinstance(deck, (str, Path)):
         deck = read_bdf(deck, **read_options)
     names = list(deck.configurations) if configurations is None else list(configurations)
-    options = getattr(deck, "options", {}) or {}
-    reduction = {k: options[k] for k in ("ASET", "OMIT") if options.get(k)}  # Nastran's Guyan reduction
+    reduction = guyan_sets(deck)  # Nastran's Guyan reduction
     out = {}
     for name in names:
         cfg = deck.configurations[name]

@@ -19,6 +19,7 @@ from pydantic import ValidationError
 from ..errors import FlexGVTError, ModelError
 from ..model import ConcentratedMass, Configuration, Cord, Model, NodalLoad
 from ..model.configuration import STANDARD_GRAVITY
+from .deck import guyan_sets
 from .projectbase import Project, ProjectError
 from .schema import ConfigurationSpec, ProjectFile
 from .stages import flatten, resolve_stages
@@ -131,7 +132,7 @@ def _read_deck(bdf: Path, spec, where: str):
         raise ProjectError(f"{where}: model.bdf: {exc}") from None
     for w in caught:
         warnings.warn(f"{where}: model.bdf: {w.message}", FlexGVTWarning, stacklevel=3)
-    sets = [k for k in ("ASET", "OMIT") if deck.options.get(k)]
+    sets = guyan_sets(deck)
     if sets:  # a design decision, said once: updating needs the full model's exact modes and sensitivities
         warnings.warn(f"{where}: model.bdf asks for Guyan reduction ({'/'.join(sets)}); a project identifies, "
                       "updates and predicts with the full model (exact modes and sensitivities, which the "
