@@ -28,8 +28,13 @@ def test_xhale_lab(tmp_path):
     out = _load(EXAMPLES / "xhale_lab" / "run.py").main(["--out", str(tmp_path / "o"), "--json",
                                                           str(tmp_path / "x.json"), "--no-report"])
     saved = json.loads((tmp_path / "x.json").read_text())
-    assert set(saved) == {"configurations", "rms_error_percent", "prediction", "prediction_modes",
+    assert set(saved) == {"configurations", "rms_error_percent", "gross_mass", "prediction", "prediction_modes",
                           "prediction_uncertainty", "variables", "timings_s", "files"}
+    # The pods' masses (three variables, by default) move mass outboard; the published gross mass
+    # holds within 1 %.
+    pods = {v["name"]: v for v in saved["variables"] if v["kind"] == "mass"}
+    assert set(pods) == {"pod_centre", "pods_inner", "pods_outer"}
+    assert abs(saved["gross_mass"]["updated_kg"] / 11.35 - 1) < 0.01
     # The project written reads its own copy of the shipped table.
     assert json.loads((tmp_path / "o" / "xhale_lab_gvt.json").read_text()) == __import__("flexgvt").data.load(
         "xhale_lab_gvt")

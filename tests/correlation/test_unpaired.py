@@ -27,6 +27,20 @@ def test_label_families():
     assert label_families("torsion 2") == {"T"} and label_families("mode 3") == frozenset()
     assert not labels_compatible("5 OOP", "2 IP") and labels_compatible("1 T", "1 OOP/T")
     assert labels_compatible("mode 3", "2 IP")  # a label naming no family constrains nothing
+    # A distributed cord's own modes (fem.labels) are a family of their own.
+    assert label_families("3 bungee surge") == label_families("1 bungee string") == {"CORD"}
+    assert not labels_compatible("1 OOP", "1 bungee string")
+
+
+def test_a_measured_mode_never_pairs_a_closer_mode_of_a_heavy_cord():
+    """Frequency-only data on a structure hung by distributed cords: the cords' own surge and string
+    modes lie among the structure's and must not take a measured bending mode's place."""
+    fm = [0.99, 2.74]
+    fa = [1.004, 2.70, 2.75, 3.1]
+    labels_a = ("1 OOP", "2 OOP", "1 bungee string", "1 bungee surge")
+    assert pair_by_frequency(fm, fa).analytical.tolist() == [0, 2]  # blind: the string mode, 0.4 % away
+    got = pair_by_frequency(fm, fa, measured_labels=("1 OOP", "2 OOP"), analytical_labels=labels_a)
+    assert got.analytical.tolist() == [0, 1] and not got.unpaired
 
 
 def test_a_measured_oop_mode_never_pairs_a_closer_fe_ip_mode():

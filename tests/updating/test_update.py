@@ -178,3 +178,30 @@ def test_the_answer_respects_the_bounds_when_the_data_pull_beyond_them():
     upper = np.array([v.bounds[1] for v in variables])
     assert np.all(result.x >= lower - 1e-12) and np.all(result.x <= upper + 1e-12)
     assert any(row["at_bound"] for row in result.variables)
+
+
+def test_frequency_only_data_on_a_structure_hung_by_a_heavy_cord():
+    """A distributed cord's own modes (15 for 6 members, surge and string) lie among the strip's
+    bending modes: by default they are analysed besides the measured + 6, and none takes a measured
+    mode's place, so the five bending modes pair and E is recovered."""
+    from dataclasses import replace
+    case = fg.cases.cantilever_strip(n_elements=30)
+    model = case.model
+    i = int(np.argmax(model.xyz[:, 0]))
+    tension = 0.3 * fg.mass_properties(model).mass * 9.80665
+    cord = fg.Cord(node=int(model.node_ids[i]), anchor=tuple(model.xyz[i] + [0.0, 0.0, 0.5 + tension / 50.0]),
+                   stiffness=50.0, unstretched_length=0.5, mass=0.05, segments=6)
+    hung = replace(case.configurations["self_weight"], name="hung", suspension=(cord,))
+    truth = fg.solve_modes(fg.solve_static(model, hung), 30)
+    oop = [k for k, lab in enumerate(truth.labels) if lab.endswith(" OOP")][:5]
+    assert oop[-1] > 5 + up.problem.EXTRA_MODES  # the 5th bending lies beyond measured + 6
+    data = [up.Measured("hung", truth.frequencies_hz[oop], labels=tuple(truth.labels[k] for k in oop))]
+    variables = [up.beam(f"E{r}", f"region{r}", "E") for r in (1, 2, 3)]
+    initial = model.copy("initial")
+    up.Parametrisation(model, [hung], variables).apply(initial, np.full(3, 0.97))
+    result = up.update(initial, [hung], data, variables)
+    point = result.final.configurations["hung"]
+    assert len(point.frequencies_hz) == 5 + up.problem.EXTRA_MODES + 3 * 5
+    assert np.all(point.paired >= 0)
+    assert all(point.labels[j].endswith(" OOP") for j in point.paired)
+    np.testing.assert_allclose(result.x, 1 / 0.97, rtol=1e-3)

@@ -25,6 +25,8 @@ _FAMILY_WORDS = {
     "T": ("t", "torsion", "torsional", "twist"),
     "EXT": ("ext", "extension", "axial"),
     "RB": ("rb", "rigid", "pendulum", "plunge", "heave", "roll", "pitch", "yaw", "suspension"),
+    # a distributed cord's own modes (fem.labels: 'k bungee surge', 'k bungee string')
+    "CORD": ("bungee", "surge", "string", "cord"),
 }
 _WORD_FAMILY = {w: fam for fam, words in _FAMILY_WORDS.items() for w in words}
 REASONS = ("no_mode_in_range", "label_mismatch", "not_seen", "mac_below_floor", "taken")

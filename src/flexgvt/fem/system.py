@@ -318,6 +318,7 @@ class System:
         distributed = (segments,) if len(segments.w) else ()
         if len(segments.points):
             cm = _with_points(cm, segments.point_xyz)
+        self.n_cord_points = len(segments.points)  # each adds 3 modes of the cord's own (surge, string)
         self.cm = cm
         n = len(cm.xyz)
         self.n_nodes = n

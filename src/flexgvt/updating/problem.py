@@ -41,7 +41,8 @@ class UpdatingProblem:
     model: the initial model (never changed); configurations: every configuration with test data;
     measured: one Measured per configuration; variables: design variables; mass_target: measured
     mass properties; objective: weights and limits; n_modes: modes analysed per configuration
-    (default: measured + 6); static_settings: for the nonlinear static solves.
+    (default: measured + 6, plus 3 per interior point of a distributed cord: the cords' own modes);
+    static_settings: for the nonlinear static solves.
     """
 
     def __init__(self, model: Model, configurations, measured, variables, mass_target: MassTarget | None = None,
@@ -204,7 +205,9 @@ class UpdatingProblem:
         K = (0.5 * (tangent + tangent.T)).tocsc()
         M = system.mass_matrix(positions, R)
         meas = self.measured[name]
-        n = self.n_modes or len(meas.frequencies_hz) + EXTRA_MODES
+        # By default also every mode of a distributed cord's own (3 per interior point), which may lie
+        # among the measured ones.
+        n = self.n_modes or len(meas.frequencies_hz) + EXTRA_MODES + 3 * system.n_cord_points
         n = min(n, system.n_free - 1)
         try:
             lam, phi = real_modes(K, M, n, None, system.clamped, system.cholmod_cache)
