@@ -53,7 +53,7 @@ def measured_tables(path: Path | None) -> dict:
     return lab
 
 
-POD_VARIABLES = """# The pods' masses (unpublished split of the gross mass), the gross mass held by [objective.measured_mass]
+POD_VARIABLES = """# The pods' masses (their split of the gross mass was not published)
 [[variables]]
 name = "pod_centre"
 kind = "mass"

@@ -147,3 +147,20 @@ def test_judge_steps_on_a_made_up_sensitivity_matrix():
     unknown = judge(J, float("nan"), names, 0.5)  # no redundancy, no measured scatter: steps 1-2 only
     assert unknown["identifiable"].tolist() == [False, True, False, True, True]
     assert np.isnan(unknown["std"][[1, 3, 4]]).all()
+
+
+def test_a_residual_with_too_few_degrees_of_freedom_does_not_estimate_sigma():
+    """With one or two residuals beyond the variables (no measured scatter), s^2 = |r|^2 / (m - n)
+    follows chance (1 degree of freedom: a factor 5000 between its 2.5 and 97.5 % points), so the
+    stds are unknown rather than a reason to hold variables; from three on the residual serves."""
+    from types import SimpleNamespace
+
+    from flexgvt.updating.result import MIN_RESIDUAL_DOF, _residual_variance
+    problem = SimpleNamespace(measured={"a": SimpleNamespace(frequency_std_hz=None)})
+    point = SimpleNamespace(data_residuals=np.full(6, 0.01))
+    assert MIN_RESIDUAL_DOF == 3
+    for n in (5, 4):
+        sigma2, source = _residual_variance(problem, point, 6, n)
+        assert np.isnan(sigma2) and f"{6 - n} degree(s) of freedom" in source
+    sigma2, source = _residual_variance(problem, point, 6, 3)
+    assert sigma2 == pytest.approx(6e-4 / 3) and source.startswith("residual")

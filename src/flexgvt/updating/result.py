@@ -243,9 +243,18 @@ def _residual_variance(problem: UpdatingProblem, point: Point, m: int, n: int) -
                                   if meas.frequency_std_hz is not None])
         # Weighted residuals w (f - fm)/fm have standard deviation w sd/fm each: their common value.
         return float(np.median((problem.objective.frequency * weights * rel) ** 2)), "measured standard deviations"
-    if m > n:
+    if m - n >= MIN_RESIDUAL_DOF:
         return float(point.data_residuals @ point.data_residuals / (m - n)), "residual (m - n degrees of freedom)"
+    if m > n:
+        return float("nan"), (f"none ({m - n} degree(s) of freedom in the residual, fewer than {MIN_RESIDUAL_DOF}, "
+                              "and no measured standard deviations): standard deviations unknown")
     return float("nan"), "none (no redundancy and no measured standard deviations): standard deviations unknown"
+
+
+# Fewer residuals beyond the variables than this and the residual does not estimate sigma: with one
+# degree of freedom the 95 % range of s^2 / sigma^2 spans 1e-3 to 5, so a variable's std (and which
+# variables are held for it) would follow chance.
+MIN_RESIDUAL_DOF = 3
 
 
 def variable_table(problem: UpdatingProblem, x: np.ndarray, ident: dict) -> list[dict]:
