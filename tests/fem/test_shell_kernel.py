@@ -1,6 +1,7 @@
-"""Linear flat shell elements (quad: MITC4 + Allman/Hughes-Brezzi membrane; triangle: DKMT + ANDES-OPT
-membrane; the thick-plate tests of DKMT are in test_shell_dkmt.py) against references nobody here wrote: rigid-body modes, MacNeal-Harder patch tests,
-Timoshenko's plates, Scordelis-Lo roof, closed-form and Leissa plate frequencies."""
+"""Linear flat shell elements (quad: MITC4 + Allman/Hughes-Brezzi membrane; triangle: DKMT +
+ANDES-OPT membrane; DKMT's thick-plate tests are in test_shell_dkmt.py) against references nobody
+here wrote: rigid-body modes, MacNeal-Harder patch tests, Timoshenko's plates, Scordelis-Lo roof,
+closed-form and Leissa plate frequencies."""
 
 import dataclasses
 
