@@ -131,9 +131,10 @@ def test_one_design_change_serves_configurations_with_different_imperfections():
 
 def test_thick_triangle_plate_frequency_derivatives_match_finite_differences():
     """A square cantilever plate of DKMT triangles, L/t = 10 (shear flexibility lowers its bending
-    modes by 0.8, 2.6, 4.1 % against the same plate without MID3, i.e. DKT): the first four frequencies differentiated with respect to the thickness and G of its
-    group against whole solves (measured: within 1e-9 relative; the triangle's constants are not linear in the section: the
-    four-point rule runs on whole kernel passes)."""
+    modes by 0.8, 2.6, 4.1 % against the same plate without MID3, i.e. DKT): the first four
+    frequencies differentiated with respect to the thickness and G of its group against whole
+    solves (measured: within 1e-9 relative; the triangle's constants are not linear in the
+    section: the four-point rule runs on whole kernel passes)."""
     model = fg.Model("thick triangles")
     n, a = 6, 0.5
     x, y = np.meshgrid(np.linspace(0, a, n + 1), np.linspace(0, a, n + 1))
