@@ -62,6 +62,24 @@ def test_dkmt_is_dkt_without_shear_stiffness_and_in_the_thin_limit():
     assert np.allclose(np.array(diffs[:2]) / diffs[1:], 100.0, rtol=0.01), diffs
 
 
+def test_side_factors_ignore_offsets_and_scale_as_thickness_squared():
+    """phi_k = 12 D_k / (S_k L_k^2) from the bending stiffness with the membrane free: an offset
+    section (B = z A, D + z^2 A) has the same phi_k as the plain one; isotropic phi_k =
+    2 / (k (1 - nu)) (t / L_k)^2 (Katili)."""
+    from flexgvt.fem._shell_dkmt import dkmt_sides
+    m = mat1(7e10, nu=0.3)
+
+    def phis(sec):
+        C = section_arrays([sec], [0])[0][0]
+        al, gl, geo = np.empty((3, 9)), np.empty(3), np.empty((3, 3))
+        dkmt_sides(np.ascontiguousarray(XL - XL.mean(0)), C, al, gl, geo, np.empty((3, 3)), np.empty((3, 3)))
+        return -1.5 * gl, geo[:, 0]
+
+    phi, L = phis(pshell(0.05, m, m))
+    assert np.allclose(phi, 2 / (5 / 6 * 0.7) * (0.05 / L) ** 2, rtol=1e-12)
+    assert np.allclose(phis(pshell(0.05, m, m).offset(0.3))[0], phi, rtol=1e-9)
+
+
 def test_constant_curvature_patch_and_rigid_modes_at_any_thickness():
     """MacNeal-Harder's patch (0.24 x 0.12) as triangles, t = 0.001 and 0.1 (thicker than the
     elements): a constant-curvature state has no shear (Mindlin: Q = div M = 0), so the interior

@@ -31,8 +31,9 @@ _FAST = dict(cache=True, fastmath={"contract", "reassoc", "arcp", "nsz"}, nogil=
 
 
 @njit(**_FAST)
-def _reduced_bending(C, Dr):
-    """Dr (3, 3) = D - B^T A^-1 B of the section C (8, 8) (D where A is singular: no membrane)."""
+def _reduced_bending(C, Dr, inv):
+    """Dr (3, 3) = D - B^T A^-1 B of the section C (8, 8) (D where A is singular: no membrane);
+    inv (3, 3) work."""
     a00, a01, a02 = C[0, 0], C[0, 1], C[0, 2]
     a11, a12, a22 = C[1, 1], C[1, 2], C[2, 2]
     c00 = a11 * a22 - a12 * a12
@@ -52,7 +53,6 @@ def _reduced_bending(C, Dr):
                 coupled = True
     if not coupled:
         return
-    inv = np.empty((3, 3))
     inv[0, 0], inv[0, 1], inv[0, 2] = c00 / det, c01 / det, c02 / det
     inv[1, 1] = (a00 * a22 - a02 * a02) / det
     inv[1, 2] = (a01 * a02 - a00 * a12) / det
@@ -68,11 +68,12 @@ def _reduced_bending(C, Dr):
 
 
 @njit(**_FAST)
-def dkmt_sides(xl, C, al, gl, geo, Dr):
+def dkmt_sides(xl, C, al, gl, geo, Dr, inv):
     """Per side k = (0, 1), (1, 2), (2, 0) of the triangle at local corners xl (3, 2) with section C:
     al (3, 9) the bubble amplitude Delta_k = al[k] . [w, theta_x, theta_y] x 3, gl (3,) its shear
-    strain factor gamma_k = gl[k] Delta_k, geo (3, 3) the side's [length, cos, sin]. Returns max phi_k."""
-    _reduced_bending(C, Dr)
+    strain factor gamma_k = gl[k] Delta_k, geo (3, 3) the side's [length, cos, sin]; Dr, inv (3, 3)
+    work (Dr: the reduced bending stiffness). Returns the largest phi_k."""
+    _reduced_bending(C, Dr, inv)
     S00, S01, S11 = C[6, 6], C[6, 7], C[7, 7]
     phimax = 0.0
     for k in range(3):

@@ -589,7 +589,7 @@ def tri_local_stiffness(xl, C, K, Bm, CB, al, side, Bc, Kh, work):
     if area <= 0.0:
         return area
     geo, gl, lam = side[0:3], side[3], work[0, 0:3]
-    dkmt_sides(xl, C, al, gl, geo, work[1:4, 0:3])
+    dkmt_sides(xl, C, al, gl, geo, work[1:4, 0:3], work[4:7, 0:3])
     w = area / 3.0
     for a in range(8):
         for j in range(18):
