@@ -127,3 +127,30 @@ def test_one_design_change_serves_configurations_with_different_imperfections():
     for a, b in zip(got, fresh):
         a, b = (m.toarray() if hasattr(m, "toarray") else m for m in (a, b))
         np.testing.assert_array_equal(a, b)
+
+
+def test_thick_triangle_plate_frequency_derivatives_match_finite_differences():
+    """A square cantilever plate of DKMT triangles, L/t = 10 (shear flexibility lowers its bending
+    modes by 0.8, 2.6, 4.1 % against the same plate without MID3, i.e. DKT): the first four
+    frequencies differentiated with respect to the thickness and G of its group against whole
+    solves (measured: within 1e-9 relative; the triangle's constants are not linear in the
+    section: the four-point rule runs on whole kernel passes)."""
+    model = fg.Model("thick triangles")
+    n, a = 6, 0.5
+    x, y = np.meshgrid(np.linspace(0, a, n + 1), np.linspace(0, a, n + 1))
+    ids = np.arange(1, x.size + 1).reshape(x.shape)
+    model.add_nodes(np.c_[x.ravel(), y.ravel(), 0 * x.ravel()], ids=ids.ravel())
+    tris = []
+    for j in range(n):
+        for i in range(n):
+            p, q, r, s = ids[j, i], ids[j, i + 1], ids[j + 1, i + 1], ids[j + 1, i]
+            tris += [[p, q, r], [p, r, s]]
+    model.add_shells(np.array(tris), fg.model.ShellProperty.isotropic(AL, a / 10, "thick"), name="plate",
+                     mass="consistent")
+    cfg = fg.Configuration("unloaded", fixed={int(i): "123456" for i in ids[:, 0]})
+    f0 = fg.solve_modes(fg.solve_static(model, cfg), 4, label=False).frequencies_hz
+    problem = up.UpdatingProblem(model, [cfg], [up.Measured(cfg.name, f0 * 1.02)],
+                                 [up.shell("t", "plate", "thickness"), up.shell("G", "plate", "G")],
+                                 static_settings=TIGHT)
+    J = _check(problem, np.array([1.02, 0.97]))[0]
+    assert np.abs(J[:, 1]).max() > 0.05 * np.abs(J[:, 0]).max()  # G matters (shear and nu)

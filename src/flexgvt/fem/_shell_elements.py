@@ -1,4 +1,4 @@
-"""Linear flat shell elements (quad MITC4 + Allman/Hughes-Brezzi membrane, triangle DKT + Allman
+"""Linear flat shell elements (quad MITC4 + Allman/Hughes-Brezzi membrane, triangle DKMT + ANDES-OPT
 membrane): per-element global stiffness and mass from the compiled kernels, and a plain sparse
 assembly used by the element tests and benchmarks (the solver's own assembly lives elsewhere)."""
 

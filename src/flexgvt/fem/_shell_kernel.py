@@ -21,8 +21,10 @@ Triangle (3 nodes):
     scale that makes pure in-plane bending of a rectangular unit exact, tested): an Allman field
     with a Hughes-Brezzi penalty was tried first and gave 0.14 of the MacNeal-Harder in-plane
     shear (a spar web locks), ANDES-OPT 1.05;
-  - bending: DKT (Batoz, Bathe & Ho 1980), Kirchhoff (no transverse shear flexibility); the
-    membrane-bending coupling B acts on the basic (constant) membrane strain.
+  - bending and transverse shear: DKMT (Katili 1993, _shell_dkmt.py), the shear-deformable
+    extension of DKT (Batoz, Bathe & Ho 1980) to which it reduces as t/L -> 0 and exactly for a
+    section without shear stiffness; the membrane-bending coupling B acts on the basic (constant)
+    membrane strain.
 Sections enter as C (8, 8) = [[A, B, 0], [B^T, D, 0], [0, 0, S]] in element axes and mass (3,) =
 [m0, m1, m2] per unit area (see _shell_section.py). Masses: consistent (the bilinear/linear shape
 functions on u, v, w, beta; no drilling inertia) or lumped (int N_i dA per node).
@@ -32,6 +34,8 @@ from __future__ import annotations
 
 import numpy as np
 from numba import njit, prange
+
+from ._shell_dkmt import dkmt_point, dkmt_sides
 
 _FAST = dict(cache=True, fastmath={"contract", "reassoc", "arcp", "nsz"}, nogil=True, error_model="numpy")
 _G = 0.5773502691896257  # 1/sqrt(3): the 2 x 2 Gauss points
@@ -572,10 +576,11 @@ def andes_membrane(xl, Am, Bc, Kh, work):
 
 
 @njit(**_FAST)
-def tri_local_stiffness(xl, C, K, Bm, CB, Cx, Cy, Bc, Kh, work):
+def tri_local_stiffness(xl, C, K, Bm, CB, al, side, Bc, Kh, work):
     """Local stiffness K (18, 18) (overwritten) of a flat triangle at local corners xl (3, 2): ANDES-OPT
-    membrane, DKT bending, the membrane-bending coupling on the basic (constant) membrane strain.
-    Work arrays Bm, CB (8, 18), Cx, Cy (9, 6), Bc (3, 9), Kh (9, 9), work (14, 9). Returns the signed area."""
+    membrane, DKMT bending and transverse shear (DKT where the section has no shear stiffness), the
+    membrane-bending coupling on the basic (constant) membrane strain. Work arrays Bm, CB (8, 18),
+    al (3, 9), side (4, 3), Bc (3, 9), Kh (9, 9), work (9, 9). Returns the signed area."""
     for i in range(18):
         for j in range(18):
             K[i, j] = 0.0
@@ -583,15 +588,8 @@ def tri_local_stiffness(xl, C, K, Bm, CB, Cx, Cy, Bc, Kh, work):
     area = andes_membrane(xl, Am, Bc, Kh, work)
     if area <= 0.0:
         return area
-    A2 = 2 * area
-    x0, y0 = xl[0, 0], xl[0, 1]
-    x1, y1 = xl[1, 0], xl[1, 1]
-    x2, y2 = xl[2, 0], xl[2, 1]
-    _dkt_coefficients(xl, Cx, Cy, work[9:14, 0:3])
-    x31, y31 = x2 - x0, y2 - y0
-    x12, y12 = x0 - x1, y0 - y1
-    Nxi = work[11, 3:9]
-    Neta = work[10, 3:9]
+    geo, gl, lam = side[0:3], side[3], work[0, 0:3]
+    dkmt_sides(xl, C, al, gl, geo, work[1:4, 0:3], work[4:7, 0:3])
     w = area / 3.0
     for a in range(8):
         for j in range(18):
@@ -601,30 +599,10 @@ def tri_local_stiffness(xl, C, K, Bm, CB, Cx, Cy, Bc, Kh, work):
             Bm[r, 6 * i] = Bc[r, 3 * i]
             Bm[r, 6 * i + 1] = Bc[r, 3 * i + 1]
             Bm[r, 6 * i + 5] = Bc[r, 3 * i + 2]
-    for gp in range(3):
-        # DKT curvatures: xi = L1, eta = L2 (node 2 at xi = 1, node 3 at eta = 1)
-        xi, eta = _TRI_L[gp, 1], _TRI_L[gp, 2]
-        l0 = 1.0 - xi - eta
-        Nxi[0], Neta[0] = 1 - 4 * l0, 1 - 4 * l0
-        Nxi[1], Neta[1] = 4 * xi - 1, 0.0
-        Nxi[2], Neta[2] = 0.0, 4 * eta - 1
-        Nxi[3], Neta[3] = 4 * eta, 4 * xi
-        Nxi[4], Neta[4] = -4 * eta, 4 * (l0 - eta)
-        Nxi[5], Neta[5] = 4 * (l0 - xi), -4 * xi
-        for r in range(9):
-            hxx = 0.0
-            hxe = 0.0
-            hyx = 0.0
-            hye = 0.0
-            for s in range(6):
-                hxx += Cx[r, s] * Nxi[s]
-                hxe += Cx[r, s] * Neta[s]
-                hyx += Cy[r, s] * Nxi[s]
-                hye += Cy[r, s] * Neta[s]
-            col = 6 * (r // 3) + 2 + r % 3
-            Bm[3, col] = (y31 * hxx + y12 * hxe) / A2
-            Bm[4, col] = (-x31 * hyx - x12 * hye) / A2
-            Bm[5, col] = (-x31 * hxx - x12 * hxe + y31 * hyx + y12 * hye) / A2
+    for gp in range(3):  # curvatures and shear strains are linear: the 3-point rule is exact
+        for i in range(3):
+            lam[i] = _TRI_L[gp, i]
+        dkmt_point(xl, lam, al, gl, geo, Bm)
         _add_btcb(K, Bm, C, w, CB, 18)
     for i in range(9):
         gi = 6 * (i // 3) + (i % 3 if i % 3 < 2 else 5)
@@ -657,11 +635,11 @@ def _tri_chunk(X, C, mass, drill, lumped, want_mass, local, K_out, M_out, frames
     Kl = np.empty((18, 18))
     Bm = np.empty((8, 18))
     CB = np.empty((8, 18))
-    Cx = np.empty((9, 6))
-    Cy = np.empty((9, 6))
+    al = np.empty((3, 9))
+    side = np.empty((4, 3))
     Bc = np.empty((3, 9))
     Kh = np.empty((9, 9))
-    work = np.empty((14, 9))
+    work = np.empty((9, 9))
     tmp = np.empty((3, 3))
     for el in range(start, stop):
         for i in range(3):
@@ -673,7 +651,7 @@ def _tri_chunk(X, C, mass, drill, lumped, want_mass, local, K_out, M_out, frames
                 frames[el, i, j] = E[i, j]
         for i in range(3):
             coords[el, i, 0], coords[el, i, 1], coords[el, i, 2] = xl[i, 0], xl[i, 1], 0.0
-        a2 = tri_local_stiffness(xl, C[el], Kl, Bm, CB, Cx, Cy, Bc, Kh, work)
+        a2 = tri_local_stiffness(xl, C[el], Kl, Bm, CB, al, side, Bc, Kh, work)
         status[el] = OK if a2 > _DEGENERATE * _size2(xl, 3) else BAD_JACOBIAN
         _store(E, Kl, K_out[el], 3, tmp, local)
         if want_mass:

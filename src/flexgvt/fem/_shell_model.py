@@ -7,7 +7,9 @@ T1-T4; the kernels take one section per element, so a tapered element gets its m
 exact for the membrane and shear stiffness and the mass of a linear taper, and within
 (dt/t)^2 / 4 for the bending stiffness); the offset ZOFFS moves the reference plane; the material
 angle (THETA from side 1-2, or an MCID axis projected on the element) turns the section into the
-element's kernel axes (x along side 1-2 projected on the element's plane).
+element's kernel axes (x along side 1-2 projected on the element's plane). A triangle whose PSHELL
+has bending but no MID3 gets no transverse shear stiffness (S = 0): Nastran's rigid transverse
+shear, which the triangle's DKMT bending takes as DKT (docs/shells.md, "Triangle bending").
 """
 
 from __future__ import annotations
@@ -132,6 +134,9 @@ def group_sections(group: ShellGroup, X: np.ndarray, where: str) -> tuple[np.nda
         mass[k] = sec.m0, sec.m1, sec.m2
         thickness[k] = sec.thickness
     C, mass, thickness = C[inverse], mass[inverse], thickness[inverse]
+    prop = group.property
+    if X.shape[1] == 3 and isinstance(prop, ShellProperty) and prop.shear is None and prop.bending is not None:
+        C[:, 6:, 6:] = 0.0  # MID3 blank on a triangle: rigid in transverse shear (DKT)
     if group.material_axis is not None:
         frames = kernel_frames(X)
         axis = np.asarray(group.material_axis, float)
