@@ -258,7 +258,7 @@ def _run(problem, model, *, method, starts, seed, max_iterations, tolerance, sto
             runs.append(client.submit(_remote_start, problem, x0, method, max_iterations, tolerance, pure=False))
             continue
         # An interrupted run starts again from x0 too: the store answers the evaluations it recorded.
-        problem.set_pairing_reference(reference)
+        problem.set_pairing_reference(reference, keep=initial if run == 0 and start is None else None)
         try:
             out = minimise(problem, x0, method, store=store, run=run, max_iterations=max_iterations,
                            tolerance=tolerance, progress=progress)
