@@ -24,8 +24,9 @@ variables), with rigid links' own terms in closed form (linear constraints need 
 constant); systems with interpolation links, and shell systems with fewer variables than the 84
 kernel passes of a quad's element-level derivatives would cost (_directions_cheaper), use a
 four-point difference of the tangent along each du/dp instead (state_direction), h |du| = 1e-3 rad
-or 1e-3 of the structure's size. Mode-shape derivatives are projected on what the objective reads (the sensors, or one MAC per mode) and solved by the adjoint when that has
-fewer rows than there are variables.
+or 1e-3 of the structure's size. Mode-shape derivatives are projected on what the objective reads
+(the sensors, or one MAC per mode) and solved by the adjoint when that has fewer rows than there
+are variables.
 
 Accuracy limit: du solves K du = -dR, and K of a flexible structure is ill-conditioned (cond
 ~1e9-1e10: axial EA/L against bending and suspension stiffness); the round-off of its stiff

@@ -347,6 +347,7 @@ def minimise(problem: UpdatingProblem, x0: np.ndarray, method: str = OptimiserSe
     drv.point(x)  # SciPy's final iterate competes with every point seen; a failed trial never wins
     x = drv.best.x
     return {"x": np.asarray(x, float), "reference": drv.best_reference(), "history": drv.history,
+            "point": drv.best if drv.best_fresh else None,  # the reference's own point (solved in this run)
             "message": message, "success": success, "replayed": drv.replayed,
             "evaluations": drv.evaluations, "failures": drv.failures, "seconds": time.perf_counter() - t0,
             "method": method}
