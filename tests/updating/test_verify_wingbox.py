@@ -38,7 +38,7 @@ def test_three_seeds_on_the_coarse_post_buckled_wingbox():
     1e-3 of the scaled variables, which with Gauss-Newton's quadratic convergence leaves errors near
     1e-5 % (measured: every variable within 1.2e-5 %, 1e-6 gave 7e-6 % in one more iteration), far
     inside the 0.5 % asserted; from the initial 2-5 % a wrong model or Jacobian stays percents off.
-    About 95 CPU s in all, 50-60 s wall on two free cores (docs/updating.md, 'Coarse meshes')."""
+    About 80 CPU s in all, 40 s wall on two free cores (docs/updating.md, "Coarse meshes")."""
     runs = up.verify_seeds("wingbox", (1, 2, 3), processes=3, element_size=0.25, tolerance=1e-3)
     for seed, v in zip((1, 2, 3), runs):
         e = {k: np.asarray(x, float) for k, x in v["variable_errors_percent"].items()}
