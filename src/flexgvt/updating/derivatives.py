@@ -21,11 +21,12 @@ exact central difference, cord attachment offsets by a four-point rule on the co
 The state part (dK/du)[du/dp] of the modes' derivatives comes from element-level derivatives with
 exploded nodes (fem.sensitivity.modal_state_terms: 36 kernel calls whatever the number of
 variables), with rigid links' own terms in closed form (linear constraints need none: their map is
-constant); systems with interpolation links use a four-point difference of the tangent along each
-du/dp instead (state_direction), h |du| = 1e-3 rad or 1e-3 of the structure's size. Mode-shape derivatives are
-projected on what
-the objective reads (the sensors, or one MAC per mode) and solved by the adjoint when that has
-fewer rows than there are variables.
+constant); systems with interpolation links, and shell systems with fewer variables than the 84
+kernel passes of a quad's element-level derivatives would cost (_directions_cheaper), use a
+four-point difference of the tangent along each du/dp instead (state_direction), h |du| = 1e-3 rad
+or 1e-3 of the structure's size. Mode-shape derivatives are projected on what the objective reads
+(the sensors, or one MAC per mode) and solved by the adjoint when that has fewer rows than there
+are variables.
 
 Accuracy limit: du solves K du = -dR, and K of a flexible structure is ill-conditioned (cond
 ~1e9-1e10: axial EA/L against bending and suspension stiffness); the round-off of its stiff
@@ -385,14 +386,16 @@ def state_derivatives(par: Parametrisation, model, x: np.ndarray, state, tangent
     tangent: the (full, possibly unsymmetric) reduced tangent at ``state``, factorised once.
     changes: shared_changes at x (computed here when None). The tangent's and mass matrix's change
     along du/dp is added per variable (four-point difference along each du, `state_direction`)
-    only for systems with interpolation links (per_direction=None) or when asked; otherwise
-    `modal_terms` gives it for the modes, whatever the number of variables. solver: the
+    for systems with interpolation links, for shell systems with fewer variables than a shell has
+    DOFs less three (per_direction=None: `_directions_cheaper`; no beam-basis variables) or when
+    asked; otherwise `modal_terms` gives it for the modes, whatever the number of variables. solver: the
     configuration's ModeSolver (updating.modesolve), whose factor solves du where the tangent is
     symmetric (no factorisation of its own)."""
     system = state.system
     n = len(par)
     design = changes if changes is not None else shared_changes(par, model, x)
-    per_direction = not closed_form_links(system) if per_direction is None else per_direction
+    if per_direction is None:
+        per_direction = not closed_form_links(system) or (not design.batched.any() and _directions_cheaper(system, n))
     batched = design.batched if not per_direction else np.zeros(n, bool)
     dR = np.zeros((system.n_free, n))
     basis = T = dr_full = None
@@ -438,6 +441,17 @@ def state_derivatives(par: Parametrisation, model, x: np.ndarray, state, tangent
                             design.DM if basis is not None else None,
                             includes_state=per_direction or not np.any(du), T=T, dr_full=dr_full,
                             _rotations=state.rotations)
+
+
+def _directions_cheaper(system, n: int) -> bool:
+    """The modes' state part along each variable's du (state_direction: 4 evaluations of the whole
+    system per variable) takes fewer shell-kernel passes than the element-level derivatives
+    (modal_state_terms: 4 per DOF of a shell, 84 for quads): n variables below 6 p - 3. Only for
+    systems with shells, whose corotational kernel is the cost of both (the 0.25 m wingbox's
+    Jacobian, 5 variables: 3.0 -> 1.5 CPU s, the same to 1.2e-6 of each row's largest entry);
+    beams keep the element-level form (36 cheap beam-kernel calls)."""
+    shells = [f.nodes.shape[1] for f in system.families if f.name.startswith("shell") and len(f.nodes)]
+    return bool(shells) and n < 6 * max(shells) - 3
 
 
 def _symmetric(A: sp.spmatrix) -> bool:

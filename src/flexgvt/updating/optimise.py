@@ -106,6 +106,7 @@ class _Driver:
         self.best: Point | _Replayed | None = None  # lowest objective plus constraint penalty seen
         self.best_seq = -1
         self.best_merit = np.inf
+        self.best_fresh = False  # the best point was solved in this run from continuation_before(best_seq)
         self.evaluations = 0
         self.replayed = 0
         self.failure_value = np.nan  # residuals returned at a design point that cannot be solved
@@ -134,6 +135,7 @@ class _Driver:
         inside = bool(np.all(p.x >= par.lower - 1e-12) and np.all(p.x <= par.upper + 1e-12))
         if inside and (self.best is None or merit < self.best_merit):  # an unbounded method's excursion never wins
             self.best, self.best_merit, self.best_seq = p, merit, seq
+            self.best_fresh = bool(row.get("fresh")) and isinstance(p, Point)
         return p
 
     def _replay(self, seq: int, key: bytes, gradient: bool) -> dict | None:
@@ -184,6 +186,7 @@ class _Driver:
         return row
 
     def _evaluate(self, x: np.ndarray, key: bytes, gradient: bool) -> dict:
+        fresh = self.problem.cache.get(key) is None  # solved now, from the continuation at hand
         try:
             p = self.problem.evaluate(x, gradient=gradient)
         except DesignPointFailure as exc:
@@ -193,11 +196,14 @@ class _Driver:
         if gradient:
             data["jacobian"], data["constraint_jacobian"] = p.jacobian, p.constraint_jacobian
         return {"key": key, "gradient": gradient, "data": data, "continuation": continuation(self.problem),
-                "point": p}
+                "point": p, "fresh": fresh}
 
     def best_reference(self) -> dict:
         """The pairing reference of the best point (UpdatingProblem.reference_of), from that point
-        solved again from its own warm start: the same whether it was computed or replayed."""
+        solved again from its own warm start: the same whether it was computed or replayed (a point
+        solved in this run from that very warm start is its own answer: not solved again)."""
+        if self.best_fresh:
+            return self.problem.reference_of(self.best)
         _restore(self.problem, self._continuation_before(self.best_seq))
         return self.problem.reference_of(self.problem.evaluate(np.asarray(self.best.x, float)))
 
@@ -341,6 +347,7 @@ def minimise(problem: UpdatingProblem, x0: np.ndarray, method: str = OptimiserSe
     drv.point(x)  # SciPy's final iterate competes with every point seen; a failed trial never wins
     x = drv.best.x
     return {"x": np.asarray(x, float), "reference": drv.best_reference(), "history": drv.history,
+            "point": drv.best if drv.best_fresh else None,  # the reference's own point (solved in this run)
             "message": message, "success": success, "replayed": drv.replayed,
             "evaluations": drv.evaluations, "failures": drv.failures, "seconds": time.perf_counter() - t0,
             "method": method}

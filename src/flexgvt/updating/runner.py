@@ -258,7 +258,7 @@ def _run(problem, model, *, method, starts, seed, max_iterations, tolerance, sto
             runs.append(client.submit(_remote_start, problem, x0, method, max_iterations, tolerance, pure=False))
             continue
         # An interrupted run starts again from x0 too: the store answers the evaluations it recorded.
-        problem.set_pairing_reference(reference)
+        problem.set_pairing_reference(reference, keep=initial if run == 0 and start is None else None)
         try:
             out = minimise(problem, x0, method, store=store, run=run, max_iterations=max_iterations,
                            tolerance=tolerance, progress=progress)
@@ -267,7 +267,10 @@ def _run(problem, model, *, method, starts, seed, max_iterations, tolerance, sto
                 raise
             runs.append(_unsolved_start(x0, x0, method, exc))  # the other starts go on
             continue
-        problem.set_pairing_reference(out["reference"])
+        # Without a store nothing evaluates the answer again later: its own solve is the final point
+        # (kept with its Jacobian). With one, it is solved again from the stored warm start, as a
+        # later call that finds the run finished does, so that both give the same numbers.
+        problem.set_pairing_reference(out["reference"], keep=out.get("point") if store is None else None)
         out["objective"] = problem.evaluate(out["x"]).objective
         out["resumed"] = out.get("replayed", 0) > 0
         out["x0"] = np.asarray(x0).tolist()
@@ -293,7 +296,8 @@ def _run(problem, model, *, method, starts, seed, max_iterations, tolerance, sto
     if not np.isfinite(best["objective"]):
         raise SolverError("updating: no starting point could be solved; the first failure: "
                           + best["failures"][0][1])
-    problem.set_pairing_reference(best.get("reference") or reference)
+    problem.set_pairing_reference(best.get("reference") or reference,
+                                  keep=best.get("point") if store is None else None)
     final = problem.evaluate(best["x"], gradient=True)
     ident = identifiability(problem, final, max_relative_std)
     updated = model.copy(f"{model.name} (updated)")
@@ -330,6 +334,7 @@ def _remote_start(problem, x0, method, max_iterations, tolerance) -> dict:
     except SolverError as exc:
         return _unsolved_start(x0, x0, method, exc)
     out["reference"] = {"pairing": out["reference"]["pairing"], "states": {}}  # states stay in the worker
+    out["point"] = None
     out["x0"] = np.asarray(x0).tolist()
     out["history"] = [{k: v for k, v in row.items()} for row in out["history"]]
     return out

@@ -267,13 +267,16 @@ def verify(case: str = "cantilever", seed: int = 1, n_modes: int = 8, method: st
               "single": 100 * (single.x / truth - 1.0)}
     reference = protocol.unseen_data
     models = {"initial": initial, "multi": multi.model, "single": single.model}
+    # The multi-configuration update's first point is the initial model solved from zero load in
+    # every training configuration: its own prediction there, where its path met no instability.
+    solved = {"initial": multi.initial.configurations}
     configurations = {}
     for cfg, meas in zip([*train, unseen], [*data, reference]):
         seen_by = [] if cfg is unseen else ["multi", "single"] if cfg is train[0] else ["multi"]
         row = {"reference_hz": meas.frequencies_hz.tolist(), "labels": list(meas.labels), "seen_by": seen_by,
                "unseen": cfg is unseen}
         for key, model in models.items():
-            f = _predicted(model, cfg, meas, sensors, protocol.n_modes)
+            f = _predicted(model, cfg, meas, sensors, protocol.n_modes, solved.get(key, {}).get(cfg.name))
             row[f"{key}_hz"] = f.tolist()
             row[f"{key}_error_percent"] = (100 * (f - meas.frequencies_hz) / meas.frequencies_hz).tolist()
         configurations[cfg.name] = row
@@ -284,17 +287,77 @@ def verify(case: str = "cantilever", seed: int = 1, n_modes: int = 8, method: st
                         configurations, [v.name for v in variables])
 
 
-def _predicted(model, cfg, meas: Measured, sensors, n_modes: int) -> np.ndarray:
+def verify_seeds(case: str = "cantilever", seeds=(1, 2, 3), processes: int | None = None,
+                 protocol: Protocol | None = None, n_modes: int = 8, element_size: float = 0.2,
+                 local: float = LOCAL_FACTOR, **options) -> list[dict]:
+    """verify() for each of ``seeds`` on one protocol (verification_protocol, built once unless
+    given): each seed's Verification.to_dict(), in the order of ``seeds``, with "cpu_seconds" (the
+    process time its seed took). processes: run the seeds in that many spawned worker processes,
+    each single-threaded (numba and BLAS), the protocol sent to them once per seed; None runs them
+    here, one after the other. The workers start while the protocol is built. options: verify()'s
+    (method, mistuning, bounds, local_bounds, tolerance, bay_variable)."""
+    seeds = [int(s) for s in seeds]
+    if processes is not None and int(processes) < 1:
+        raise ModelError(f"verify_seeds: processes={processes} must be at least 1 (or None: in this process)")
+    if processes is None:
+        protocol = protocol or verification_protocol(case, n_modes, element_size, local)
+        return [_seed_summary(case, seed, protocol, options) for seed in seeds]
+    import multiprocessing
+    from concurrent.futures import ProcessPoolExecutor
+    workers = min(int(processes), len(seeds))
+    with ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context("spawn")) as pool:
+        ready = [pool.submit(_ready) for _ in range(workers)]  # they import flexgvt meanwhile
+        protocol = protocol or verification_protocol(case, n_modes, element_size, local)
+        for f in ready:
+            f.result()
+        jobs = [pool.submit(_seed_in_worker, case, seed, protocol, options) for seed in seeds]
+        return [job.result() for job in jobs]
+
+
+def _ready() -> bool:
+    return True
+
+
+def _seed_summary(case: str, seed: int, protocol: Protocol, options: dict) -> dict:
+    t0 = time.process_time()
+    out = verify(case, seed=seed, protocol=protocol, **options).to_dict()
+    out["cpu_seconds"] = time.process_time() - t0
+    return out
+
+
+def _seed_in_worker(case: str, seed: int, protocol: Protocol, options: dict) -> dict:
+    """One seed in a worker process: one numba and one BLAS thread (the workers share the cores)."""
+    from .parallel import single_threaded
+    return single_threaded(_seed_summary)(case, seed, protocol, options)
+
+
+def _predicted(model, cfg, meas: Measured, sensors, n_modes: int, point=None) -> np.ndarray:
     """The frequencies [Hz] of ``model`` in ``cfg`` paired (MAC at the sensors) with the measured modes;
     NaN where a measured mode finds no partner. A model whose load path loses stability where the
     reference's did not is followed onto its own post-buckled path (the reference's rule): the
-    primary path's equilibrium past a bifurcation is unstable and its frequencies predict nothing."""
+    primary path's equilibrium past a bifurcation is unstable and its frequencies predict nothing.
+    point: an updating ConfigurationPoint of this model in ``cfg`` solved from zero load (an
+    update's first point), whose modes are taken where its path found no instability (the same
+    solve, so the same equilibrium; its lowest n_modes + 4 modes)."""
     from ..correlation import pair
-    modes = solve_modes(solve_static(model, cfg, settings=StaticSettings(buckling="continue")), n_modes + 4)
+    state = None if point is None else point.state
+    if state is not None and state.instability is None and len(point.eigenvalues) >= n_modes + 4:
+        modes = _first(point.modes(), n_modes + 4)
+    else:
+        modes = solve_modes(solve_static(model, cfg, settings=StaticSettings(buckling="continue")), n_modes + 4)
     pairing = pair(_as_modal_set(meas), modes, sensors=sensors)
     f = np.full(len(meas.frequencies_hz), np.nan)
     f[pairing.measured] = modes.frequencies_hz[pairing.analytical]
     return f
+
+
+def _first(modes, k: int):
+    """The lowest k of fem Modes."""
+    from dataclasses import replace
+    cut = {f: getattr(modes, f)[:k] for f in ("frequencies_hz", "damping_ratio", "damped_frequencies_hz", "shapes",
+                                               "labels", "complex_shapes", "eigenvalues", "energy_fractions")
+           if getattr(modes, f) is not None}
+    return replace(modes, **cut)
 
 
 def _as_modal_set(meas: Measured):

@@ -13,6 +13,7 @@ from ...errors import ModelError
 from ...model import Configuration
 from .._shell_corotational import CorotationalTerms, corotated_frames, corotational_setup, corotational_terms
 from .._shell_elements import drill_factor_penalty
+from .._shell_kernel import turn_blocks
 from .._shell_model import ShellArrays, group_sections
 from ..checks import _REMEDY, _bad, _ids
 from ..labels import section_fractions
@@ -21,11 +22,11 @@ from .base import Derivative, ElementTerms, zero_blocks
 
 def _turned(M: np.ndarray, E: np.ndarray, p: int) -> np.ndarray:
     """Element matrices M (n, 6p, 6p) with components in the frames E (n, 3, 3), in global components:
-    E M_ab E^T on each 3 x 3 block (two batched products; the block-diagonal frame matrix made the
-    state derivatives' mass five times slower)."""
-    n, d = len(M), 6 * p
-    A = M.reshape(n, d, 2 * p, 3) @ np.transpose(E, (0, 2, 1))[:, None]
-    return (E[:, None] @ A.reshape(n, 2 * p, 3, d)).reshape(n, d, d)
+    E M_ab E^T on each 3 x 3 block (a compiled loop, _shell_kernel.turn_blocks: the batched 3 x 3
+    products cost 8 ms per evaluation of the 0.25 m wingbox, 600 times per verification seed; the
+    block-diagonal frame matrix made the state derivatives' mass five times slower)."""
+    M = np.ascontiguousarray(M, dtype=float)
+    return turn_blocks(M, np.ascontiguousarray(E, dtype=float), np.empty_like(M))
 
 
 def _weight_direction(gravity: np.ndarray, p: int) -> np.ndarray:
