@@ -36,6 +36,8 @@ def test_verify_command_writes_the_documented_json(tmp_path):
     data = json.loads(out.read_text())
     assert set(data) >= {"case", "seed", "mistuning", "variable_errors_percent", "prediction", "multi", "single"}
     assert len(data["multi"]["variables"]) == 12
+    # The single-configuration update's iterations too (the bench counts them).
+    assert len(data["single"]["history"]) >= 2 and "objective" in data["single"]["history"][-1]
     assert set(data["multi"]["configurations"]) == {"unloaded", "self_weight", "flatwise_3g"}
     row = data["multi"]["configurations"]["flatwise_3g"][0]
     assert set(row) >= {"measured_hz", "initial_hz", "updated_hz", "initial_error_percent", "updated_error_percent",

@@ -52,7 +52,8 @@ class Verification:
                 "variables": self.names, "prediction": self.prediction, "configurations": self.configurations,
                 "multi": self.multi.to_dict(),
                 "single": {"configurations": self.single.tables, "variables": self.single.variables,
-                           "seconds": self.single.seconds}})
+                           "seconds": self.single.seconds, "history": self.single.history,
+                           "message": self.single.message}})
 
     def as_dict(self) -> dict:
         """Deprecated: to_dict()."""
