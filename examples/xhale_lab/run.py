@@ -30,6 +30,7 @@ import numpy as np
 import flexgvt as fg
 from flexgvt.errors import FileFormatError, FlexGVTError
 from flexgvt.workflow import example_project, load_project, run
+from flexgvt.workflow.template import variable_blocks
 
 
 def measured_tables(path: Path | None) -> dict:
@@ -53,29 +54,10 @@ def measured_tables(path: Path | None) -> dict:
     return lab
 
 
-POD_VARIABLES = """# The pods' masses (their split of the gross mass was not published)
-[[variables]]
-name = "pod_centre"
-kind = "mass"
-targets = ["pod_+0"]
-attribute = "mass"
-bounds = [0.5, 1.5]
-
-[[variables]]
-name = "pods_inner"
-kind = "mass"
-targets = ["pod_-1", "pod_+1"]
-attribute = "mass"
-bounds = [0.5, 1.5]
-
-[[variables]]
-name = "pods_outer"
-kind = "mass"
-targets = ["pod_-2", "pod_+2"]
-attribute = "mass"
-bounds = [0.5, 1.5]
-
-"""
+# The pods' masses (their split of the gross mass was not published): centre, inner pair, outer pair
+POD_VARIABLES = [("pod_centre", "mass", ["pod_+0"], "mass", (0.5, 1.5)),
+                 ("pods_inner", "mass", ["pod_-1", "pod_+1"], "mass", (0.5, 1.5)),
+                 ("pods_outer", "mass", ["pod_-2", "pod_+2"], "mass", (0.5, 1.5))]
 
 
 def with_pod_masses(text: str) -> str:
@@ -85,7 +67,8 @@ def with_pod_masses(text: str) -> str:
     if mass not in text or "\n[optimiser]" not in text:
         raise FlexGVTError("the project template changed: examples/xhale_lab/run.py cannot add the pods' masses")
     text = text.replace(mass, '[objective.measured_mass]\nmass = "11.35 kg"  # the published gross mass', 1)
-    return text.replace("\n[optimiser]", "\n" + POD_VARIABLES + "[optimiser]", 1)
+    pods = "# The pods' masses (their split of the gross mass was not published)\n" + variable_blocks(POD_VARIABLES)
+    return text.replace("\n[optimiser]", "\n" + pods + "[optimiser]", 1)
 
 
 def _frequencies(values) -> bool:

@@ -146,6 +146,13 @@ def _toml_list(items) -> str:
     return ", ".join(json.dumps(i) for i in items)
 
 
+def variable_blocks(rows) -> str:
+    """[[variables]] tables of a project file, one per (name, kind, targets, attribute, bounds) row."""
+    return "".join(f'[[variables]]\nname = "{name}"\nkind = "{kind}"\ntargets = [{_toml_list(targets)}]\n'
+                   f'attribute = "{attribute}"\nbounds = [{bounds[0]}, {bounds[1]}]\n\n'
+                   for name, kind, targets, attribute, bounds in rows)
+
+
 def example_project(case_name: str = "xhale", data: dict[str, str] | None = None, reference: str | None = None,
                     name: str = "X-HALE-like aircraft, lab GVT on two suspension layouts",
                     modes: dict[str, tuple[str, str, list[str]]] | None = None) -> str:
@@ -176,10 +183,7 @@ def example_project(case_name: str = "xhale", data: dict[str, str] | None = None
             test = (f'frfs = "{file}"          # UFF 58 FRFs to identify (PolyMAX); or '
                     'modes = "modes.uff" / .csv / .json (already identified)')
         text += CONFIGURATION.format(name=c, source=c, cords=cords, data=test)
-    variables = ""
-    for vname, kind, targets, attribute, bounds in case.references.get("design_variables", []):
-        variables += (f'[[variables]]\nname = "{vname}"\nkind = "{kind}"\ntargets = [{_toml_list(targets)}]\n'
-                      f'attribute = "{attribute}"\nbounds = [{bounds[0]}, {bounds[1]}]\n\n')
+    variables = variable_blocks(case.references.get("design_variables", []))
     proposed = [c for c in ("bungee_outboard", "bungee_inboard") if c in case.configurations]
     ref = (f'reference = "{reference}"      # known free-free frequencies to score the prediction against\n'
            if reference else '# reference = "reference.json"  # known free-free frequencies to score against\n')
