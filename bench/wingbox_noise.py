@@ -11,9 +11,8 @@ combined case (whose data stay exact: it is the truth the predictions are scored
 Noise (each a relative standard deviation): frequencies (each measured frequency; the updates are
 told it, Measured.frequency_std_hz, so it weighs the frequencies and sets the variables' stds),
 shapes (of each mode's largest sensor reading, added to every reading), static deflections, the
-mass, the three moments of inertia and the cg coordinates (relative, as flexgvt weighs a cg error:
-by the coordinate itself, so a cg on a symmetry plane stays there; an absolute cg noise on a zero
-coordinate would be an error of 100 % of it). Writes table.md and
+mass, the three moments of inertia; the cg coordinates' noise is a fraction of the mass's rms
+spread along each axis (the length flexgvt divides a cg error by: updating.masstargets). Writes table.md and
 noise_<case>_<seed>_<noise seed>.json in --out.
 """
 
@@ -44,8 +43,10 @@ def noisy(protocol, rng: np.random.Generator, args) -> object:
         data.append(replace(m, frequencies_hz=f, shapes=shapes, static=static,
                             frequency_std_hz=args.frequency_std * m.frequencies_hz))
     t = protocol.mass_target
+    inertia = np.asarray(t.inertia, float)
+    spread = np.sqrt(np.clip((inertia.sum() - 2 * inertia) / (2 * t.mass), 0.0, None))  # [m] along x, y, z
     target = replace(t, mass=t.mass * (1 + args.mass_std * rng.standard_normal()),
-                     cg=tuple(np.asarray(t.cg) * (1 + args.cg_std * rng.standard_normal(3))),
+                     cg=tuple(np.asarray(t.cg) + args.cg_std * spread * rng.standard_normal(3)),
                      inertia=tuple(np.asarray(t.inertia) * (1 + args.inertia_std * rng.standard_normal(3))))
     return replace(protocol, data=data, mass_target=target)
 
@@ -81,7 +82,8 @@ def main(argv=None) -> None:
     protocol = up.verification_protocol(args.case, element_size=args.element_size)
     head = [f"{args.case}, element size {args.element_size:g} m; noise: frequencies {100 * args.frequency_std:g} %, "
             f"shapes {100 * args.shape_std:g} % of each mode's largest reading, static {100 * args.static_std:g} %, "
-            f"mass {100 * args.mass_std:g} %, inertia {100 * args.inertia_std:g} %, cg {100 * args.cg_std:g} %; "
+            f"mass {100 * args.mass_std:g} %, inertia {100 * args.inertia_std:g} %, cg {100 * args.cg_std:g} % of the "
+            f"mass spread; "
             f"set-up {time.perf_counter() - t0:.0f} s; load average {os.getloadavg()[0]:.1f} at the start",
             "", "| seed | noise seed | initial max var. error [%] | multi max var. error [%] | single max var. "
             "error [%] | unseen, multi max freq. error [%] | unseen, single [%] |", "|---|---|---|---|---|---|---|"]

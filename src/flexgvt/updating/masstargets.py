@@ -15,9 +15,6 @@ from .targets import MassTarget, Objective
 from .variables import Parametrisation
 
 
-_ROUND_OFF_CG = 1e-9  # [m]
-
-
 class MassResiduals:
     """Mass, cg and inertia of the working model ``work`` (set to each design point) against
     ``target``: relative residuals weighted by ``objective``, the +-mass_limits constraints, and
@@ -29,6 +26,8 @@ class MassResiduals:
         self.par = par
         self.work = work
         self.system = System(work, Configuration("mass properties"))
+        has_cg = target is not None and target.cg is not None
+        self._cg_scales = mass_spread(self.properties(), target.cg_scale) if has_cg else None
 
     def properties(self):
         """Mass properties of the working model as it is set (undeformed)."""
@@ -71,13 +70,13 @@ class MassResiduals:
         return np.array(vals), names
 
     def cg_scales(self) -> np.ndarray:
-        """(3,) [m] what each cg error is divided by: |reference|, or the target's cg_scale where the
-        reference lies within a nanometre of zero (a symmetry plane's round-off, the wingbox's 5e-20
-        m). The residuals and their derivatives share it: dividing the derivative by the round-off
-        made the wingbox's cg_z row O(1) noise beside a zero residual, a false constraint that
-        held the multi-configuration update to a crawl (docs/updating.md, 'Coarse meshes')."""
-        c0 = np.abs(np.asarray(self.target.cg, float))
-        return np.where(c0 > _ROUND_OFF_CG, c0, self.target.cg_scale)
+        """(3,) [m] what each cg error is divided by: the model's rms mass spread about its cg along
+        that axis (as given, before any update), at least the target's cg_scale. A length of the
+        structure, so the residual does not depend on where the axes' origin is (dividing by the cg
+        coordinate made a cg on a symmetry plane a 100 % error per millimetre, and its derivative
+        O(1) noise at a round-off reference); the mass-limits band is then that fraction of the
+        spread."""
+        return self._cg_scales
 
     def weights(self) -> np.ndarray:
         """The weight of each mass residual (1 where its weight is 0, for the relative limits)."""
@@ -134,6 +133,14 @@ class MassResiduals:
                 rows.append(w.inertia * dIcg[a] / i0)
         return np.array(rows)
 
+
+
+def mass_spread(mp, floor: float) -> np.ndarray:
+    """(3,) [m] the rms distance of the mass from its cg along x, y, z, sqrt(int (a - a_cg)^2 dm / m)
+    = sqrt((I_bb + I_cc - I_aa) / 2m) from the inertia about the cg, each at least ``floor``."""
+    d = np.diag(np.asarray(mp.inertia, float))
+    second = (d.sum() - 2 * d) / (2 * mp.mass) if mp.mass > 0 else np.zeros(3)
+    return np.maximum(np.sqrt(np.clip(second, 0.0, None)), floor)
 
 
 def _moments(Mrb: np.ndarray) -> np.ndarray:

@@ -96,13 +96,14 @@ class Measured:
 class MassTarget:
     """Measured mass properties of the undeformed structure (None: not measured).
 
-    mass [kg]; cg (3,) [m]; inertia (3,) Ixx, Iyy, Izz about the cg [kg m^2]; cg_scale: the
-    absolute scale [m] of a cg term whose reference is zero (a symmetry plane)."""
+    mass [kg]; cg (3,) [m]; inertia (3,) Ixx, Iyy, Izz about the cg [kg m^2]. A cg error is
+    divided by the model's rms mass spread about its cg along that axis, at least cg_scale [m]."""
 
     mass: float | None = setting(None, "measured mass", unit="kg", gt=0)
     cg: tuple | None = setting(None, "measured centre of gravity (x, y, z)", unit="m", size=3)
     inertia: tuple | None = setting(None, "measured Ixx, Iyy, Izz about the cg", unit="kg m^2", gt=0, size=3)
-    cg_scale: float = setting(0.01, "absolute scale of a cg term whose reference is zero", unit="m", gt=0)
+    cg_scale: float = setting(0.01, "smallest length a cg error is divided by (the model's mass spread along "
+                                "that axis, at least this)", unit="m", gt=0)
 
 
 @dataclass(frozen=True)

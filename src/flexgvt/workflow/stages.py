@@ -98,7 +98,8 @@ class StageResult:
 
 def mass_rows(stage: Stage, update) -> list[dict]:
     """The measured mass properties of a stage's objective against the model it started from and the
-    one it produced: one row per measured value (mass [kg], cg [m], Ixx/Iyy/Izz about the cg [kg m^2])."""
+    one it produced: one row per measured value (mass [kg], cg [m], Ixx/Iyy/Izz about the cg [kg m^2]),
+    errors in the value's unit and, except for the cg (whose coordinates depend on the origin), in %."""
     target = stage.objective.measured_mass
     if target is None or update is None:
         return []
@@ -107,15 +108,16 @@ def mass_rows(stage: Stage, update) -> list[dict]:
         return []
     rows = []
 
-    def add(name, measured, initial, final):
+    def add(name, measured, initial, final, relative=True):
         rows.append({"property": name, "measured": float(measured), "initial": float(initial),
-                     "updated": float(final),
-                     "initial_error_percent": 100 * (initial - measured) / measured if measured else None,
-                     "updated_error_percent": 100 * (final - measured) / measured if measured else None})
+                     "updated": float(final), "initial_error": float(initial - measured),
+                     "updated_error": float(final - measured),
+                     "initial_error_percent": 100 * (initial - measured) / measured if measured and relative else None,
+                     "updated_error_percent": 100 * (final - measured) / measured if measured and relative else None})
     if target.mass is not None:
         add("mass [kg]", target.mass, a.mass, b.mass)
-    for k, c in enumerate(target.cg or ()):
-        add(f"cg {'xyz'[k]} [m]", c, a.cg[k], b.cg[k])
+    for k, c in enumerate(target.cg or ()):  # a cg coordinate depends on the origin: its error in m only
+        add(f"cg {'xyz'[k]} [m]", c, a.cg[k], b.cg[k], relative=False)
     for k, i in enumerate(target.inertia or ()):
         add(f"I{'xyz'[k] * 2} [kg m^2]", i, a.inertia[k, k], b.inertia[k, k])
     return rows
