@@ -128,7 +128,8 @@ class Objective:
     static: float = setting(0.0, "weight of the relative static deflection errors", ge=0)
     mac_min: float | None = setting(None, "pairs below this MAC violate a constraint (slsqp, trust-constr) or are "
                                     "penalised", ge=0, le=1)
-    mass_limits: float | None = setting(None, "relative band the mass properties must stay in (0.1: +-10 %)", gt=0)
+    mass_limits: float | None = setting(None, "relative band the mass properties must stay in (0.1: +-10 %; a cg "
+                                        "coordinate: 10 % of the mass spread along its axis)", gt=0)
     use_std: bool = setting(True, "weight frequency errors by the measured standard deviations when given")
     mac_floor: float = setting(0.5, "pairing: pairs below this MAC are not made", ge=0, le=1)
     max_frequency_ratio: float | None = setting(2.0, "pairing: modes farther apart in frequency than this factor "
