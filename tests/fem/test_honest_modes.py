@@ -113,3 +113,42 @@ def test_the_built_in_cases_look_like_si():
         for config in case.configurations.values():
             state, said = _quiet(fg.solve_static, case.model, config)
             assert not any("unit system" in c for c in state.cautions), (name, config.name, said)
+
+
+def _plate(tilt_deg: float, nx: int = 20, ny: int = 4):
+    """A 1 m x 0.2 m x 2 mm aluminium plate of quads, turned by tilt_deg about x (90: vertical, in
+    the x-z plane, where cos(90 deg) = 6e-17 turns the massless drilling rotations into global R2
+    with round-off masses of 1e-40 of their rotary inertia)."""
+    model = fg.Model("plate")
+    x, y = np.linspace(0.0, 1.0, nx + 1), np.linspace(0.0, 0.2, ny + 1)
+    Y, X = np.meshgrid(y, x, indexing="ij")
+    a = np.radians(tilt_deg)
+    ids = model.add_nodes(np.c_[X.ravel(), Y.ravel() * np.cos(a), Y.ravel() * np.sin(a)]).reshape(ny + 1, nx + 1)
+    quads = [[ids[j, i], ids[j, i + 1], ids[j + 1, i + 1], ids[j + 1, i]] for j in range(ny) for i in range(nx)]
+    model.add_shells(quads, material=fg.Material("Al", E=E, nu=0.33, rho=2700.0), thickness=0.002)
+    return model, ids
+
+
+def test_a_vertical_shell_plate_has_the_flat_plates_modes_free_and_damped():
+    """Round-off masses on rotated drilling DOFs once set the eigen-solvers' scale (largest K_ii /
+    M_ii, 1e45 instead of 1e13): the free-free vertical plate came out with -6e15 Hz 'unstable'
+    modes, and a clamped one with a damper had five 0 Hz 'mechanisms' instead of its modes."""
+    flat, _ = _quiet(fg.solve_modes, fg.solve_static(_plate(0.0)[0], fg.Configuration("free")), 10)
+    for tilt in (90.0, 37.0):
+        modes, notes = _quiet(fg.solve_modes, fg.solve_static(_plate(tilt)[0], fg.Configuration("free")), 10)
+        assert not notes
+        assert np.count_nonzero(modes.frequencies_hz == 0.0) == 6
+        np.testing.assert_allclose(modes.frequencies_hz[6:], flat.frequencies_hz[6:], rtol=1e-7)
+    results = {}
+    for tilt in (0.0, 90.0):
+        model, ids = _plate(tilt)
+        tip = int(ids[0, -1])
+        model.add_spring(tip, None, stiffness=500.0, damping=0.05)  # translations and rotations
+        state = fg.solve_static(model, fg.Configuration("clamped", fixed={int(n): "123456" for n in ids[:, 0]}))
+        damped, notes = _quiet(fg.solve_modes, state, 5)
+        undamped, _ = _quiet(fg.solve_modes, state, 5, damped=False)
+        assert not notes and not any("mechanism" in lab for lab in damped.labels)
+        assert damped.damping_ratio.max() < 0.01
+        np.testing.assert_allclose(damped.frequencies_hz, undamped.frequencies_hz, rtol=1e-4)  # zeta^2 / 2
+        results[tilt] = damped.frequencies_hz
+    np.testing.assert_allclose(results[90.0], results[0.0], rtol=1e-7)

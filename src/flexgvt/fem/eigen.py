@@ -35,9 +35,17 @@ def _frequency_hz(lam: np.ndarray, round_off: float = 0.0, n_rigid: int | None =
 DEFAULT_SHIFT = -(2 * np.pi * 0.01) ** 2
 
 
+_MASS_ROUND_OFF = 1e-14  # diagonal masses below this fraction of the largest are round-off (see below)
+
+
 def _lambda_max_bound(K: sp.spmatrix, m_diag: np.ndarray) -> float:
-    """A lower bound of the largest eigenvalue of K phi = lam M phi: the largest K_ii / M_ii [rad^2/s^2]."""
-    has_mass = m_diag > 0
+    """A lower bound of the largest eigenvalue of K phi = lam M phi: the largest K_ii / M_ii [rad^2/s^2]
+    over the DOFs that carry mass. A diagonal mass below _MASS_ROUND_OFF of the largest is round-off,
+    not mass: a massless drilling rotation (shells) or bending rotation (beams without rotary inertia)
+    turned into global axes by a rotation with 6e-17 for a zero (a vertical plate) gets 1e-40 of its
+    node's rotary inertia, and K_ii over it (1e45) made every mode "rigid" (free-free) or "zero"
+    (damped). Legitimate rotary inertias are t^2/12 of the translational masses (1e-14: t = 0.35 um)."""
+    has_mass = m_diag > _MASS_ROUND_OFF * m_diag.max(initial=0.0)
     if not np.any(has_mass):
         return 0.0
     return float(np.max(np.abs(K.diagonal())[has_mass] / m_diag[has_mass]))

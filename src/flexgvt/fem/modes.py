@@ -150,7 +150,7 @@ def solve_modes(state: State, n_modes: int = 15, *, damped: bool | None = None, 
                          "modes; pass damped=False, or leave the reduction out for complex modes")
     if use_damping:
         C = system.damping_matrix(x, R)
-        s, v = complex_modes(K, C, M, n_modes, clamped, None if clamped else n_rigid)
+        s, v = complex_modes(K, C, M, n_modes, clamped, 0 if clamped else n_rigid)
         wn = np.abs(s)
         freq = np.where(wn < 1e-5 * max(wn.max(initial=0.0), 1.0), 0.0, wn / (2 * np.pi))
         zeta = np.where(wn > 0, -s.real / np.where(wn > 0, wn, 1), 0.0)
