@@ -152,3 +152,22 @@ def test_a_vertical_shell_plate_has_the_flat_plates_modes_free_and_damped():
         np.testing.assert_allclose(damped.frequencies_hz, undamped.frequencies_hz, rtol=1e-4)  # zeta^2 / 2
         results[tilt] = damped.frequencies_hz
     np.testing.assert_allclose(results[90.0], results[0.0], rtol=1e-7)
+
+
+def test_real_roots_of_the_damped_problem_are_labelled_overdamped_not_given_a_class():
+    """A 5 N m s/rad damper on the tip node's rotations (scalar damping: all six components) acts on
+    DOFs with almost no mass: two real roots near k / c (the spring's 500 N m/rad over 5 N m s/rad:
+    16 Hz) appear among the modes. They are 'overdamped k', named in a caution, and the elastic
+    modes keep their classes' numbering (the first torsion is '1 T', not '2 T')."""
+    model, ids = _plate(0.0)
+    model.add_spring(int(ids[0, -1]), None, stiffness=500.0, damping=5.0)
+    state = fg.solve_static(model, fg.Configuration("clamped", fixed={int(n): "123456" for n in ids[:, 0]}))
+    modes, notes = _quiet(fg.solve_modes, state, 6)
+    slow = [k for k, lab in enumerate(modes.labels) if lab.startswith("overdamped")]
+    assert [modes.labels[k] for k in slow] == ["overdamped 1", "overdamped 2"]
+    np.testing.assert_allclose(modes.damping_ratio[slow], 1.0, atol=1e-9)
+    assert all(100 / (2 * np.pi) < modes.frequencies_hz[k] < 1.1 * 100 / (2 * np.pi) for k in slow)
+    assert "1 T" in modes.labels and "2 T" not in modes.labels
+    assert len(notes) == 1 and "overdamped" in notes[0]
+    from flexgvt.correlation.pairing import labels_compatible
+    assert not labels_compatible("1 T", "overdamped 1")

@@ -27,6 +27,8 @@ _FAMILY_WORDS = {
     "RB": ("rb", "rigid", "pendulum", "plunge", "heave", "roll", "pitch", "yaw", "suspension"),
     # a distributed cord's own modes (fem.labels: 'k bungee surge', 'k bungee string')
     "CORD": ("bungee", "surge", "string", "cord"),
+    # a real root of the damped problem (fem.labels: 'overdamped k'): it never pairs a vibration mode
+    "OVERDAMPED": ("overdamped",),
 }
 _WORD_FAMILY = {w: fam for fam, words in _FAMILY_WORDS.items() for w in words}
 REASONS = ("no_mode_in_range", "label_mismatch", "not_seen", "mac_below_floor", "taken")

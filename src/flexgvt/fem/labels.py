@@ -123,9 +123,13 @@ def _rigid_name(phi: np.ndarray, x: np.ndarray) -> str:
     return _RIGID[int(np.argmax(np.abs(coef)))]
 
 
+OVERDAMPED = 1.0 - 1e-9  # a complex root with this damping ratio is real: it decays without vibrating
+
+
 def label_modes(modes):
     """Label each mode 'k CLASS' (e.g. '1 OOP', '2 T', 'RB plunge') from energy fractions; a mode
-    mostly in a distributed cord's interior points 'k bungee surge' or 'k bungee string'."""
+    mostly in a distributed cord's interior points 'k bungee surge' or 'k bungee string'; a real
+    (overdamped) root of the damped problem 'overdamped k', outside the classes' numbering."""
     state = modes.state
     fr = energy_fractions(modes, state)
     counts = {c: 0 for c in CLASSES}
@@ -136,7 +140,13 @@ def label_modes(modes):
         kinds = getattr(family, "mode_kinds", None)
         if kinds is not None:
             own = [a or b for a, b in zip(own, kinds(modes.shapes, state.positions))]
+    overdamped = 0
+    zeta = np.asarray(modes.damping_ratio, float)
     for m in range(len(fr)):
+        if zeta[m] >= OVERDAMPED and modes.frequencies_hz[m] != 0.0:  # a real root: no vibration, no class
+            overdamped += 1
+            labels.append(f"overdamped {overdamped}")
+            continue
         if own[m] is not None and modes.frequencies_hz[m] != 0.0:
             counts[own[m]] = counts.get(own[m], 0) + 1
             labels.append(f"{counts[own[m]]} {own[m]}")

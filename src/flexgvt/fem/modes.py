@@ -181,6 +181,7 @@ MECHANISM_RATIO = 1e-6  # a mode this far below the highest one found is a zero-
 
 def mode_cautions(modes: Modes, n_rigid: int) -> Modes:
     """The modes with their cautions (a FlexGVTWarning for each) and honest labels:
+    - real roots of the damped problem (labelled 'overdamped k' by label_modes) are named;
     - an unstable state: a negative eigenvalue (negative frequency) or a root with negative damping
       is labelled 'unstable k (CLASS)', never as an elastic mode;
     - mechanisms: more zero-frequency modes (below MECHANISM_RATIO of the highest one found) than
@@ -200,6 +201,14 @@ def mode_cautions(modes: Modes, n_rigid: int) -> Modes:
                      f"eigenvalue or negative damping ({shown}; labelled 'unstable'). The tangent stiffness is not "
                      "positive definite there: the structure has buckled or is loaded past a limit point, so these "
                      "are not elastic modes. Check the loads and supports, or solve at a lower load factor")
+    slow = [m for m, lab in enumerate(labels) if lab.startswith("overdamped")]
+    if slow:
+        shown = ", ".join(f"{f[m]:.4g}" for m in slow[:4])
+        notes.append(f"configuration '{name}': {len(slow)} root(s) of the damped problem are real (overdamped: they "
+                     f"decay without vibrating; |s| / 2 pi = {shown}{' ...' if len(slow) > 4 else ''} Hz), labelled "
+                     "'overdamped k' and left out of the mode classes. A damper acting on a DOF with little or no "
+                     "mass makes one (a rotational damper on a node's rotations, say): if that is not meant, give "
+                     "the damper only the components it has")
     top = np.abs(f).max(initial=0.0)
     zero = np.flatnonzero(np.abs(f) <= MECHANISM_RATIO * top) if top > 0 else np.arange(len(f))
     if len(zero) > n_rigid:
