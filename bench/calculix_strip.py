@@ -1,10 +1,10 @@
 """Continuum reference for the mass-frame question (issue 23): the cantilever strip of docs/method.md
 case 3 (1.5 m x 50 mm x 3 mm aluminium) as CalculiX S8R shells (or C3D20R bricks with --bricks N
-layers), unloaded and after a geometrically
-nonlinear -1 g step, and the ratios f(-1 g) / f(unloaded) of the mode each -1 g mode grows from
-(paired by MAC of the mid-surface displacements).
+layers), unloaded and after a geometrically nonlinear -1 g step (and a 3 g one: three times the
+self-weight along -z, fg.cases.cantilever_strip's flatwise_3g), and the ratios f(-1 g) / f(unloaded)
+of the mode each -1 g mode grows from (paired by MAC of the mid-surface displacements).
 
-    python bench/calculix_strip.py --chord 8 --span 300 --json tests/data/mass_frame/ccx_s8r.json
+    python bench/calculix_strip.py --chord 8 --span 300 --json tests/data/mass_frame/ccx_s8r_8x300.json
 
 Needs `ccx` (Debian: apt-get install calculix-ccx). tests/fem/test_mass_frame.py runs a coarse mesh
 when it is installed.
@@ -29,6 +29,7 @@ from ccx_driver import read_frd_displacements, read_frequencies  # noqa: E402
 
 L, B, T = 1.5, 0.05, 0.003
 E, NU, RHO = 70e9, 0.33, 2700.0
+CASES = {"unloaded": 0.0, "minus_1g": 1.0, "minus_3g": 3.0}  # gravity along -z [g]
 
 
 def mesh(n_chord: int, n_span: int):
@@ -73,8 +74,9 @@ def brick_mesh(n_chord: int, n_span: int, n_thick: int):
     return np.array(xyz), elements, root
 
 
-def write_input(path: Path, n_chord: int, n_span: int, n_modes: int, gravity: bool, bricks: int = 0) -> np.ndarray:
-    """A CalculiX input: S8R shells (bricks=0) or C3D20R bricks with ``bricks`` layers through the thickness."""
+def write_input(path: Path, n_chord: int, n_span: int, n_modes: int, gravity: float, bricks: int = 0) -> np.ndarray:
+    """A CalculiX input: S8R shells (bricks=0) or C3D20R bricks with ``bricks`` layers through the
+    thickness, with an NLGEOM static step under ``gravity`` g along -z first when it is not 0."""
     if bricks:
         xyz, elements, root = brick_mesh(n_chord, n_span, bricks)
         kind, section, fix = "C3D20R", ["*SOLID SECTION, ELSET=EALL, MATERIAL=AL"], "ROOT, 1, 3"
@@ -92,7 +94,7 @@ def write_input(path: Path, n_chord: int, n_span: int, n_modes: int, gravity: bo
     lines += ["*MATERIAL, NAME=AL", "*ELASTIC", f"{E:.6g}, {NU}", "*DENSITY", f"{RHO}"] + section + ["*BOUNDARY", fix]
     if gravity:
         lines += ["*STEP, NLGEOM, INC=200", "*STATIC", "0.05, 1.0, 1e-5, 0.1", "*DLOAD",
-                  "EALL, GRAV, 9.80665, 0., 0., -1.",
+                  f"EALL, GRAV, {9.80665 * gravity:.10g}, 0., 0., -1.",
                   "*NODE FILE", "U", "*END STEP", "*STEP, PERTURBATION"]
     else:
         lines += ["*STEP"]
@@ -108,15 +110,18 @@ def read_mode_shapes(frd: Path, n_modes: int) -> np.ndarray:
     return np.array([[b[n] for n in sorted(b)] for b in blocks])
 
 
-def run(n_chord: int, n_span: int, n_modes: int = 15, keep: Path | None = None, bricks: int = 0) -> dict:
+def run(n_chord: int, n_span: int, n_modes: int = 15, keep: Path | None = None, bricks: int = 0,
+        cases: tuple[str, ...] = ("unloaded", "minus_1g")) -> dict:
+    """CalculiX's frequencies for ``cases`` (keys of CASES; 'unloaded' and 'minus_1g' are needed for
+    the ratios) and the ratios f(-1 g) / f(unloaded)."""
     if shutil.which("ccx") is None:
         raise RuntimeError("CalculiX (ccx) is not installed: apt-get install calculix-ccx")
     out = {}
     with tempfile.TemporaryDirectory() as tmp:
         work = Path(keep or tmp)
         work.mkdir(parents=True, exist_ok=True)
-        for name, gravity in (("unloaded", False), ("minus_1g", True)):
-            write_input(work / f"{name}.inp", n_chord, n_span, n_modes, gravity, bricks)
+        for name in cases:
+            write_input(work / f"{name}.inp", n_chord, n_span, n_modes, CASES[name], bricks)
             t0 = time.perf_counter()
             subprocess.run(["ccx", name], cwd=work, check=True, capture_output=True, text=True,
                            env={"OMP_NUM_THREADS": "2", "PATH": "/usr/bin:/bin"})
@@ -132,9 +137,8 @@ def run(n_chord: int, n_span: int, n_modes: int = 15, keep: Path | None = None, 
                            "ratio": float(g["frequencies_hz"][k] / u["frequencies_hz"][origin[k]])}
               for k in range(n_modes)}
     return {"mesh": f"C3D20R {n_chord} x {n_span} x {bricks}" if bricks else f"S8R {n_chord} x {n_span}",
-            "unloaded_hz": u["frequencies_hz"].tolist(),
-            "minus_1g_hz": g["frequencies_hz"].tolist(), "ratios": ratios,
-            "seconds": {"unloaded": u["seconds"], "minus_1g": g["seconds"]}}
+            **{f"{name}_hz": out[name]["frequencies_hz"].tolist() for name in cases}, "ratios": ratios,
+            "seconds": {name: out[name]["seconds"] for name in cases}}
 
 
 def main():
@@ -144,13 +148,18 @@ def main():
     parser.add_argument("--modes", type=int, default=15)
     parser.add_argument("--bricks", type=int, default=0, help="C3D20R bricks with this many layers through the "
                         "thickness instead of S8R shells")
+    parser.add_argument("--cases", nargs="+", choices=list(CASES), default=list(CASES),
+                        help="load cases (unloaded and minus_1g are always run: the ratios need them)")
     parser.add_argument("--json", type=Path)
     args = parser.parse_args()
-    result = run(args.chord, args.span, args.modes, bricks=args.bricks)
+    cases = tuple(dict.fromkeys(["unloaded", "minus_1g", *args.cases]))
+    result = run(args.chord, args.span, args.modes, bricks=args.bricks, cases=cases)
     for k, r in result["ratios"].items():
         print(f"-1 g mode {k:2d}: {result['minus_1g_hz'][k - 1]:9.3f} Hz, "
               f"from unloaded mode {r['from_unloaded_mode']:2d} "
               f"(MAC {r['mac']:.3f}), ratio {r['ratio']:.4f}")
+    for name in cases[2:]:
+        print(f"{name}: " + ", ".join(f"{f:.3f}" for f in result[f"{name}_hz"]) + " Hz")
     print(f"CalculiX time: {result['seconds']}")
     if args.json:
         args.json.write_text(json.dumps(result, indent=1))

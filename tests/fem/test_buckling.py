@@ -118,3 +118,49 @@ def test_plate_under_compression_buckles_at_the_closed_form():
     w = event.shape[:, 2].reshape(17, 17)
     assert abs(w[8, 8]) == pytest.approx(1.0, abs=0.02)  # one half-wave each way: the largest at the centre
     assert "shell quad" in event.where
+
+
+def _shell_strip(length: float, n_span: int, n_depth: int, over: float):
+    """The narrow strip of _beam_strip (depth H along z, thickness B along x) as a cantilever plate of
+    n_span x n_depth flat quads in the y-z plane, clamped along its root edge, under an edgewise tip
+    force ``over`` times the narrow-strip closed form, spread over the tip edge's nodes (resultant at
+    the centroid); returns (model, configuration, P_cr). P_cr: Timoshenko & Gere's
+    4.013 sqrt(B C) / L^2 with the thin-strip stiffnesses B = E H t^3 / 12 and C = G H t^3 / 3
+    (Kirchhoff plate torsion; the Mindlin free-edge layer, t / sqrt(10) = 1 mm wide, which would
+    take 1.9 % off C, is not resolved by 12.5 mm elements) and the prebuckling factor."""
+    y, z = np.meshgrid(np.linspace(0, length, n_span + 1), np.linspace(-H / 2, H / 2, n_depth + 1))
+    ids = np.arange(1, y.size + 1).reshape(y.shape)
+    model = fg.Model("narrow shell strip")
+    model.add_nodes(np.c_[0 * y.ravel(), y.ravel(), z.ravel()], ids=ids.ravel())
+    quads = [[ids[j, i], ids[j, i + 1], ids[j + 1, i + 1], ids[j + 1, i]]
+             for j in range(n_depth) for i in range(n_span)]
+    model.add_shells(np.array(quads), material=Material("al", E, 2700.0, nu=NU), thickness=B)
+    i_weak, i_strong, J = H * B**3 / 12, B * H**3 / 12, H * B**3 / 3
+    factor = 1 / np.sqrt((1 - i_weak / i_strong) * (1 - G * J / (E * i_strong)))
+    p_cr = 4.013 * np.sqrt(E * i_weak * G * J) / length**2 * factor
+    share = np.full(n_depth + 1, 1.0 / n_depth)
+    share[[0, -1]] *= 0.5
+    forces = tuple(fg.NodalLoad(int(ids[j, -1]), force=(0, 0, -over * p_cr * share[j])) for j in range(n_depth + 1))
+    return model, fg.Configuration("tip force", fixed={int(i): "123456" for i in ids[:, 0]}, forces=forces), p_cr
+
+
+def test_lateral_torsional_buckling_of_a_shell_strip():
+    """The 50 mm x 3 mm strip built from shells, L 3 m, 120 x 4 quads (25 x 12.5 mm), through
+    solve_static on a load path through the critical load (1.04 P_cr in steps 0.5, 0.85, 0.93, 0.97,
+    1): the located critical force within 1 % of the closed form, the shape sideways and twisting.
+    Measured: +0.58 % (60 x 4: +0.67 %; 240 x 8: +0.24 %). The clamp holds the root section flat
+    over about one depth (no anticlastic curl, no warping), which the beam lacks: the bifurcation
+    (found from the tangent's inertia at fixed loads) lies at +2.3 % for L 1 m, +0.85 % for 2 m and
+    +0.46 % for 3 m (40, 80, 120 x 4). With the beam test's 1.15 P_cr in solve_static's own steps
+    the bracket is 0.91-1.12 P_cr and the three linearised refinements stop at 1.116 P_cr: the
+    tangent is not linear in the load over so wide a bracket (docs/shells.md)."""
+    model, config, p_cr = _shell_strip(3.0, 120, 4, 1.04)
+    with pytest.warns(fg.errors.FlexGVTWarning, match="loses stability"):
+        state = fg.solve_static(model, config, load_factors=np.array([0.5, 0.85, 0.93, 0.97, 1.0]))
+    event = state.instability
+    assert event is not None and event.kind == "bifurcation" and "shell quad" in event.where
+    assert event.load_factor * 1.04 == pytest.approx(1.0, rel=0.01)
+    assert event.bracket[0] <= event.load_factor <= event.bracket[1]
+    tip = event.shape.reshape(5, 121, 6)[:, -1]  # the tip edge's nodes, bottom to top
+    assert abs(tip[2, 0]) > 0.9 and abs(tip[2, 4]) > 0.2  # sideways (x) and twisting (about y)
+    assert (tip[-1, 0] - tip[0, 0]) / H == pytest.approx(tip[2, 4], rel=0.05)  # the section turns as a whole

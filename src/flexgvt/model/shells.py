@@ -7,12 +7,13 @@ stiffness (A, B, D, S) is computed in fem (fem/_shell_section.py). Units: SI, an
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass
 from typing import Union
 
 import numpy as np
 
-from ..errors import ModelError
+from ..errors import FlexGVTWarning, ModelError
 from .material import Material
 
 LAMINATE_OPTIONS = ("", "SYM", "MEM", "BEND", "SMEAR", "SMCORE")  # Nastran PCOMP LAM
@@ -224,9 +225,24 @@ class ShellGroup:
 SHELL_MASS = ("lumped", "consistent")
 
 
+# Warp of a quad: 2h / sqrt(A), h the corners' distance from their mean plane (through their centroid,
+# normal to both diagonals: all four at +-h), A the area projected on it; a warning above this
+# (docs/shells.md, "Errors": MacNeal-Harder's twisted beam has 0.049 on its 12 x 2 mesh)
+WARP_LIMIT = 0.2
+
+
+def quad_warp(xyz: np.ndarray) -> np.ndarray:
+    """(n,) warp 2h / sqrt(A) of quadrilaterals xyz (n, 4, 3): 0 for a flat one."""
+    d = np.cross(xyz[:, 2] - xyz[:, 0], xyz[:, 3] - xyz[:, 1])
+    twice_area = np.linalg.norm(d, axis=1)
+    h = np.abs(np.einsum("ij,ij->i", xyz[:, 0] - xyz.mean(axis=1), d)) / np.maximum(twice_area, 1e-300)
+    return 2 * h / np.sqrt(np.maximum(0.5 * twice_area, 1e-300))
+
+
 def check_shell_geometry(nodes: np.ndarray, xyz: np.ndarray, where: str) -> None:
     """Repeated nodes, zero area, and (quads) non-convex or inverted corners: a ModelError naming
-    the first bad element by its nodes. xyz: (n, p, 3) node positions."""
+    the first bad element by its nodes; quads warped beyond WARP_LIMIT: a FlexGVTWarning naming the
+    most warped. xyz: (n, p, 3) node positions."""
     rep = np.array([len(set(row)) != len(row) for row in nodes.tolist()], bool)
     if rep.any():
         k = int(np.flatnonzero(rep)[0])
@@ -256,3 +272,13 @@ def check_shell_geometry(nodes: np.ndarray, xyz: np.ndarray, where: str) -> None
             raise ModelError(f"{where}: quadrilateral {k + 1} (nodes {nodes[k].tolist()}) is not convex (an "
                              "inverted or bow-tie corner); order its nodes around the element or split it into "
                              "triangles")
+        warp = quad_warp(xyz)
+        bad = np.flatnonzero(warp > WARP_LIMIT)
+        if len(bad):
+            k = int(bad[np.argmax(warp[bad])])
+            warnings.warn(f"{where}: {len(bad)} quadrilateral(s) warped beyond 2h/sqrt(A) = {WARP_LIMIT}, the most "
+                          f"element {k + 1} (nodes {nodes[k].tolist()}): {warp[k]:.3g}, its corners "
+                          f"{warp[k] * math.sqrt(area[k]) / 2:.3g} m off their mean plane. A flat element takes a "
+                          "warped quad's mean plane (rigid links to the corners) and loses accuracy as the warp "
+                          "grows; refine the mesh there or split the quads into triangles", FlexGVTWarning,
+                          stacklevel=3)

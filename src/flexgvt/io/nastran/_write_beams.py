@@ -168,13 +168,29 @@ def _update_beam_property(bdf, prop, section, src, notes: list[str]) -> None:
         notes.extend(f"{where}: {i}" for i in issues)
 
 
+def check_one_mass_formulation(model: Model) -> None:
+    """A compact deck has one PARAM,COUPMASS for every beam, rod and shell: refuse a model whose
+    groups mix lumped and consistent mass, naming the groups and what to pass."""
+    groups: dict[str, list[str]] = {"lumped": [], "consistent": []}
+    named = [("rod" if isinstance(g.section, RodSection) else "beam", k, g) for k, g in enumerate(model.beams)]
+    named += [("shell", k, g) for k, g in enumerate(model.shells)]
+    for kind, k, g in named:
+        groups["lumped" if g.mass == "lumped" else "consistent"].append(
+            f"{kind} group {k} '{g.name}'" if g.name else f"{kind} group {k}")
+    if groups["lumped"] and groups["consistent"]:
+        listed = {m: ", ".join(v[:4]) + (f" and {len(v) - 4} more" if len(v) > 4 else "") for m, v in groups.items()}
+        raise ModelError(f"write_bdf: the model mixes lumped mass ({listed['lumped']}) and consistent mass "
+                         f"({listed['consistent']}), and Nastran's PARAM,COUPMASS is one for the whole deck. "
+                         "Give every group the same: mass='lumped' or 'consistent' in add_beams/add_rods/add_shells "
+                         "(the defaults differ: beams 'consistent', rods and shells 'lumped'), or "
+                         "model.set_beam_group(k, mass=...) / model.set_shell_group(k, mass=...)")
+
+
 def write_beams(bdf, model: Model, u: Units, xyz: dict[int, np.ndarray], notes: list[str]) -> set[int]:
     """Beam and rod groups of a compact deck (one property per group); returns the element ids used."""
     mats: list[Material] = []
+    check_one_mass_formulation(model)
     lumped = {g.mass == "lumped" for g in model.beams}
-    if len(lumped) > 1:
-        raise ModelError("write_bdf: beam groups mix lumped and consistent mass; Nastran's PARAM,COUPMASS is "
-                         "global. Use one formulation")
     if lumped == {False}:
         bdf.add_param("COUPMASS", [1])
     if any(g.rotary_inertia for g in model.beams):

@@ -12,7 +12,7 @@ from ...model import Material, Model
 from ...model.shells import AnisotropicMaterial, ShellGroup, ShellProperty
 from ._common import Units
 from ._read import BdfDeck
-from ._write_beams import _material_values
+from ._write_beams import _material_values, check_one_mass_formulation
 from ._write_common import Numbering, same
 
 
@@ -89,11 +89,8 @@ def write_plates(bdf, model: Model, u: Units, ids: Numbering) -> None:
     (TFLAG 0); PARAM,COUPMASS for consistent shell mass (it must agree with the beams')."""
     if not model.shells:
         return
+    check_one_mass_formulation(model)
     shell_mass = {g.mass for g in model.shells}
-    beam_lumped = {g.mass == "lumped" for g in model.beams}
-    if len(shell_mass) > 1 or (beam_lumped and beam_lumped != {shell_mass == {"lumped"}}):
-        raise ModelError("write_bdf: shell and beam groups mix lumped and consistent mass; Nastran's "
-                         "PARAM,COUPMASS is global. Use one formulation")
     if shell_mass == {"consistent"} and "COUPMASS" not in bdf.params:
         bdf.add_param("COUPMASS", [1])
     beam_mats: list = []  # write_beams numbers the beams' MAT1s 1.. in beam order
