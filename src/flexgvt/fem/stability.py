@@ -124,12 +124,15 @@ def _where(system, shape: np.ndarray) -> str:
     return parts[0] if parts else f"nodes {', '.join(str(int(i)) for i in system.cm.node_ids[top[:5]])}"
 
 
-def locate(system, trail: list, resolve: Callable[[float, int], tuple], refinements: int = 3) -> Instability | None:
+def locate(system, trail: list, resolve: Callable[[float, int], tuple], refinements: int = 12) -> Instability | None:
     """The first loss of stability along a load path. trail: the converged equilibria (load factor,
     x, R) in load order; resolve(lam, k): the equilibrium (x, R) at load factor
     lam from trail[k] (a stable one below lam). Bisects the trail for the first unstable
     equilibrium, then refines the crossing by a linear buckling analysis between the bracketing
-    equilibria. When the last equilibrium is stable, _SAMPLES increments evenly along the path are
+    equilibria, solving the equilibrium at each estimate to narrow the bracket; where the estimates
+    keep landing on one side (the tangent is not linear in the load across a wide bracket: lateral
+    buckling's is quadratic), the next one is the bracket's middle, so the bracket always shrinks.
+    When the last equilibrium is stable, _SAMPLES increments evenly along the path are
     checked (a path that passed a bifurcation and went on along a stable branch). None when no
     checked equilibrium is unstable."""
     values: dict[int, tuple[float, np.ndarray]] = {}
@@ -170,6 +173,7 @@ def locate(system, trail: list, resolve: Callable[[float, int], tuple], refineme
     critical, shape = _linearised(system, a, b)
     if critical is None:  # the tangent does not change linearly across the bracket: its middle
         critical, shape = 0.5 * (a[0] + b[0]), lowest(lo)[1]
+    side, streak = None, 0
     for _ in range(refinements):
         if (b[0] - a[0]) < 1e-3 * max(b[0], 1e-12):
             break
@@ -179,13 +183,19 @@ def locate(system, trail: list, resolve: Callable[[float, int], tuple], refineme
             break
         c = (critical, x, R)
         neg = negative_eigenvalues(system, x, R, critical)
-        if neg > 0 or (neg < 0 and lowest_eigenvalue(system, x, R, critical)[0] < 0):
+        now = "b" if neg > 0 or (neg < 0 and lowest_eigenvalue(system, x, R, critical)[0] < 0) else "a"
+        streak = streak + 1 if now == side else 1
+        side = now
+        if now == "b":
             b = c
         else:
             a = c
-        again, again_shape = _linearised(system, a, b)
+        # The same end moved twice: the linear estimate is biased to that side (regula falsi's
+        # stagnation: from a 0.91-1.12 bracket it stayed at 1.116 of the strip's critical load).
+        again, again_shape = (None, None) if streak >= 2 else _linearised(system, a, b)
         if again is None:
-            break
+            critical = 0.5 * (a[0] + b[0])
+            continue
         moved = abs(again - critical)
         critical, shape = again, again_shape
         if moved <= 1e-6 * max(critical, 1e-12):  # exact for a tangent linear in the load (a flat plate)
