@@ -14,7 +14,7 @@ from ..model.components import ConcentratedMass, NodalLoad
 from ..model.spring_table import SpringTable
 from ..model.shells import Laminate, OrthotropicMaterial, Ply
 from .case import Case
-from .swept_wing_sections import laminate_beam, naca_contour, naca_half_thickness
+from .swept_wing_sections import laminate_beam, naca_area_centroid, naca_contour, naca_half_thickness
 
 # ---------------------------------------------------------------- published (a3tb_wt.json)
 SWEEP = math.radians(22.0)  # back, constant chord ('rectangular' wing)
@@ -135,15 +135,21 @@ def _rotate(v: np.ndarray, axis: np.ndarray, angle: float) -> np.ndarray:
     return v * math.cos(angle) + np.cross(a, v) * math.sin(angle) + a * np.dot(a, v) * (1 - math.cos(angle))
 
 
+def _about_spar(c) -> GeneralSection:
+    return GeneralSection(A=c.A, Iy=c.Iy, Iz=c.Iz, J=c.J, Ip=c.Iy + c.Iz)
+
+
 def _sections(p: dict) -> dict:
-    """Beam sections about the spar line (the beam axis), normal to the swept spar."""
+    """Beam sections about the spar line (the beam axis), normal to the swept spar: {part: (section,
+    details, centroid)}, centroid the chordwise distance [m] of the part's centroid aft of the spar
+    line in that section (the fin's: aft of its mid-chord); _own_centroid moves a section to it."""
     cos = math.cos(SWEEP)
     c_n, tr_n = p["chord"] * cos, THICKNESS_RATIO / cos  # the section normal to the spar
     xs = p["spar_x"]
     out = {}
     # Film skin: the closed NACA contour.
     film = naca_contour(c_n, tr_n, p["film_thickness"], xs)
-    out["skin"] = (GeneralSection(A=film.A, Iy=film.Iy, Iz=film.Iz, J=film.J, Ip=film.Iy + film.Iz), film)
+    out["skin"] = (_about_spar(film), film, film.x_centroid)
     # 3D-printed frame: the segments' aerofoil wall from the nose to the rear spar, an open section
     # (glued segments, the film closes the aerofoil: torsion by the film's closed contour and the
     # spar), the sleeve (a tube around the spar), the rear-spar web, the ribs (mass only, smeared).
@@ -162,19 +168,59 @@ def _sections(p: dict) -> dict:
     rib = naca_contour(p["chord"], THICKNESS_RATIO, 1.0, xs)  # unit wall: enclosed area, polar about the spar
     rib_area = 0.5 * rib.enclosed * p["rib_thickness"] / p["rib_pitch"]  # per unit span, half lightened
     ip_rib = rib_area * (rib.Iy + rib.Iz) / rib.A  # the rib's mass spread like its contour (approximation)
+    x_rib = (naca_area_centroid() - xs) * c_n  # the (streamwise) ribs' plate centroid, in the normal section
     frame = GeneralSection(A=a_sl + box.A + a_rs + rib_area, Iy=iy_sl + box.Iy + iy_rs, Iz=iz_sl + box.Iz + iz_rs,
                            J=j_sl + j_open, Ip=iy_sl + iz_sl + box.Iy + box.Iz + iy_rs + iz_rs + ip_rib)
+    x_frame = (box.A * box.x_centroid + a_rs * d + rib_area * x_rib) / frame.A  # the sleeve's centroid is the spar's
     out["frame"] = (frame, {"sleeve_area": a_sl, "wall": box, "rear_spar_area": a_rs, "rear_spar_depth": depth,
-                            "rear_spar_offset": d, "rib_area_per_span": rib_area})
+                            "rear_spar_offset": d, "rib_area_per_span": rib_area, "rib_centroid": x_rib}, x_frame)
     body = naca_contour(p["body_chord"], p["body_thickness_ratio"], p["body_wall"],
                         xs * p["chord"] / p["body_chord"])
-    out["fuselage"] = (GeneralSection(A=body.A, Iy=body.Iy, Iz=body.Iz, J=body.J, Ip=body.Iy + body.Iz), body)
+    out["fuselage"] = (_about_spar(body), body, body.x_centroid)
     fin = naca_contour(p["fin_chord"], p["fin_thickness_ratio"], p["fin_wall"], 0.5)
-    out["fin"] = (GeneralSection(A=fin.A, Iy=fin.Iy, Iz=fin.Iz, J=fin.J, Ip=fin.Iy + fin.Iz), fin)
+    out["fin"] = (_about_spar(fin), fin, fin.x_centroid)
     return out
 
 
-def _build(values: dict, p: dict, n_wing: int, n_body: int, n_fin: int, root_tables: dict | None = None):
+def _own_centroid(section: GeneralSection, offset: float) -> GeneralSection:
+    """The section about its own centroid, ``offset`` [m] from its reference along local y: the
+    parallel-axis terms A offset^2 taken out of Iz and Ip (the rigid links to the spar put them back)."""
+    shift = section.A * offset**2
+    return GeneralSection(A=section.A, Iy=section.Iy, Iz=section.Iz - shift, J=section.J, Ip=section.polar - shift)
+
+
+def _tie_parts(model: Model, ties: list[tuple[int, int, np.ndarray, dict[int, float]]], offsets: dict[int, float],
+               axis: np.ndarray) -> None:
+    """Tie each part node to the spar by linear constraints (Nastran MPCs, small rotations): ties are
+    (spar node, part node, chordwise unit vector, {spar node: weight} of the twist rate's central
+    difference), offsets {part node: chordwise offset [m]}. The part node moves as a rigid body on
+    the spar node (u + theta x r, the same rotations: an RBE2) except that its rotation about the
+    chordwise axis also takes offset x twist rate: the slope its own line has when the wing twists.
+    A plain RBE2 holds that slope to the spar's: a spurious warping restraint that stiffens torsion
+    without bound as the mesh is refined (the first torsion at 13.1, 14.4, 25.9 Hz with 10, 20, 40
+    wing elements); releasing the rotation instead leaves each part's bending moment zero where
+    its line ends (the first bending falls by a third). A rigid motion (zero twist rate) is an
+    RBE2's exactly, so the mass properties are the rigid link's."""
+    xyz = model.xyz
+    for independent, node, chordwise, rate in ties:
+        i, n = model.index_of([independent, node])
+        r = xyz[n] - xyz[i]
+        skew = np.array([[0.0, -r[2], r[1]], [r[2], 0.0, -r[0]], [-r[1], r[0], 0.0]])
+        for k in range(3):  # u_part = u_spar + theta_spar x r
+            terms = {(node, k + 1): 1.0, (independent, k + 1): -1.0}
+            terms.update({(independent, 4 + j): float(skew[k, j]) for j in range(3) if skew[k, j] != 0.0})
+            model.add_constraint([(*key, c) for key, c in terms.items()])
+        for k in range(3):  # theta_part = theta_spar + chordwise (offset x twist rate)
+            terms = {(node, 4 + k): 1.0, (independent, 4 + k): -1.0}
+            for other, w in rate.items():
+                for j in range(3):
+                    key = (other, 4 + j)
+                    terms[key] = terms.get(key, 0.0) + chordwise[k] * offsets[node] * w * axis[j]
+            model.add_constraint([(*key, c) for key, c in terms.items() if c != 0.0])
+
+
+def _build(values: dict, p: dict, n_wing: int, n_body: int, n_fin: int, root_tables: dict | None = None,
+           part_offsets: bool = True):
     model = Model("A3TB-WT-like swept wing")
     direction = np.array([math.sin(SWEEP), math.cos(SWEEP), 0.0])  # along the spar, outboard and aft
     span_len = p["half_span"] / math.cos(SWEEP)
@@ -198,25 +244,72 @@ def _build(values: dict, p: dict, n_wing: int, n_body: int, n_fin: int, root_tab
     kw = dict(rotary_inertia=False)
     model.add_beams(body_pairs, carbon, spar_section, orientation=(0, 0, 1), name="spar_body", **kw)
     model.add_beams(wing_pairs, carbon, spar_section, orientation=orient, name="spar_wing", **kw)
-    model.add_beams(body_pairs, Material("fuselage PA-12", E=values["E_fuselage"], rho=values["rho_fuselage"],
-                                         nu=p["nu_pa12"]), secs["fuselage"][0], orientation=(0, 0, 1),
-                    name="fuselage", **kw)
-    model.add_beams(wing_pairs, Material("3D printed PA-12", E=values["E_printed"], rho=values["rho_printed"],
-                                         nu=p["nu_pa12"]), secs["frame"][0], orientation=orient, name="frame", **kw)
-    model.add_beams(wing_pairs, Material("polyester film", E=values["E_skin"], rho=p["film_rho"], nu=p["nu_film"]),
-                    secs["skin"][0], orientation=orient, name="skin", **kw)
-    # Tip fin: up from the spar's tip.
     tip = int(spar[-1])
     tip_xyz = s[-1] * direction
-    fin = model.add_nodes(tip_xyz[None, :] + np.linspace(0, p["fin_height"], n_fin + 1)[1:, None] * [[0, 0, 1.0]])
-    fin_nodes = np.r_[tip, fin]
+    fin_line = tip_xyz[None, :] + np.linspace(0, p["fin_height"], n_fin + 1)[:, None] * [[0, 0, 1.0]]
+    clamp_xyz = np.asarray(p["clamp_offset"], float)
+    bolt = int(spar[int(np.argmin(np.abs(s - p["bolt_pitch"])))])
+    ties: list[tuple[int, int, np.ndarray]] = []  # (spar station, part node, chordwise unit vector)
+    fin_base: list[int] = []
+    offsets: dict[int, float] = {}
+    if part_offsets:
+        # Each part on its own line of nodes through its centroid, tied to the spar node of its
+        # station (the wing's offsets turn with the twist at the node), its section about that
+        # centroid: the ties supply the parallel-axis terms, the axial-bending coupling and the
+        # composite's neutral axis (_tie_parts). The fin's centroid is its chord's, forward of its mid-chord.
+        aft = np.array([math.cos(SWEEP), -math.sin(SWEEP), 0.0])  # chordwise, normal to the spar, aft
+        twist = np.r_[np.zeros(n_body), math.radians(TWIST_DEG) * (s[n_body:] - body_len) / (span_len - body_len)]
+        chordwise = np.array([_rotate(aft, direction, t) for t in twist])
+        spar_xyz = s[:, None] * direction[None, :]
+
+        def line(part, stations):
+            d = secs[part][2]
+            nodes = model.add_nodes(spar_xyz[stations] + d * chordwise[stations])
+            ties.extend((int(k), int(n), chordwise[k]) for k, n in zip(stations, nodes))
+            offsets.update({int(n): d for n in nodes})
+            return nodes, _own_centroid(secs[part][0], d)
+
+        body_nodes, body_section = line("fuselage", np.arange(n_body + 1))
+        body_line = np.c_[body_nodes[:-1], body_nodes[1:]]
+        wing_lines = {}
+        for part in ("frame", "skin"):
+            nodes, section = line(part, np.arange(n_body, len(s)))
+            wing_lines[part] = (np.c_[nodes[:-1], nodes[1:]], section)
+        fin_nodes = model.add_nodes(fin_line + [[secs["fin"][2], 0.0, 0.0]])
+        fin_base.append(int(fin_nodes[0]))
+        fin_section = _own_centroid(secs["fin"][0], secs["fin"][2])
+    else:
+        body_line, body_section = body_pairs, secs["fuselage"][0]
+        wing_lines = {part: (wing_pairs, secs[part][0]) for part in ("frame", "skin")}
+        fin_nodes, fin_section = np.r_[tip, model.add_nodes(fin_line[1:])], secs["fin"][0]
+    model.add_beams(body_line, Material("fuselage PA-12", E=values["E_fuselage"], rho=values["rho_fuselage"],
+                                        nu=p["nu_pa12"]), body_section, orientation=(0, 0, 1), name="fuselage", **kw)
+    model.add_beams(wing_lines["frame"][0], Material("3D printed PA-12", E=values["E_printed"],
+                                                     rho=values["rho_printed"], nu=p["nu_pa12"]),
+                    wing_lines["frame"][1], orientation=orient, name="frame", **kw)
+    model.add_beams(wing_lines["skin"][0], Material("polyester film", E=values["E_skin"], rho=p["film_rho"],
+                                                    nu=p["nu_film"]), wing_lines["skin"][1], orientation=orient,
+                    name="skin", **kw)
+    # Tip fin: up from the spar's tip.
     model.add_beams(np.c_[fin_nodes[:-1], fin_nodes[1:]], Material("fin PA-12", E=p["E_fin"], rho=values["rho_fin"],
                                                                    nu=p["nu_pa12"]),
-                    secs["fin"][0], orientation=(0, 1, 0), name="fin", **kw)
+                    fin_section, orientation=(0, 1, 0), name="fin", **kw)
     # Root: the clamp-adapter centre, rigid links to the two spar bolts, the 6-component spring to ground.
-    clamp = int(model.add_nodes([np.asarray(p["clamp_offset"], float)])[0])
-    bolt = int(spar[int(np.argmin(np.abs(s - p["bolt_pitch"])))])
+    clamp = int(model.add_nodes([clamp_xyz])[0])
     model.add_rigid_link(clamp, [int(spar[0]), bolt])
+    held = {int(spar[0]), bolt}  # the parts' nodes at the bolts follow the clamp, as the bolts do
+    station = [clamp if int(n) in held else int(n) for n in spar]
+
+    def rate(k):  # the twist rate at station k as weights of the spar rotations (central difference)
+        lo, hi = max(k - 1, 0), min(k + 1, len(s) - 1)
+        w: dict[int, float] = {}
+        for j, sign in ((hi, 1.0), (lo, -1.0)):
+            w[station[j]] = w.get(station[j], 0.0) + sign / (s[hi] - s[lo])
+        return w
+
+    _tie_parts(model, [(station[k], n, e, rate(k)) for k, n, e in ties], offsets, direction)
+    if fin_base:
+        model.add_rigid_link(tip, fin_base)  # the fin is joined at one node: rigid
     model.add_spring(clamp, None, stiffness=ROOT_SPRING, name="root_spring", tables=root_tables)
     xyz = dict(zip(model.node_ids.tolist(), model.xyz))
     c = p["chord"]
@@ -290,7 +383,7 @@ def root_hardening_tables(stiffness: tuple[float, ...], rotation: float,
 
 def swept_wing(n_wing: int = 20, n_body: int = 4, n_fin: int = 4, as_designed: bool = False,
                properties: dict | None = None, root_hardening: float | None = None,
-               tip_load: float = 20.0) -> Case:
+               tip_load: float = 20.0, part_offsets: bool = True) -> Case:
     """A3TB-WT-like 3D-printed swept half wing (docs/method.md section 5 case 5). SI units.
 
     Axes: x aft (streamwise), y outboard, z up; the plane of symmetry at y = 0. Published: 22 deg
@@ -340,7 +433,7 @@ def swept_wing(n_wing: int = 20, n_body: int = 4, n_fin: int = 4, as_designed: b
     p.update(properties or {})
     values = dict(AS_DESIGNED if as_designed else STAGE0)
     tables = None if root_hardening is None else root_hardening_tables(ROOT_SPRING, float(root_hardening))
-    model, info, sensors = _build(values, p, int(n_wing), int(n_body), int(n_fin), tables)
+    model, info, sensors = _build(values, p, int(n_wing), int(n_body), int(n_fin), tables, bool(part_offsets))
     if as_designed:
         model.name += " (as designed)"
     tip_shaker = (ConcentratedMass(info["tip"], p["tip_shaker_mass"], np.zeros(3), np.zeros((3, 3)), "tip_shaker"),)
@@ -378,5 +471,7 @@ def swept_wing(n_wing: int = 20, n_body: int = 4, n_fin: int = 4, as_designed: b
         "control_surface_nodes": info["control_surfaces"], "control_surface_mass": info["control_surface_mass"],
         "spar_laminate": info["laminate"], "spar_beam": info["spar_beam"],
         "sections": {k: v[1] for k, v in info["sections"].items()},
+        "part_offsets": bool(part_offsets),
+        "part_centroids": {k: v[2] for k, v in info["sections"].items()},
     }
     return Case("swept_wing", model, configs, swept_wing.__doc__ or "", references=references, sensors=sensors)
