@@ -189,34 +189,14 @@ def _own_centroid(section: GeneralSection, offset: float) -> GeneralSection:
     return GeneralSection(A=section.A, Iy=section.Iy, Iz=section.Iz - shift, J=section.J, Ip=section.polar - shift)
 
 
-def _tie_parts(model: Model, ties: list[tuple[int, int, np.ndarray, dict[int, float]]], offsets: dict[int, float],
-               axis: np.ndarray) -> None:
-    """Tie each part node to the spar by linear constraints (Nastran MPCs, small rotations): ties are
-    (spar node, part node, chordwise unit vector, {spar node: weight} of the twist rate's central
-    difference), offsets {part node: chordwise offset [m]}. The part node moves as a rigid body on
-    the spar node (u + theta x r, the same rotations: an RBE2) except that its rotation about the
-    chordwise axis also takes offset x twist rate: the slope its own line has when the wing twists.
-    A plain RBE2 holds that slope to the spar's: a spurious warping restraint that stiffens torsion
-    without bound as the mesh is refined (the first torsion at 13.1, 14.4, 25.9 Hz with 10, 20, 40
-    wing elements); releasing the rotation instead leaves each part's bending moment zero where
-    its line ends (the first bending falls by a third). A rigid motion (zero twist rate) is an
-    RBE2's exactly, so the mass properties are the rigid link's."""
-    xyz = model.xyz
-    for independent, node, chordwise, rate in ties:
-        i, n = model.index_of([independent, node])
-        r = xyz[n] - xyz[i]
-        skew = np.array([[0.0, -r[2], r[1]], [r[2], 0.0, -r[0]], [-r[1], r[0], 0.0]])
-        for k in range(3):  # u_part = u_spar + theta_spar x r
-            terms = {(node, k + 1): 1.0, (independent, k + 1): -1.0}
-            terms.update({(independent, 4 + j): float(skew[k, j]) for j in range(3) if skew[k, j] != 0.0})
-            model.add_constraint([(*key, c) for key, c in terms.items()])
-        for k in range(3):  # theta_part = theta_spar + chordwise (offset x twist rate)
-            terms = {(node, 4 + k): 1.0, (independent, 4 + k): -1.0}
-            for other, w in rate.items():
-                for j in range(3):
-                    key = (other, 4 + j)
-                    terms[key] = terms.get(key, 0.0) + chordwise[k] * offsets[node] * w * axis[j]
-            model.add_constraint([(*key, c) for key, c in terms.items() if c != 0.0])
+def _split(section: GeneralSection, offset: float) -> tuple[GeneralSection, GeneralSection]:
+    """A part's section as (centroid line, spar line): on the line through its centroid the area
+    (mass, axial stiffness), the in-plane bending and torsion stiffness and the torsional inertia
+    about that centroid; on the spar line its out-of-plane bending stiffness (Iy about the chord
+    line) with a vanishing area (1e-12 of the part's: a beam needs one; its mass is 1e-12 of the part's)."""
+    own = _own_centroid(section, offset)
+    return (GeneralSection(A=own.A, Iy=0.0, Iz=own.Iz, J=own.J, Ip=own.Ip),
+            GeneralSection(A=1e-12 * section.A, Iy=section.Iy, Iz=0.0, J=0.0, Ip=0.0))
 
 
 def _build(values: dict, p: dict, n_wing: int, n_body: int, n_fin: int, root_tables: dict | None = None,
@@ -249,67 +229,58 @@ def _build(values: dict, p: dict, n_wing: int, n_body: int, n_fin: int, root_tab
     fin_line = tip_xyz[None, :] + np.linspace(0, p["fin_height"], n_fin + 1)[:, None] * [[0, 0, 1.0]]
     clamp_xyz = np.asarray(p["clamp_offset"], float)
     bolt = int(spar[int(np.argmin(np.abs(s - p["bolt_pitch"])))])
-    ties: list[tuple[int, int, np.ndarray]] = []  # (spar station, part node, chordwise unit vector)
-    fin_base: list[int] = []
-    offsets: dict[int, float] = {}
+    links: dict[int, list[int]] = {}  # spar node -> the part nodes that follow it rigidly
     if part_offsets:
-        # Each part on its own line of nodes through its centroid, tied to the spar node of its
-        # station (the wing's offsets turn with the twist at the node), its section about that
-        # centroid: the ties supply the parallel-axis terms, the axial-bending coupling and the
-        # composite's neutral axis (_tie_parts). The fin's centroid is its chord's, forward of its mid-chord.
+        # Each part on a line of nodes through its centroid, rigidly linked to the spar node of its
+        # station (the wing's offsets turn with the twist at the node), with its mass, axial and
+        # in-plane bending stiffness, torsion and torsional inertia about that centroid: the links
+        # supply the parallel-axis terms, the axial-bending coupling and the composite's neutral
+        # axis. Its out-of-plane bending stiffness stays on the spar line (_split; docs/swept_wing.md
+        # says why). The fin, joined at one node, is a line through its chord's centroid.
         aft = np.array([math.cos(SWEEP), -math.sin(SWEEP), 0.0])  # chordwise, normal to the spar, aft
         twist = np.r_[np.zeros(n_body), math.radians(TWIST_DEG) * (s[n_body:] - body_len) / (span_len - body_len)]
         chordwise = np.array([_rotate(aft, direction, t) for t in twist])
         spar_xyz = s[:, None] * direction[None, :]
 
-        def line(part, stations):
+        def line(part, stations, spar_pairs):
             d = secs[part][2]
             nodes = model.add_nodes(spar_xyz[stations] + d * chordwise[stations])
-            ties.extend((int(k), int(n), chordwise[k]) for k, n in zip(stations, nodes))
-            offsets.update({int(n): d for n in nodes})
-            return nodes, _own_centroid(secs[part][0], d)
+            for k, n in zip(stations, nodes):
+                links.setdefault(int(spar[k]), []).append(int(n))
+            return (np.c_[nodes[:-1], nodes[1:]], spar_pairs, *_split(secs[part][0], d))
 
-        body_nodes, body_section = line("fuselage", np.arange(n_body + 1))
-        body_line = np.c_[body_nodes[:-1], body_nodes[1:]]
-        wing_lines = {}
-        for part in ("frame", "skin"):
-            nodes, section = line(part, np.arange(n_body, len(s)))
-            wing_lines[part] = (np.c_[nodes[:-1], nodes[1:]], section)
+        lines = {"fuselage": line("fuselage", np.arange(n_body + 1), body_pairs)}
+        lines.update({part: line(part, np.arange(n_body, len(s)), wing_pairs) for part in ("frame", "skin")})
         fin_nodes = model.add_nodes(fin_line + [[secs["fin"][2], 0.0, 0.0]])
-        fin_base.append(int(fin_nodes[0]))
+        links[tip].append(int(fin_nodes[0]))
         fin_section = _own_centroid(secs["fin"][0], secs["fin"][2])
     else:
-        body_line, body_section = body_pairs, secs["fuselage"][0]
-        wing_lines = {part: (wing_pairs, secs[part][0]) for part in ("frame", "skin")}
+        lines = {"fuselage": (body_pairs, None, secs["fuselage"][0], None)}
+        lines.update({part: (wing_pairs, None, secs[part][0], None) for part in ("frame", "skin")})
         fin_nodes, fin_section = np.r_[tip, model.add_nodes(fin_line[1:])], secs["fin"][0]
-    model.add_beams(body_line, Material("fuselage PA-12", E=values["E_fuselage"], rho=values["rho_fuselage"],
-                                        nu=p["nu_pa12"]), body_section, orientation=(0, 0, 1), name="fuselage", **kw)
-    model.add_beams(wing_lines["frame"][0], Material("3D printed PA-12", E=values["E_printed"],
-                                                     rho=values["rho_printed"], nu=p["nu_pa12"]),
-                    wing_lines["frame"][1], orientation=orient, name="frame", **kw)
-    model.add_beams(wing_lines["skin"][0], Material("polyester film", E=values["E_skin"], rho=p["film_rho"],
-                                                    nu=p["nu_film"]), wing_lines["skin"][1], orientation=orient,
-                    name="skin", **kw)
+    materials = {
+        "fuselage": (Material("fuselage PA-12", E=values["E_fuselage"], rho=values["rho_fuselage"], nu=p["nu_pa12"]),
+                     (0, 0, 1)),
+        "frame": (Material("3D printed PA-12", E=values["E_printed"], rho=values["rho_printed"], nu=p["nu_pa12"]),
+                  orient),
+        "skin": (Material("polyester film", E=values["E_skin"], rho=p["film_rho"], nu=p["nu_film"]), orient),
+    }
+    for part, (material, orientation) in materials.items():
+        pairs, spar_pairs, section, bending = lines[part]
+        model.add_beams(pairs, material, section, orientation=orientation, name=part, **kw)
+        if bending is not None:  # the same part (name, material): its out-of-plane bending on the spar line
+            model.add_beams(spar_pairs, material, bending, orientation=orientation, name=part, **kw)
     # Tip fin: up from the spar's tip.
     model.add_beams(np.c_[fin_nodes[:-1], fin_nodes[1:]], Material("fin PA-12", E=p["E_fin"], rho=values["rho_fin"],
                                                                    nu=p["nu_pa12"]),
                     fin_section, orientation=(0, 1, 0), name="fin", **kw)
-    # Root: the clamp-adapter centre, rigid links to the two spar bolts, the 6-component spring to ground.
+    # Root: the clamp-adapter centre, rigid links to the two spar bolts (and the parts' nodes at
+    # them), the 6-component spring to ground.
     clamp = int(model.add_nodes([clamp_xyz])[0])
-    model.add_rigid_link(clamp, [int(spar[0]), bolt])
-    held = {int(spar[0]), bolt}  # the parts' nodes at the bolts follow the clamp, as the bolts do
-    station = [clamp if int(n) in held else int(n) for n in spar]
-
-    def rate(k):  # the twist rate at station k as weights of the spar rotations (central difference)
-        lo, hi = max(k - 1, 0), min(k + 1, len(s) - 1)
-        w: dict[int, float] = {}
-        for j, sign in ((hi, 1.0), (lo, -1.0)):
-            w[station[j]] = w.get(station[j], 0.0) + sign / (s[hi] - s[lo])
-        return w
-
-    _tie_parts(model, [(station[k], n, e, rate(k)) for k, n, e in ties], offsets, direction)
-    if fin_base:
-        model.add_rigid_link(tip, fin_base)  # the fin is joined at one node: rigid
+    bolts = list(dict.fromkeys([int(spar[0]), bolt]))
+    model.add_rigid_link(clamp, bolts + [n for b in bolts for n in links.pop(b, [])])
+    for node, dependents in links.items():
+        model.add_rigid_link(node, dependents)
     model.add_spring(clamp, None, stiffness=ROOT_SPRING, name="root_spring", tables=root_tables)
     xyz = dict(zip(model.node_ids.tolist(), model.xyz))
     c = p["chord"]
