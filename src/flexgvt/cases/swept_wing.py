@@ -367,17 +367,24 @@ def swept_wing(n_wing: int = 20, n_body: int = 4, n_fin: int = 4, as_designed: b
     on 5 N m/rad hinge springs, accelerometer (3 g, triaxials 6 g) and tip-shaker (0.25 kg)
     masses. Nothing is calibrated to the GVT tables.
 
-    Stick model on the spar line (beam groups sharing its nodes): spar_body / spar_wing (the
-    carbon spar: a woven 0/90 laminate whose beam stiffness comes from classical lamination theory,
+    Beams along the spar, sections normal to it: spar_body / spar_wing (the carbon spar: a woven
+    0/90 laminate whose beam stiffness comes from classical lamination theory,
     flexgvt.cases.swept_wing_sections.laminate_beam), fuselage (the centre body's PA-12 wall),
     frame (the PA-12 segments: aerofoil wall to the rear spar with a closed nose cell, spar
-    sleeve, rear-spar web, ribs), skin (the closed film contour), fin. Sections are normal to the
-    swept spar. Springs: root_spring (K_x, K_y, K_z, M_x, M_y, M_z to ground at the clamp-adapter
+    sleeve, rear-spar web, ribs), skin (the closed film contour), fin. part_offsets=True (default):
+    fuselage, frame and skin each on a line of nodes through its centroid (references
+    ['part_centroids'], m aft of the spar), rigidly linked to the spar nodes, with its mass, axial
+    and in-plane bending stiffness, torsion and torsional inertia about that centroid, and its
+    out-of-plane bending stiffness on the spar line (a second group of the same name and
+    material); the fin on a line through its chord's centroid. part_offsets=False: the stick model
+    on the spar line (every section about the spar, no chordwise offsets), the earlier results.
+    Springs: root_spring (K_x, K_y, K_z, M_x, M_y, M_z to ground at the clamp-adapter
     centre, axes x, y, z), hinge_1..4. Masses: control_surface_1..4, servo_1..4, S1F..S6R,
     CS1..CS4, TRI1, TRI2.
 
     The printed frame's wall (0.5 mm) and closed nose cell (to 20 % chord) were chosen against the
-    as-designed FE model of Table 5.1 (as_designed=True, as_designed_clamp), not against a GVT.
+    as-designed FE model of Table 5.1 (as_designed=True, as_designed_clamp; bench/swept_wing_dimensions.py),
+    not against a GVT: the same with and without the part offsets.
 
     Stage 0 (component tests) is the fixed input: densities from the weighed parts and the spar
     ply modulus of the tip-load test (45 GPa), Table 5.7's initial values. as_designed=True: the
