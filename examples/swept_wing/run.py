@@ -10,7 +10,8 @@ root-spring components on the GVT of the wind-tunnel installation (Table 5.9). T
 frequencies and labels only (no shapes): modes pair by label family and frequency. Each stage is
 one function taking the model the previous stage produced and returning its UpdateResult (whose
 .model is the next stage's start). The full run takes the best of four starts (x0 and three
-seeded points in the bounds); --small: a coarser mesh, 10 iterations, one start (for the tests).
+seeded points in the bounds); --small: a coarser mesh, 10 iterations, one start (for the tests);
+--stick: the stick model on the spar line (part_offsets=False), the earlier results.
 """
 
 from __future__ import annotations
@@ -123,9 +124,12 @@ def main(argv=None) -> dict:
                         help="variables the data do not constrain: left free within their bounds (default, as the "
                              "original work) or held at their initial values (flexgvt's default)")
     parser.add_argument("--small", action="store_true", help="coarse mesh, fewer iterations (tests)")
+    parser.add_argument("--stick", action="store_true",
+                        help="the stick model on the spar line (part_offsets=False: every part's section about the "
+                             "spar, no chordwise offsets), as before the part offsets")
     args = parser.parse_args(argv)
     args.out.mkdir(parents=True, exist_ok=True)
-    case = swept_wing(n_wing=10 if args.small else 20)
+    case = swept_wing(n_wing=10 if args.small else 20, part_offsets=not args.stick)
     settings = dict(n_modes=14, max_iterations=10 if args.small else 100, starts=1 if args.small else 4,
                     unidentifiable=args.unidentifiable)
     pub = case.references["published"]

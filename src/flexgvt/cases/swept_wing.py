@@ -14,7 +14,7 @@ from ..model.components import ConcentratedMass, NodalLoad
 from ..model.spring_table import SpringTable
 from ..model.shells import Laminate, OrthotropicMaterial, Ply
 from .case import Case
-from .swept_wing_sections import laminate_beam, naca_contour, naca_half_thickness
+from .swept_wing_sections import laminate_beam, naca_area_centroid, naca_contour, naca_half_thickness
 
 # ---------------------------------------------------------------- published (a3tb_wt.json)
 SWEEP = math.radians(22.0)  # back, constant chord ('rectangular' wing)
@@ -135,15 +135,21 @@ def _rotate(v: np.ndarray, axis: np.ndarray, angle: float) -> np.ndarray:
     return v * math.cos(angle) + np.cross(a, v) * math.sin(angle) + a * np.dot(a, v) * (1 - math.cos(angle))
 
 
+def _about_spar(c) -> GeneralSection:
+    return GeneralSection(A=c.A, Iy=c.Iy, Iz=c.Iz, J=c.J, Ip=c.Iy + c.Iz)
+
+
 def _sections(p: dict) -> dict:
-    """Beam sections about the spar line (the beam axis), normal to the swept spar."""
+    """Beam sections about the spar line (the beam axis), normal to the swept spar: {part: (section,
+    details, centroid)}, centroid the chordwise distance [m] of the part's centroid aft of the spar
+    line in that section (the fin's: aft of its mid-chord); _own_centroid moves a section to it."""
     cos = math.cos(SWEEP)
     c_n, tr_n = p["chord"] * cos, THICKNESS_RATIO / cos  # the section normal to the spar
     xs = p["spar_x"]
     out = {}
     # Film skin: the closed NACA contour.
     film = naca_contour(c_n, tr_n, p["film_thickness"], xs)
-    out["skin"] = (GeneralSection(A=film.A, Iy=film.Iy, Iz=film.Iz, J=film.J, Ip=film.Iy + film.Iz), film)
+    out["skin"] = (_about_spar(film), film, film.x_centroid)
     # 3D-printed frame: the segments' aerofoil wall from the nose to the rear spar, an open section
     # (glued segments, the film closes the aerofoil: torsion by the film's closed contour and the
     # spar), the sleeve (a tube around the spar), the rear-spar web, the ribs (mass only, smeared).
@@ -162,19 +168,39 @@ def _sections(p: dict) -> dict:
     rib = naca_contour(p["chord"], THICKNESS_RATIO, 1.0, xs)  # unit wall: enclosed area, polar about the spar
     rib_area = 0.5 * rib.enclosed * p["rib_thickness"] / p["rib_pitch"]  # per unit span, half lightened
     ip_rib = rib_area * (rib.Iy + rib.Iz) / rib.A  # the rib's mass spread like its contour (approximation)
+    x_rib = (naca_area_centroid() - xs) * c_n  # the (streamwise) ribs' plate centroid, in the normal section
     frame = GeneralSection(A=a_sl + box.A + a_rs + rib_area, Iy=iy_sl + box.Iy + iy_rs, Iz=iz_sl + box.Iz + iz_rs,
                            J=j_sl + j_open, Ip=iy_sl + iz_sl + box.Iy + box.Iz + iy_rs + iz_rs + ip_rib)
+    x_frame = (box.A * box.x_centroid + a_rs * d + rib_area * x_rib) / frame.A  # the sleeve's centroid is the spar's
     out["frame"] = (frame, {"sleeve_area": a_sl, "wall": box, "rear_spar_area": a_rs, "rear_spar_depth": depth,
-                            "rear_spar_offset": d, "rib_area_per_span": rib_area})
+                            "rear_spar_offset": d, "rib_area_per_span": rib_area, "rib_centroid": x_rib}, x_frame)
     body = naca_contour(p["body_chord"], p["body_thickness_ratio"], p["body_wall"],
                         xs * p["chord"] / p["body_chord"])
-    out["fuselage"] = (GeneralSection(A=body.A, Iy=body.Iy, Iz=body.Iz, J=body.J, Ip=body.Iy + body.Iz), body)
+    out["fuselage"] = (_about_spar(body), body, body.x_centroid)
     fin = naca_contour(p["fin_chord"], p["fin_thickness_ratio"], p["fin_wall"], 0.5)
-    out["fin"] = (GeneralSection(A=fin.A, Iy=fin.Iy, Iz=fin.Iz, J=fin.J, Ip=fin.Iy + fin.Iz), fin)
+    out["fin"] = (_about_spar(fin), fin, fin.x_centroid)
     return out
 
 
-def _build(values: dict, p: dict, n_wing: int, n_body: int, n_fin: int, root_tables: dict | None = None):
+def _own_centroid(section: GeneralSection, offset: float) -> GeneralSection:
+    """The section about its own centroid, ``offset`` [m] from its reference along local y: the
+    parallel-axis terms A offset^2 taken out of Iz and Ip (the rigid links to the spar put them back)."""
+    shift = section.A * offset**2
+    return GeneralSection(A=section.A, Iy=section.Iy, Iz=section.Iz - shift, J=section.J, Ip=section.polar - shift)
+
+
+def _split(section: GeneralSection, offset: float) -> tuple[GeneralSection, GeneralSection]:
+    """A part's section as (centroid line, spar line): on the line through its centroid the area
+    (mass, axial stiffness), the in-plane bending and torsion stiffness and the torsional inertia
+    about that centroid; on the spar line its out-of-plane bending stiffness (Iy about the chord
+    line) with a vanishing area (1e-12 of the part's: a beam needs one; its mass is 1e-12 of the part's)."""
+    own = _own_centroid(section, offset)
+    return (GeneralSection(A=own.A, Iy=0.0, Iz=own.Iz, J=own.J, Ip=own.Ip),
+            GeneralSection(A=1e-12 * section.A, Iy=section.Iy, Iz=0.0, J=0.0, Ip=0.0))
+
+
+def _build(values: dict, p: dict, n_wing: int, n_body: int, n_fin: int, root_tables: dict | None = None,
+           part_offsets: bool = True):
     model = Model("A3TB-WT-like swept wing")
     direction = np.array([math.sin(SWEEP), math.cos(SWEEP), 0.0])  # along the spar, outboard and aft
     span_len = p["half_span"] / math.cos(SWEEP)
@@ -198,25 +224,63 @@ def _build(values: dict, p: dict, n_wing: int, n_body: int, n_fin: int, root_tab
     kw = dict(rotary_inertia=False)
     model.add_beams(body_pairs, carbon, spar_section, orientation=(0, 0, 1), name="spar_body", **kw)
     model.add_beams(wing_pairs, carbon, spar_section, orientation=orient, name="spar_wing", **kw)
-    model.add_beams(body_pairs, Material("fuselage PA-12", E=values["E_fuselage"], rho=values["rho_fuselage"],
-                                         nu=p["nu_pa12"]), secs["fuselage"][0], orientation=(0, 0, 1),
-                    name="fuselage", **kw)
-    model.add_beams(wing_pairs, Material("3D printed PA-12", E=values["E_printed"], rho=values["rho_printed"],
-                                         nu=p["nu_pa12"]), secs["frame"][0], orientation=orient, name="frame", **kw)
-    model.add_beams(wing_pairs, Material("polyester film", E=values["E_skin"], rho=p["film_rho"], nu=p["nu_film"]),
-                    secs["skin"][0], orientation=orient, name="skin", **kw)
-    # Tip fin: up from the spar's tip.
     tip = int(spar[-1])
     tip_xyz = s[-1] * direction
-    fin = model.add_nodes(tip_xyz[None, :] + np.linspace(0, p["fin_height"], n_fin + 1)[1:, None] * [[0, 0, 1.0]])
-    fin_nodes = np.r_[tip, fin]
+    fin_line = tip_xyz[None, :] + np.linspace(0, p["fin_height"], n_fin + 1)[:, None] * [[0, 0, 1.0]]
+    clamp_xyz = np.asarray(p["clamp_offset"], float)
+    bolt = int(spar[int(np.argmin(np.abs(s - p["bolt_pitch"])))])
+    links: dict[int, list[int]] = {}  # spar node -> the part nodes that follow it rigidly
+    if part_offsets:
+        # Each part on a line of nodes through its centroid, rigidly linked to the spar node of its
+        # station (the wing's offsets turn with the twist at the node), with its mass, axial and
+        # in-plane bending stiffness, torsion and torsional inertia about that centroid: the links
+        # supply the parallel-axis terms, the axial-bending coupling and the composite's neutral
+        # axis. Its out-of-plane bending stiffness stays on the spar line (_split; docs/swept_wing.md
+        # says why). The fin, joined at one node, is a line through its chord's centroid.
+        aft = np.array([math.cos(SWEEP), -math.sin(SWEEP), 0.0])  # chordwise, normal to the spar, aft
+        twist = np.r_[np.zeros(n_body), math.radians(TWIST_DEG) * (s[n_body:] - body_len) / (span_len - body_len)]
+        chordwise = np.array([_rotate(aft, direction, t) for t in twist])
+        spar_xyz = s[:, None] * direction[None, :]
+
+        def line(part, stations, spar_pairs):
+            d = secs[part][2]
+            nodes = model.add_nodes(spar_xyz[stations] + d * chordwise[stations])
+            for k, n in zip(stations, nodes):
+                links.setdefault(int(spar[k]), []).append(int(n))
+            return (np.c_[nodes[:-1], nodes[1:]], spar_pairs, *_split(secs[part][0], d))
+
+        lines = {"fuselage": line("fuselage", np.arange(n_body + 1), body_pairs)}
+        lines.update({part: line(part, np.arange(n_body, len(s)), wing_pairs) for part in ("frame", "skin")})
+        fin_nodes = model.add_nodes(fin_line + [[secs["fin"][2], 0.0, 0.0]])
+        links[tip].append(int(fin_nodes[0]))
+        fin_section = _own_centroid(secs["fin"][0], secs["fin"][2])
+    else:
+        lines = {"fuselage": (body_pairs, None, secs["fuselage"][0], None)}
+        lines.update({part: (wing_pairs, None, secs[part][0], None) for part in ("frame", "skin")})
+        fin_nodes, fin_section = np.r_[tip, model.add_nodes(fin_line[1:])], secs["fin"][0]
+    materials = {
+        "fuselage": (Material("fuselage PA-12", E=values["E_fuselage"], rho=values["rho_fuselage"], nu=p["nu_pa12"]),
+                     (0, 0, 1)),
+        "frame": (Material("3D printed PA-12", E=values["E_printed"], rho=values["rho_printed"], nu=p["nu_pa12"]),
+                  orient),
+        "skin": (Material("polyester film", E=values["E_skin"], rho=p["film_rho"], nu=p["nu_film"]), orient),
+    }
+    for part, (material, orientation) in materials.items():
+        pairs, spar_pairs, section, bending = lines[part]
+        model.add_beams(pairs, material, section, orientation=orientation, name=part, **kw)
+        if bending is not None:  # the same part (name, material): its out-of-plane bending on the spar line
+            model.add_beams(spar_pairs, material, bending, orientation=orientation, name=part, **kw)
+    # Tip fin: up from the spar's tip.
     model.add_beams(np.c_[fin_nodes[:-1], fin_nodes[1:]], Material("fin PA-12", E=p["E_fin"], rho=values["rho_fin"],
                                                                    nu=p["nu_pa12"]),
-                    secs["fin"][0], orientation=(0, 1, 0), name="fin", **kw)
-    # Root: the clamp-adapter centre, rigid links to the two spar bolts, the 6-component spring to ground.
-    clamp = int(model.add_nodes([np.asarray(p["clamp_offset"], float)])[0])
-    bolt = int(spar[int(np.argmin(np.abs(s - p["bolt_pitch"])))])
-    model.add_rigid_link(clamp, [int(spar[0]), bolt])
+                    fin_section, orientation=(0, 1, 0), name="fin", **kw)
+    # Root: the clamp-adapter centre, rigid links to the two spar bolts (and the parts' nodes at
+    # them), the 6-component spring to ground.
+    clamp = int(model.add_nodes([clamp_xyz])[0])
+    bolts = list(dict.fromkeys([int(spar[0]), bolt]))
+    model.add_rigid_link(clamp, bolts + [n for b in bolts for n in links.pop(b, [])])
+    for node, dependents in links.items():
+        model.add_rigid_link(node, dependents)
     model.add_spring(clamp, None, stiffness=ROOT_SPRING, name="root_spring", tables=root_tables)
     xyz = dict(zip(model.node_ids.tolist(), model.xyz))
     c = p["chord"]
@@ -290,7 +354,7 @@ def root_hardening_tables(stiffness: tuple[float, ...], rotation: float,
 
 def swept_wing(n_wing: int = 20, n_body: int = 4, n_fin: int = 4, as_designed: bool = False,
                properties: dict | None = None, root_hardening: float | None = None,
-               tip_load: float = 20.0) -> Case:
+               tip_load: float = 20.0, part_offsets: bool = True) -> Case:
     """A3TB-WT-like 3D-printed swept half wing (docs/method.md section 5 case 5). SI units.
 
     Axes: x aft (streamwise), y outboard, z up; the plane of symmetry at y = 0. Published: 22 deg
@@ -303,17 +367,24 @@ def swept_wing(n_wing: int = 20, n_body: int = 4, n_fin: int = 4, as_designed: b
     on 5 N m/rad hinge springs, accelerometer (3 g, triaxials 6 g) and tip-shaker (0.25 kg)
     masses. Nothing is calibrated to the GVT tables.
 
-    Stick model on the spar line (beam groups sharing its nodes): spar_body / spar_wing (the
-    carbon spar: a woven 0/90 laminate whose beam stiffness comes from classical lamination theory,
+    Beams along the spar, sections normal to it: spar_body / spar_wing (the carbon spar: a woven
+    0/90 laminate whose beam stiffness comes from classical lamination theory,
     flexgvt.cases.swept_wing_sections.laminate_beam), fuselage (the centre body's PA-12 wall),
     frame (the PA-12 segments: aerofoil wall to the rear spar with a closed nose cell, spar
-    sleeve, rear-spar web, ribs), skin (the closed film contour), fin. Sections are normal to the
-    swept spar. Springs: root_spring (K_x, K_y, K_z, M_x, M_y, M_z to ground at the clamp-adapter
+    sleeve, rear-spar web, ribs), skin (the closed film contour), fin. part_offsets=True (default):
+    fuselage, frame and skin each on a line of nodes through its centroid (references
+    ['part_centroids'], m aft of the spar), rigidly linked to the spar nodes, with its mass, axial
+    and in-plane bending stiffness, torsion and torsional inertia about that centroid, and its
+    out-of-plane bending stiffness on the spar line (a second group of the same name and
+    material); the fin on a line through its chord's centroid. part_offsets=False: the stick model
+    on the spar line (every section about the spar, no chordwise offsets), the earlier results.
+    Springs: root_spring (K_x, K_y, K_z, M_x, M_y, M_z to ground at the clamp-adapter
     centre, axes x, y, z), hinge_1..4. Masses: control_surface_1..4, servo_1..4, S1F..S6R,
     CS1..CS4, TRI1, TRI2.
 
     The printed frame's wall (0.5 mm) and closed nose cell (to 20 % chord) were chosen against the
-    as-designed FE model of Table 5.1 (as_designed=True, as_designed_clamp), not against a GVT.
+    as-designed FE model of Table 5.1 (as_designed=True, as_designed_clamp; bench/swept_wing_dimensions.py),
+    not against a GVT: the same with and without the part offsets.
 
     Stage 0 (component tests) is the fixed input: densities from the weighed parts and the spar
     ply modulus of the tip-load test (45 GPa), Table 5.7's initial values. as_designed=True: the
@@ -340,7 +411,7 @@ def swept_wing(n_wing: int = 20, n_body: int = 4, n_fin: int = 4, as_designed: b
     p.update(properties or {})
     values = dict(AS_DESIGNED if as_designed else STAGE0)
     tables = None if root_hardening is None else root_hardening_tables(ROOT_SPRING, float(root_hardening))
-    model, info, sensors = _build(values, p, int(n_wing), int(n_body), int(n_fin), tables)
+    model, info, sensors = _build(values, p, int(n_wing), int(n_body), int(n_fin), tables, bool(part_offsets))
     if as_designed:
         model.name += " (as designed)"
     tip_shaker = (ConcentratedMass(info["tip"], p["tip_shaker_mass"], np.zeros(3), np.zeros((3, 3)), "tip_shaker"),)
@@ -378,5 +449,7 @@ def swept_wing(n_wing: int = 20, n_body: int = 4, n_fin: int = 4, as_designed: b
         "control_surface_nodes": info["control_surfaces"], "control_surface_mass": info["control_surface_mass"],
         "spar_laminate": info["laminate"], "spar_beam": info["spar_beam"],
         "sections": {k: v[1] for k, v in info["sections"].items()},
+        "part_offsets": bool(part_offsets),
+        "part_centroids": {k: v[2] for k, v in info["sections"].items()},
     }
     return Case("swept_wing", model, configs, swept_wing.__doc__ or "", references=references, sensors=sensors)

@@ -101,6 +101,16 @@ def naca_half_thickness(x: np.ndarray, thickness: float) -> np.ndarray:
     return 5 * thickness * (0.2969 * np.sqrt(x) - 0.1260 * x - 0.3516 * x**2 + 0.2843 * x**3 - 0.1036 * x**4)
 
 
+def naca_area_centroid() -> float:
+    """Chord fraction of the centroid of a NACA 00xx aerofoil's enclosed area (closed trailing
+    edge; the same for every thickness ratio): the thickness polynomial's first moment over its
+    integral, in closed form (about 0.418)."""
+    a = (0.2969, -0.1260, -0.3516, 0.2843, -0.1036)
+    powers = (0.5, 1.0, 2.0, 3.0, 4.0)
+    area = sum(c / (p + 1) for c, p in zip(a, powers))
+    return sum(c / (p + 2) for c, p in zip(a, powers)) / area
+
+
 @dataclass(frozen=True)
 class Contour:
     """A closed thin wall of thickness t [m] on a NACA 00xx contour, properties about a reference
