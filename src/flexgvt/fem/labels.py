@@ -50,7 +50,8 @@ def energy_fractions(modes, state) -> np.ndarray:
     return out / np.where(total > 0, total, 1.0)[:, None]
 
 
-def section_fractions(shapes: np.ndarray, x: np.ndarray, mass: np.ndarray, stations: int | None = None) -> np.ndarray:
+def section_fractions(shapes: np.ndarray, x: np.ndarray, mass: np.ndarray, stations: int | None = None,
+                      reference: np.ndarray | None = None) -> np.ndarray:
     """(n_modes, 5) fractions of OOP, IP, torsion, extension and local motion of mode shapes
     (n_modes, n, 6) of a built-up structure with nodes x (n, 3) and translational masses (n,) [kg].
 
@@ -60,14 +61,19 @@ def section_fractions(shapes: np.ndarray, x: np.ndarray, mass: np.ndarray, stati
     mass-weighted), whose kinetic energy splits into OOP (along v, and turning about c), IP (along
     c, and turning about v), torsion (turning about s) and extension (along s); the rest of the
     kinetic energy, which no rigid cross-section motion explains (a skin panel's own bending, a
-    rib's), is local.
+    rib's), is local. reference: the nodes' undeformed positions (n, 3); then the axes and stations
+    are the undeformed structure's, and each station's axes turn with it (the rotation that best
+    maps its and its neighbours' undeformed nodes onto x), so a strip curled by its load keeps
+    its flatwise modes out-of-plane, as the beams' deformed element axes do.
     """
     m = np.maximum(np.asarray(mass, float), 0.0)
     w = m / max(m.sum(), 1e-300)
-    centre = w @ x
-    r0 = x - centre
+    X = x if reference is None else np.asarray(reference, float)
+    centre = w @ X
+    r0 = X - centre
     evals, axes = np.linalg.eigh((r0 * w[:, None]).T @ r0)
-    v, c, s = axes[:, 0], axes[:, 1], axes[:, 2]
+    v0, c0, s0 = axes[:, 0], axes[:, 1], axes[:, 2]
+    v, c, s = v0, c0, s0
     along = r0 @ s
     extent = max(float(np.ptp(along)), 1e-300)
     levels, st = np.unique(np.round(along / (1e-6 * extent)), return_inverse=True)
@@ -77,11 +83,16 @@ def section_fractions(shapes: np.ndarray, x: np.ndarray, mass: np.ndarray, stati
     st = np.asarray(st).reshape(-1)
     u = np.asarray(shapes, float)[:, :, :3]
     parts = np.zeros((len(u), 5))
-    for k in np.unique(st):
+    order = np.unique(st)
+    for j, k in enumerate(order):
         idx = np.flatnonzero(st == k)
         mk = m[idx]
         if mk.sum() <= 0:
             continue
+        if reference is not None:
+            near = np.flatnonzero(np.isin(st, order[max(j - 1, 0):j + 2]))
+            turn = _best_rotation(X[near], x[near], m[near])
+            v, c, s = turn @ v0, turn @ c0, turn @ s0
         r = x[idx] - (mk @ x[idx]) / mk.sum()
         A = np.zeros((len(idx), 3, 6))  # u_i = a + theta x r_i = a - skew(r_i) theta
         A[:, :, :3] = np.eye(3)
@@ -103,6 +114,21 @@ def section_fractions(shapes: np.ndarray, x: np.ndarray, mass: np.ndarray, stati
         parts[:, 3] += mk.sum() * (a @ s) ** 2
         parts[:, 4] += np.maximum(total - fitted, 0.0)
     return parts / np.maximum(parts.sum(axis=1, keepdims=True), 1e-300)
+
+
+def _best_rotation(X: np.ndarray, x: np.ndarray, m: np.ndarray) -> np.ndarray:
+    """(3, 3) the rotation that best maps the points X onto x about their mass centres (Kabsch,
+    mass-weighted); the identity where they do not fix one (fewer than three points off a line)."""
+    if m.sum() <= 0:
+        return np.eye(3)
+    w = m / m.sum()
+    P, Q = X - w @ X, x - w @ x
+    H = (P * w[:, None]).T @ Q
+    U, S, Vt = np.linalg.svd(H)
+    if S[1] <= 1e-9 * max(S[0], 1e-300):
+        return np.eye(3)
+    d = np.sign(np.linalg.det(Vt.T @ U.T)) or 1.0
+    return Vt.T @ np.diag([1.0, 1.0, d]) @ U.T
 
 
 def _rigid_name(phi: np.ndarray, x: np.ndarray) -> str:

@@ -107,7 +107,10 @@ class ShellFamily:
         M = self.mass_values(x, R)
         diag = np.diagonal(M, axis1=1, axis2=2).reshape(len(a.nodes), self.p, 6)[:, :, :3].mean(axis=2)
         mass = np.bincount(a.nodes.reshape(-1), weights=diag.reshape(-1), minlength=len(x))[used]
-        return np.maximum(energy, 0.0)[:, None] * section_fractions(np.asarray(shapes)[:, used], x[used], mass)
+        X = np.zeros((len(x), 3))
+        X[a.nodes.reshape(-1)] = self.arrays.corotational.X.reshape(-1, 3)  # the corners' reference positions
+        return np.maximum(energy, 0.0)[:, None] * section_fractions(np.asarray(shapes)[:, used], x[used], mass,
+                                                                    reference=X[used])
 
     def thickness_at(self, nodes: np.ndarray) -> float | None:
         """The thinnest shell touching ``nodes`` (storage indices) [m], None when none does."""
