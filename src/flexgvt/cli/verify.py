@@ -56,7 +56,7 @@ def register(app: typer.Typer, console: Console) -> None:
                         ["mode", "label", "reference [Hz]", "initial [%]", "multi-configuration [%]",
                          "single-configuration [%]"], cells, key=2, justify=["right", "left"] + ["right"] * 4)
         cells = [[name, r["node"], ("x", "y", "z", "rx", "ry", "rz")[r["component"] - 1], f"{r['reference']:.5g}",
-                  *[_pct(r[f"{k}_error_percent"]) for k in ("initial", "multi", "single")]]
+                  *[f"{r[f'{k}_error_percent']:+.3g}" for k in ("initial", "multi", "single")]]
                  for name, row in result.configurations.items() for r in row.get("static", [])]
         if cells:
             print_table(console, "static deflections: the reference's [m or rad] and the models' errors [%] "
@@ -64,11 +64,12 @@ def register(app: typer.Typer, console: Console) -> None:
                         ["configuration", "node", "component", "reference", "initial [%]", "multi-configuration [%]",
                          "single-configuration [%]"], cells, justify=["left", "right", "left"] + ["right"] * 4)
         if result.onsets:
-            cells = [[name, *(_onset_cells(o) if o is not None else ["none found"] + [""] * 5)]
+            cells = [[name, *(_onset_cells(o) if o is not None else ["none found"] + [""] * 4)]
                      for name, o in result.onsets.items()]
-            print_table(console, "buckling onset along the reference's load path (the loaded configurations)",
-                        ["configuration", "load factor", "[g]", "groups it moves most", "where (rib bays, y [m])",
-                         "post-buckled path"], cells, justify=["left", "right", "right", "left", "left", "left"])
+            print_table(console, "buckling onset along the reference's load path (the groups its shape deforms most, "
+                        "where, and the imperfection that took the path onto its post-buckled branch)",
+                        ["configuration", "load factor", "[g]", "groups", "where", "imperfection"], cells,
+                        justify=["left", "right", "right", "left", "left", "left"])
         if any("LOCAL" in lab for row in result.configurations.values() for lab in row["labels"]):
             console.print("LOCAL: a mode whose energy is mostly local (panel) deformation of the cross-sections "
                           "(a skin bay's own bending), not global bending (OOP, IP) or torsion (T); a second class "
@@ -86,11 +87,10 @@ def register(app: typer.Typer, console: Console) -> None:
 
 
 def _onset_cells(o) -> list[str]:
-    where = (f"bays {o.bays[0]}-{o.bays[-1]}, " if len(o.bays) > 1 else f"bay {o.bays[0]}, " if o.bays else "")
-    path = (f"continued, imperfection {1e3 * o.imperfection:.2g} mm" if o.continued
-            else "left by itself" if o.recovered else "not continued")
+    path = (f"{1e3 * o.imperfection:.2g} mm" if o.continued else "none (left by itself)" if o.recovered
+            else "none (not continued)")
     return [f"{o.load_factor:.4f}", "" if o.g is None else f"{o.g:.3f}", ", ".join(o.groups),
-            f"{where}{o.span[0]:.2f}-{o.span[1]:.2f}", path]
+            o.location(), path]
 
 
 def _pct(value: float) -> str:

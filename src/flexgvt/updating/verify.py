@@ -25,7 +25,7 @@ from ..fem.static import StaticSettings
 from .variables import Parametrisation, beam, shell, shell_property
 
 CASES = ("cantilever", "wingbox", "wingbox_local")
-_MOVES_MOST = 0.5  # an element "moves most" in a buckling shape at this fraction of the largest element motion
+_MOVES_MOST = 0.5  # an element "deforms most" in a buckling shape at this fraction of the largest element's
 LOCAL_BAY = "skin_bottom_bay01"  # the local study's bay: the bottom skin next to the root
 LOCAL_FACTOR = 0.8  # its skin thickness in the reference against the others' (20 % thinner)
 
@@ -36,12 +36,14 @@ class Onset:
 
     load_factor: the critical fraction of the configuration's loads; g: the same as a multiple of g
     (load_factor x the configuration's gravity magnitude; None without gravity); bracket: the converged
-    load factors either side; groups: the shell (or other) groups of the elements the buckling shape moves
-    most (at least half the largest element motion), most elements first; span: the y range [m] of those
-    elements (along the wingbox's span); bays: the wingbox's rib bays they lie in (1 at the root; empty
-    for other models); continued: the path was followed onto its post-buckled branch with a geometric
-    imperfection in the buckling shape of largest offset ``imperfection`` [m] (0 when not continued);
-    recovered: the solver left the unstable path by itself (no imperfection chosen)."""
+    load factors either side; groups: the shell (or beam) groups of the elements the buckling shape
+    deforms most (the rms spread of an element's corner translations about their mean, at least half
+    the largest: a wrinkle, not the global motion a shape may carry with it), most elements first;
+    span: the y range [m] of those elements (along the wingbox's span); bays: the wingbox's rib bays
+    their centres lie in (1 at the root; empty for other models); continued: the path was followed
+    onto its post-buckled branch with a geometric imperfection in the buckling shape of largest
+    offset ``imperfection`` [m] (0 when not continued); recovered: the solver left the unstable path
+    by itself (no imperfection chosen)."""
 
     configuration: str
     load_factor: float
@@ -63,15 +65,17 @@ class Onset:
             return None
         model, cfg = state.model, state.configuration
         row = {int(n): k for k, n in enumerate(state.node_ids)}
-        u = np.linalg.norm(np.asarray(event.shape)[:, :3], axis=1)
+        u = np.asarray(event.shape)[:, :3]
         xyz = model.xyz
         motion, names, ys = [], [], []
         for group in (*model.shells, *model.beams):
             rows = np.vectorize(row.__getitem__, otypes=[int])(group.nodes)
-            motion.append(u[rows].mean(axis=1))
+            corners = u[rows]  # (n, p, 3): an element's deformation is its corners' spread about their mean
+            motion.append(np.sqrt(((corners - corners.mean(axis=1, keepdims=True)) ** 2).sum(axis=2).mean(axis=1)))
             names.append(np.full(len(rows), group.name, dtype=object))
             ys.append(xyz[rows, 1])
         if not motion:  # no elements: the nodes it moves most
+            u = np.linalg.norm(u, axis=1)
             top = np.flatnonzero(u >= _MOVES_MOST * u.max())
             groups, y = (), xyz[top, 1]
         else:
@@ -89,14 +93,18 @@ class Onset:
                    tuple(float(b) for b in event.bracket), groups, (float(y.min()), float(y.max())), bays,
                    size > 0.0, size, bool(event.recovered))
 
+    def location(self) -> str:
+        """Where along the span: 'rib bays 2-6, y 0.50-3.00 m'."""
+        bays = (f"rib bay{'s' if len(self.bays) > 1 else ''} {_ranges(self.bays)}, " if self.bays else "")
+        return f"{bays}y {self.span[0]:.2f}-{self.span[1]:.2f} m"
+
     def describe(self) -> str:
         """One line: load factor, g, groups, where along the span, continued or not."""
         g = f" = {self.g:.3g} g" if self.g is not None else ""
-        bays = (f"rib bay{'s' if len(self.bays) > 1 else ''} {_ranges(self.bays)}, " if self.bays else "")
         then = (f"continued with a {1e3 * self.imperfection:.2g} mm imperfection in the buckling shape"
                 if self.continued else "left by itself for a stable branch" if self.recovered else "not continued")
         return (f"buckles at load factor {self.load_factor:.4g}{g}: {', '.join(self.groups) or 'nodes'} "
-                f"({bays}y {self.span[0]:.2f}-{self.span[1]:.2f} m); {then}")
+                f"({self.location()}); {then}")
 
 
 def _ranges(values) -> str:
