@@ -48,6 +48,16 @@ def test_verify_command_writes_the_documented_json(tmp_path):
     assert len(rows) == 1 + 4 * 8 and rows[-1].startswith("flatwise_2g,True,,8,")
     assert set(data["configurations"]) == {"unloaded", "self_weight", "flatwise_3g", "flatwise_2g"}
     assert data["configurations"]["self_weight"]["seen_by"] == ["multi"]
+    # The static deflections (the unseen case's a prediction) and the reference's buckling onsets.
+    assert "static deflections" in result.output and "buckling onset" in result.output
+    (tip,) = data["prediction"]["static"]
+    assert tip["component"] == 3 and abs(tip["multi_error_percent"]) < 0.01 < abs(tip["initial_error_percent"])
+    static = (tmp_path / "fig" / "static.csv").read_text().splitlines()
+    assert len(static) == 1 + 3 and static[-1].startswith(f"flatwise_2g,True,{tip['node']},3,")
+    assert data["onsets"] == {"self_weight": None, "flatwise_3g": None, "flatwise_2g": None}
+    onsets = (tmp_path / "fig" / "onsets.csv").read_text().splitlines()
+    assert [r.split(",")[:2] for r in onsets[1:]] == [[n, "False"] for n in ("self_weight", "flatwise_3g",
+                                                                              "flatwise_2g")]
     bad = CliRunner().invoke(app, ["verify", "fuselage"])
     assert bad.exit_code == 2 and "unknown case" in bad.output
 
@@ -76,6 +86,6 @@ def test_a_model_that_buckles_is_judged_on_its_post_buckled_path():
     shapes = np.asarray(sensors.matrix(buckled.node_ids, buckled) @ modes.matrix()).T
     meas = up.Measured("tip force", modes.frequencies_hz, shapes, sensors)
     with pytest.warns(fg.errors.FlexGVTWarning, match="post-buckled path"):
-        f = _predicted(model, config, meas, sensors, 3)  # config: the perfect strip, as the model has it
+        f, _ = _predicted(model, config, meas, sensors, 3)  # config: the perfect strip, as the model has it
     assert np.all(np.isfinite(f)) and np.all(f > 0)
     np.testing.assert_allclose(f, modes.frequencies_hz, rtol=1e-6)

@@ -6,7 +6,7 @@ import pytest
 
 import flexgvt as fg
 from flexgvt import updating as up
-from flexgvt.updating.verify import LOCAL_BAY, _wingbox_model
+from flexgvt.updating.verify import LOCAL_BAY, Onset, _wingbox_model, _wingbox_paths
 
 
 def test_local_study_thins_one_bay_of_the_reference_and_adds_its_variable():
@@ -18,6 +18,27 @@ def test_local_study_thins_one_bay_of_the_reference_and_adds_its_variable():
     skins = variables[3].targets
     assert LOCAL_BAY not in skins and len(skins) == 2 * 32 - 1 and variables[-1].targets == (LOCAL_BAY,)
     assert len(sensors) == 24
+
+
+def test_the_reference_buckling_onsets_are_reported():
+    """The coarse wingbox's loaded configurations as the protocol solves its reference (0.25 m, perfect
+    geometry, load control, then the post-buckled path): at -1 g the bottom skin buckles at 0.927 g,
+    at 2.5 g the top skin at load factor 0.3672 = 0.918 g (the box is symmetric top to bottom: the
+    same stress), over rib bays 2-6 and 2-5 (y 0.5-3 m, the root bay's clamped edge holds bay 1) and
+    continued with an imperfection of a tenth of the skin's 8 mm; the combined case (0.91 g at its
+    largest) does not buckle on this mesh. Measured 2026-11-27; the finer meshes buckle lower
+    (docs/shells.md, "Stability along the load path")."""
+    *_, onsets = _wingbox_paths(0.25, None, LOCAL_BAY, 0.5)
+    assert set(onsets) == {"minus_1g", "plus_2_5g", "combined"} and onsets["combined"] is None
+    for name, skin, g, last in (("minus_1g", "skin_bottom", 1.0, 6), ("plus_2_5g", "skin_top", 2.5, 5)):
+        o = onsets[name]
+        assert isinstance(o, Onset) and o.configuration == name
+        assert o.groups == (skin,), o
+        assert 0.90 < o.g < 0.94 and o.g == pytest.approx(o.load_factor * g, rel=1e-12), o
+        assert o.bracket[0] <= o.load_factor <= o.bracket[1]
+        assert o.bays == tuple(range(2, last + 1)) and o.span == (0.5, 0.5 * last), o
+        assert o.continued and o.imperfection == pytest.approx(0.0008, rel=1e-9)
+        assert f"{skin} (rib bays 2-{last}, y 0.50-{0.5 * last:.2f} m)" in o.describe()
 
 
 def test_verify_refuses_a_local_factor_outside_its_bounds_and_a_foreign_protocol():
@@ -51,6 +72,14 @@ def test_three_seeds_on_the_coarse_post_buckled_wingbox():
         assert len(v["prediction"]["single_error_percent"]) == 8
         for row in v["configurations"].values():  # every model judged everywhere, the single one beside
             assert len(row["single_error_percent"]) == len(row["reference_hz"]) == 8
+        # The unseen case's static tip, predicted: the reference's, every model's and their errors.
+        (tip,) = v["prediction"]["static"]
+        assert tip["component"] == 3 and 0.55 < tip["reference"] < 0.65  # 0.5785 m at 0.25 m
+        assert abs(tip["multi_error_percent"]) < 0.2 and abs(tip["initial_error_percent"]) > 0.5
+        assert tip["single"] == pytest.approx(tip["reference"] * (1 + tip["single_error_percent"] / 100), rel=1e-12)
+        # The reference's onsets in the JSON layout; the post-buckled reference has LOCAL modes.
+        assert v["onsets"]["minus_1g"]["groups"] == ["skin_bottom"] and v["onsets"]["combined"] is None
+        assert 0.90 < v["onsets"]["plus_2_5g"]["g"] < 0.94
 
 
 def test_verify_seeds_refuses_no_worker_processes():

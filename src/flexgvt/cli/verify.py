@@ -25,7 +25,8 @@ def register(app: typer.Typer, console: Console) -> None:
                modes: int = typer.Option(8, help="measured modes per configuration"),
                element_size: float = typer.Option(0.2, help="the wingbox's mesh size [m]"),
                out: Optional[Path] = typer.Option(None, help="folder for verification.json, the tables "
-                                        "(frequencies.csv, variables.csv) and figures (errors.png, mac.png)"),
+                                        "(frequencies.csv, variables.csv, static.csv, onsets.csv) and figures "
+                                        "(errors.png, mac.png)"),
                json_path: Optional[Path] = typer.Option(None, "--json", help="write the figures as JSON")):
         """Mistune a reference model (seeded), update it against its own surrogate data in three load
         cases, and report variable and frequency errors and an unseen load case's prediction."""
@@ -54,6 +55,21 @@ def register(app: typer.Typer, console: Console) -> None:
             print_table(console, f"'{name}' ({seen}): reference frequencies [Hz] and the models' errors [%]",
                         ["mode", "label", "reference [Hz]", "initial [%]", "multi-configuration [%]",
                          "single-configuration [%]"], cells, key=2, justify=["right", "left"] + ["right"] * 4)
+        cells = [[name, r["node"], ("x", "y", "z", "rx", "ry", "rz")[r["component"] - 1], f"{r['reference']:.5g}",
+                  *[f"{r[f'{k}_error_percent']:+.3g}" for k in ("initial", "multi", "single")]]
+                 for name, row in result.configurations.items() for r in row.get("static", [])]
+        if cells:
+            print_table(console, "static deflections: the reference's [m or rad] and the models' errors [%] "
+                        f"(the unseen '{result.prediction['configuration']}' is a prediction)",
+                        ["configuration", "node", "component", "reference", "initial [%]", "multi-configuration [%]",
+                         "single-configuration [%]"], cells, justify=["left", "right", "left"] + ["right"] * 4)
+        if result.onsets:
+            cells = [[name, *(_onset_cells(o) if o is not None else ["none found"] + [""] * 4)]
+                     for name, o in result.onsets.items()]
+            print_table(console, "buckling onset along the reference's load path (the groups its shape deforms most, "
+                        "where, and the imperfection that took the path onto its post-buckled branch)",
+                        ["configuration", "load factor", "[g]", "groups", "where", "imperfection"], cells,
+                        justify=["left", "right", "right", "left", "left", "left"])
         if any("LOCAL" in lab for row in result.configurations.values() for lab in row["labels"]):
             console.print("LOCAL: a mode whose energy is mostly local (panel) deformation of the cross-sections "
                           "(a skin bay's own bending), not global bending (OOP, IP) or torsion (T); a second class "
@@ -70,13 +86,21 @@ def register(app: typer.Typer, console: Console) -> None:
             json_path.write_text(json.dumps(data, indent=1))
 
 
+def _onset_cells(o) -> list[str]:
+    path = (f"{1e3 * o.imperfection:.2g} mm" if o.continued else "none (left by itself)" if o.recovered
+            else "none (not continued)")
+    return [f"{o.load_factor:.4f}", "" if o.g is None else f"{o.g:.3f}", ", ".join(o.groups),
+            o.location(), path]
+
+
 def _pct(value: float) -> str:
     return "no partner" if not np.isfinite(value) else f"{value:+.4f}"
 
 
 def _figures(result, out: Path) -> None:
     """mac.png (MAC after multi-configuration updating), errors.png (frequency errors of the three
-    models in every configuration and the variables' errors) and the tables as CSV."""
+    models in every configuration and the variables' errors) and the tables as CSV (frequencies,
+    variables, static deflections, the reference's buckling onsets)."""
     import csv
 
     from ..report.plots import verification_errors, verification_mac
@@ -98,3 +122,23 @@ def _figures(result, out: Path) -> None:
         w.writerow(["variable", "initial_error_percent", "multi_error_percent", "single_error_percent"])
         for k, name in enumerate(result.names):
             w.writerow([name, *[f"{e[key][k]:.6g}" for key in ("initial", "multi", "single")]])
+    with open(out / "static.csv", "w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(["configuration", "unseen", "node", "component", "reference", "initial", "multi", "single",
+                    "initial_error_percent", "multi_error_percent", "single_error_percent"])
+        for name, row in result.configurations.items():
+            for r in row.get("static", []):
+                w.writerow([name, row["unseen"], r["node"], r["component"], f"{r['reference']:.9g}",
+                            *[f"{r[k]:.9g}" for k in ("initial", "multi", "single")],
+                            *[f"{r[f'{k}_error_percent']:.6g}" for k in ("initial", "multi", "single")]])
+    with open(out / "onsets.csv", "w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(["configuration", "buckled", "load_factor", "g", "bracket_low", "bracket_high", "groups", "bays",
+                    "y_min_m", "y_max_m", "continued", "imperfection_m", "recovered"])
+        for name, o in result.onsets.items():
+            if o is None:
+                w.writerow([name, False] + [""] * 11)
+                continue
+            w.writerow([name, True, f"{o.load_factor:.6g}", "" if o.g is None else f"{o.g:.6g}", f"{o.bracket[0]:.6g}",
+                        f"{o.bracket[1]:.6g}", " ".join(o.groups), " ".join(str(b) for b in o.bays),
+                        f"{o.span[0]:.6g}", f"{o.span[1]:.6g}", o.continued, f"{o.imperfection:.6g}", o.recovered])

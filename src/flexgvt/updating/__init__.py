@@ -19,7 +19,7 @@ from .result import UpdateResult  # noqa: E402
 from .runner import update  # noqa: E402
 
 from .store import ResultsStore  # noqa: E402
-from .verify import Protocol, Verification, verification_protocol, verify, verify_seeds  # noqa: E402
+from .verify import Onset, Protocol, Verification, verification_protocol, verify, verify_seeds  # noqa: E402
 
-__all__ += ["Protocol", "ResultsStore", "UpdateResult", "Verification", "update", "verification_protocol", "verify",
-            "verify_seeds"]
+__all__ += ["Onset", "Protocol", "ResultsStore", "UpdateResult", "Verification", "update", "verification_protocol",
+            "verify", "verify_seeds"]

@@ -10,6 +10,7 @@ by single-configuration against multi-configuration updating are reported.
 
 from __future__ import annotations
 
+import dataclasses
 import time
 from dataclasses import dataclass, field
 
@@ -24,8 +25,99 @@ from ..fem.static import StaticSettings
 from .variables import Parametrisation, beam, shell, shell_property
 
 CASES = ("cantilever", "wingbox", "wingbox_local")
+_MOVES_MOST = 0.5  # an element "deforms most" in a buckling shape at this fraction of the largest element's
 LOCAL_BAY = "skin_bottom_bay01"  # the local study's bay: the bottom skin next to the root
 LOCAL_FACTOR = 0.8  # its skin thickness in the reference against the others' (20 % thinner)
+
+
+@dataclass(frozen=True)
+class Onset:
+    """Where the reference's load path in a configuration lost stability (from its State.instability).
+
+    load_factor: the critical fraction of the configuration's loads; g: the same as a multiple of g
+    (load_factor x the configuration's gravity magnitude; None without gravity); bracket: the converged
+    load factors either side; groups: the shell (or beam) groups of the elements the buckling shape
+    deforms most (the rms spread of an element's corner translations about their mean, at least half
+    the largest: a wrinkle, not the global motion a shape may carry with it), most elements first;
+    span: the y range [m] of those elements (along the wingbox's span); bays: the wingbox's rib bays
+    their centres lie in (1 at the root; empty for other models); continued: the path was followed
+    onto its post-buckled branch with a geometric imperfection in the buckling shape of largest
+    offset ``imperfection`` [m] (0 when not continued); recovered: the solver left the unstable path
+    by itself (no imperfection chosen)."""
+
+    configuration: str
+    load_factor: float
+    g: float | None
+    bracket: tuple[float, float]
+    groups: tuple[str, ...]
+    span: tuple[float, float]
+    bays: tuple[int, ...]
+    continued: bool
+    imperfection: float
+    recovered: bool
+
+    @classmethod
+    def of(cls, state, rib_pitch: float | None = None) -> Onset | None:
+        """The onset of a solved State (None when its path met no instability); rib_pitch [m]: name the
+        wingbox's bays (y / rib_pitch, numbered from 1 at the root)."""
+        event = state.instability
+        if event is None:
+            return None
+        model, cfg = state.model, state.configuration
+        row = {int(n): k for k, n in enumerate(state.node_ids)}
+        u = np.asarray(event.shape)[:, :3]
+        xyz = model.xyz
+        motion, names, ys = [], [], []
+        for group in (*model.shells, *model.beams):
+            rows = np.vectorize(row.__getitem__, otypes=[int])(group.nodes)
+            corners = u[rows]  # (n, p, 3): an element's deformation is its corners' spread about their mean
+            motion.append(np.sqrt(((corners - corners.mean(axis=1, keepdims=True)) ** 2).sum(axis=2).mean(axis=1)))
+            names.append(np.full(len(rows), group.name, dtype=object))
+            ys.append(xyz[rows, 1])
+        if not motion:  # no elements: the nodes it moves most
+            u = np.linalg.norm(u, axis=1)
+            top = np.flatnonzero(u >= _MOVES_MOST * u.max())
+            groups, y = (), xyz[top, 1]
+        else:
+            motion, names = np.concatenate(motion), np.concatenate(names)
+            y = np.concatenate([np.asarray(a, float) for a in ys])
+            top = np.flatnonzero(motion >= _MOVES_MOST * motion.max())
+            found, counts = np.unique(names[top].astype(str), return_counts=True)
+            groups = tuple(str(found[k]) for k in np.argsort(-counts, kind="stable"))
+            y = y[top]
+        centre = y.mean(axis=1) if y.ndim == 2 else y
+        bays = () if not rib_pitch else tuple(sorted({int(c // rib_pitch) + 1 for c in centre}))
+        offsets = np.array(list(cfg.imperfection.values()), float).reshape(-1, 3)
+        size = float(np.linalg.norm(offsets, axis=1).max()) if len(offsets) else 0.0
+        return cls(cfg.name, float(event.load_factor), float(event.load_factor * cfg.gravity) if cfg.gravity else None,
+                   tuple(float(b) for b in event.bracket), groups, (float(y.min()), float(y.max())), bays,
+                   size > 0.0, size, bool(event.recovered))
+
+    def location(self) -> str:
+        """Where along the span: 'rib bays 2-6, y 0.50-3.00 m'."""
+        bays = (f"rib bay{'s' if len(self.bays) > 1 else ''} {_ranges(self.bays)}, " if self.bays else "")
+        return f"{bays}y {self.span[0]:.2f}-{self.span[1]:.2f} m"
+
+    def describe(self) -> str:
+        """One line: load factor, g, groups, where along the span, continued or not."""
+        g = f" = {self.g:.3g} g" if self.g is not None else ""
+        then = (f"continued with a {1e3 * self.imperfection:.2g} mm imperfection in the buckling shape"
+                if self.continued else "left by itself for a stable branch" if self.recovered else "not continued")
+        return (f"buckles at load factor {self.load_factor:.4g}{g}: {', '.join(self.groups) or 'nodes'} "
+                f"({self.location()}); {then}")
+
+
+def _ranges(values) -> str:
+    """1, 2, 3, 5 -> '1-3, 5'."""
+    out, run = [], []
+    for v in values:
+        if run and v != run[-1] + 1:
+            out.append(f"{run[0]}-{run[-1]}" if len(run) > 1 else f"{run[0]}")
+            run = []
+        run.append(v)
+    if run:
+        out.append(f"{run[0]}-{run[-1]}" if len(run) > 1 else f"{run[0]}")
+    return ", ".join(out)
 
 
 @dataclass
@@ -42,6 +134,7 @@ class Verification:
     seconds: float
     configurations: dict = field(default_factory=dict)  # {name: reference, initial, multi, single Hz and errors}
     names: list = field(default_factory=list)  # the design variables, in the order of the errors
+    onsets: dict = field(default_factory=dict)  # {loaded configuration: the reference's Onset, None if stable}
 
     def to_dict(self) -> dict:
         """A JSON-ready dictionary (the documented --json layout of `flexgvt verify`)."""
@@ -50,6 +143,7 @@ class Verification:
                 "mistuning": self.mistuning.tolist(),
                 "variable_errors_percent": {k: v.tolist() for k, v in self.variable_errors_percent.items()},
                 "variables": self.names, "prediction": self.prediction, "configurations": self.configurations,
+                "onsets": {k: None if o is None else dataclasses.asdict(o) for k, o in self.onsets.items()},
                 "multi": self.multi.to_dict(),
                 "single": {"configurations": self.single.tables, "variables": self.single.variables,
                            "seconds": self.single.seconds, "history": self.single.history,
@@ -74,11 +168,26 @@ class Verification:
             lines.append(f"  '{name}' ({seen}), max |frequency error|: initial {_worst(row['initial_error_percent'])}, "
                          f"multi-configuration {_worst(row['multi_error_percent'])}, single-configuration "
                          f"{_worst(row['single_error_percent'])}")
+        for name, row in self.configurations.items():
+            for r in row.get("static", []):
+                lines.append(f"  '{name}' static reading {_reading(r)}: reference {r['reference']:.5g}, error "
+                             f"initial {r['initial_error_percent']:+.3g} %, multi-configuration "
+                             f"{r['multi_error_percent']:+.3g} %, single-configuration "
+                             f"{r['single_error_percent']:+.3g} %")
+        for name, onset in self.onsets.items():
+            lines.append(f"  '{name}': the reference " + (onset.describe() if onset is not None else
+                                                        "found no unstable increment along its load path"))
         if not self.configurations:
             lines.append(f"  unseen '{p['configuration']}', max |frequency error|: multi-configuration "
                          f"{_worst(p['multi_error_percent'])}, single-configuration "
                          f"{_worst(p['single_error_percent'])}")
         return "\n".join(lines)
+
+
+def _reading(row: dict) -> str:
+    """'node 12 z [m]' for a static reading's row (component 1-6: x, y, z translations, rx, ry, rz rotations)."""
+    c = row["component"]
+    return f"node {row['node']} {('x', 'y', 'z', 'rx', 'ry', 'rz')[c - 1]} [{'m' if c <= 3 else 'rad'}]"
 
 
 def _worst(errors) -> str:
@@ -152,22 +261,32 @@ def _wingbox_setup(element_size: float = 0.2, local: float | None = None, bay: s
                    rib_pitch: float = 0.5):
     """_wingbox_model's case, sensors and variables with the training configurations (the loaded
     ones on their post-buckled paths), the unseen one and the tip node of the static readings."""
+    return _wingbox_paths(element_size, local, bay, rib_pitch)[:6]
+
+
+def _wingbox_paths(element_size: float, local: float | None, bay: str, rib_pitch: float):
+    """_wingbox_setup's and the reference's buckling onsets {loaded configuration: Onset or None}."""
     case, sensors, variables = _wingbox_model(element_size, local, bay, rib_pitch)
     model = case.model
-    train = []
-    for name in ("unloaded", "minus_1g", "plus_2_5g"):
+    train, onsets = [], {}
+    for name in ("unloaded", "minus_1g", "plus_2_5g", "combined"):
         cfg = case.configurations[name]
         if cfg.gravity:
-            cfg = solve_static(model, cfg, settings=StaticSettings(buckling="continue")).configuration
+            state = solve_static(model, cfg, settings=StaticSettings(buckling="continue"))
+            cfg, onsets[name] = state.configuration, Onset.of(state, rib_pitch)
         train.append(cfg)
-    unseen = solve_static(model, case.configurations["combined"], settings=StaticSettings(buckling="continue"))
-    return case, sensors, variables, train, unseen.configuration, int(case.references["tip_spar_nodes"][0])
+    unseen = train.pop()
+    return case, sensors, variables, train, unseen, int(case.references["tip_spar_nodes"][0]), onsets
 
 
-def _surrogate(model, configs, sensors, n_modes, tip):
+def _surrogate(model, configs, sensors, n_modes, tip, onsets: dict | None = None):
+    """The reference's Measured in each configuration; onsets: a dict to which each loaded configuration's
+    Onset (None: no loss of stability found) is added, unless it holds that configuration already."""
     data = []
     for cfg in configs:
         state = solve_static(model, cfg)
+        if onsets is not None and (cfg.gravity or cfg.forces) and cfg.name not in onsets:
+            onsets[cfg.name] = Onset.of(state)
         modes = solve_modes(state, n_modes)
         S = sensors.matrix(state.node_ids, state)
         shapes = np.asarray(S @ modes.matrix()).T
@@ -194,6 +313,7 @@ class Protocol:
     mass_target: MassTarget
     n_modes: int
     local: float | None
+    onsets: dict = field(default_factory=dict)  # {loaded configuration: the reference's Onset or None}
 
 
 def verification_protocol(case: str = "cantilever", n_modes: int = 8, element_size: float = 0.2,
@@ -205,12 +325,15 @@ def verification_protocol(case: str = "cantilever", n_modes: int = 8, element_si
     if case not in CASES:
         raise ModelError(f"verify: unknown case '{case}'; choose one of {CASES}")
     local = local if case == "wingbox_local" else None
-    ref, sensors, variables, train, unseen, tip = (_cantilever_setup() if case == "cantilever"
-                                                   else _wingbox_setup(element_size, local, rib_pitch=rib_pitch))
-    data = _surrogate(ref.model, [*train, unseen], sensors, n_modes, tip)
+    ref, sensors, variables, train, unseen, tip, onsets = ((*_cantilever_setup(), {}) if case == "cantilever"
+                                                           else _wingbox_paths(element_size, local, LOCAL_BAY,
+                                                                               rib_pitch))
+    data = _surrogate(ref.model, [*train, unseen], sensors, n_modes, tip, onsets)
     mp = mass_properties(ref.model)
     target = MassTarget(mass=mp.mass, cg=tuple(mp.cg), inertia=tuple(np.diag(mp.inertia)))
-    return Protocol(case, ref, sensors, variables, train, unseen, data[:-1], data[-1], target, n_modes, local)
+    onsets = {cfg.name: onsets[cfg.name] for cfg in [*train, unseen] if cfg.name in onsets}  # in load-case order
+    return Protocol(case, ref, sensors, variables, train, unseen, data[:-1], data[-1], target, n_modes, local,
+                    onsets)
 
 
 def verify(case: str = "cantilever", seed: int = 1, n_modes: int = 8, method: str = "least_squares",
@@ -276,16 +399,20 @@ def verify(case: str = "cantilever", seed: int = 1, n_modes: int = 8, method: st
         seen_by = [] if cfg is unseen else ["multi", "single"] if cfg is train[0] else ["multi"]
         row = {"reference_hz": meas.frequencies_hz.tolist(), "labels": list(meas.labels), "seen_by": seen_by,
                "unseen": cfg is unseen}
+        static = {}
         for key, model in models.items():
-            f = _predicted(model, cfg, meas, sensors, protocol.n_modes, solved.get(key, {}).get(cfg.name))
+            f, static[key] = _predicted(model, cfg, meas, sensors, protocol.n_modes,
+                                        solved.get(key, {}).get(cfg.name))
             row[f"{key}_hz"] = f.tolist()
             row[f"{key}_error_percent"] = (100 * (f - meas.frequencies_hz) / meas.frequencies_hz).tolist()
+        row["static"] = [_static_row(k, v, static) for k, v in meas.static.items()]
         configurations[cfg.name] = row
     u = configurations[unseen.name]
     prediction = {"configuration": unseen.name, "reference_hz": u["reference_hz"], "labels": u["labels"]}
-    prediction.update({k: u[k] for k in ("multi_hz", "multi_error_percent", "single_hz", "single_error_percent")})
+    prediction.update({k: u[k] for k in ("multi_hz", "multi_error_percent", "single_hz", "single_error_percent",
+                                         "static")})
     return Verification(case, seed, x_m, multi, single, errors, prediction, time.perf_counter() - t0,
-                        configurations, [v.name for v in variables])
+                        configurations, [v.name for v in variables], dict(protocol.onsets))
 
 
 def verify_seeds(case: str = "cantilever", seeds=(1, 2, 3), processes: int | None = None,
@@ -332,9 +459,20 @@ def _seed_in_worker(case: str, seed: int, protocol: Protocol, options: dict) -> 
     return single_threaded(_seed_summary)(case, seed, protocol, options)
 
 
-def _predicted(model, cfg, meas: Measured, sensors, n_modes: int, point=None) -> np.ndarray:
-    """The frequencies [Hz] of ``model`` in ``cfg`` paired (MAC at the sensors) with the measured modes;
-    NaN where a measured mode finds no partner. A model whose load path loses stability where the
+def _static_row(key: tuple, reference: float, static: dict) -> dict:
+    """One static reading of a configuration: the reference's and each model's value [m or rad] and errors [%]."""
+    node, component = key
+    row = {"node": int(node), "component": int(component), "reference": float(reference)}
+    for model, values in static.items():
+        row[model] = values[key]
+        row[f"{model}_error_percent"] = 100 * (values[key] - reference) / reference if reference else float("nan")
+    return row
+
+
+def _predicted(model, cfg, meas: Measured, sensors, n_modes: int, point=None) -> tuple[np.ndarray, dict]:
+    """The frequencies [Hz] of ``model`` in ``cfg`` paired (MAC at the sensors) with the measured modes,
+    NaN where a measured mode finds no partner, and its static readings {(node, component): value} at
+    the measured ones (Measured.static) of the same equilibrium. A model whose load path loses stability where the
     reference's did not is followed onto its own post-buckled path (the reference's rule): the
     primary path's equilibrium past a bifurcation is unstable and its frequencies predict nothing.
     point: an updating ConfigurationPoint of this model in ``cfg`` solved from zero load (an
@@ -345,11 +483,13 @@ def _predicted(model, cfg, meas: Measured, sensors, n_modes: int, point=None) ->
     if state is not None and state.instability is None and len(point.eigenvalues) >= n_modes + 4:
         modes = _first(point.modes(), n_modes + 4)
     else:
-        modes = solve_modes(solve_static(model, cfg, settings=StaticSettings(buckling="continue")), n_modes + 4)
+        state = solve_static(model, cfg, settings=StaticSettings(buckling="continue"))
+        modes = solve_modes(state, n_modes + 4)
     pairing = pair(_as_modal_set(meas), modes, sensors=sensors)
     f = np.full(len(meas.frequencies_hz), np.nan)
     f[pairing.measured] = modes.frequencies_hz[pairing.analytical]
-    return f
+    u = state.displacements
+    return f, {(n, c): float(u[state.node(n), c - 1]) for n, c in meas.static}
 
 
 def _first(modes, k: int):
