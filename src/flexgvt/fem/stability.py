@@ -84,7 +84,7 @@ def negative_eigenvalues(system, x: np.ndarray, R: np.ndarray, lam: float) -> in
     -1 when neither gives the count (a pivot perturbed, or SuperLU had to leave the diagonal)."""
     K, M = _matrices(system, x, R, lam)
     A = shifted(system, K, M)
-    counts = inertia(A, system.cholmod_cache)
+    counts = inertia(A, system.inertia_cache)
     if counts is not None:
         return counts[1]
     return superlu_negative_pivots(A)
