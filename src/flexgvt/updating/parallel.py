@@ -15,7 +15,7 @@ from contextlib import contextmanager
 import numba
 import numpy as np
 
-from ..errors import ModelError
+from ..errors import ModelError, UpdatingError
 from .._threads import blas_threads
 
 
@@ -86,9 +86,15 @@ def client_for(processes: int | None = None, scheduler: str | None = None):
     import dask
     spawn_env = {k: v for k, v in dask.config.get("distributed.nanny.pre-spawn-environ", {}).items()
                  if k != "MALLOC_TRIM_THRESHOLD_"}
-    with dask.config.set({"distributed.nanny.pre-spawn-environ": spawn_env}):
-        cluster = LocalCluster(n_workers=int(processes), threads_per_worker=1, processes=True,
-                               dashboard_address=None)
+    try:
+        with dask.config.set({"distributed.nanny.pre-spawn-environ": spawn_env}):
+            cluster = LocalCluster(n_workers=int(processes), threads_per_worker=1, processes=True,
+                                   dashboard_address=None)
+    except RuntimeError as exc:  # dask's "Nanny failed to start": the spawned workers could not start
+        raise UpdatingError(
+            f"processes={processes}: the {processes} worker processes could not start ({exc}). In a script, "
+            "call the update under `if __name__ == \"__main__\":` (worker processes are spawned, and each "
+            "imports the main module again); or leave processes out to run in this process") from exc
     client = Client(cluster)
     try:
         yield client
