@@ -28,6 +28,7 @@ from pathlib import Path
 import numpy as np
 
 from flexgvt import updating as up
+from flexgvt.updating.masstargets import mass_spread
 
 
 def noisy(protocol, rng: np.random.Generator, args) -> object:
@@ -43,8 +44,7 @@ def noisy(protocol, rng: np.random.Generator, args) -> object:
         data.append(replace(m, frequencies_hz=f, shapes=shapes, static=static,
                             frequency_std_hz=args.frequency_std * m.frequencies_hz))
     t = protocol.mass_target
-    inertia = np.asarray(t.inertia, float)
-    spread = np.sqrt(np.clip((inertia.sum() - 2 * inertia) / (2 * t.mass), 0.0, None))  # [m] along x, y, z
+    spread = mass_spread(t.mass, t.inertia)  # [m] along x, y, z
     target = replace(t, mass=t.mass * (1 + args.mass_std * rng.standard_normal()),
                      cg=tuple(np.asarray(t.cg) + args.cg_std * spread * rng.standard_normal(3)),
                      inertia=tuple(np.asarray(t.inertia) * (1 + args.inertia_std * rng.standard_normal(3))))

@@ -13,6 +13,7 @@ from dataclasses import replace
 import numpy as np
 
 from ..modal.mac import mac_columns
+from .interpolation import fit
 
 
 CLASSES = ("OOP", "IP", "T", "EXT", "RB", "LOCAL")  # the columns of energy_fractions
@@ -117,18 +118,17 @@ def section_fractions(shapes: np.ndarray, x: np.ndarray, mass: np.ndarray, stati
 
 
 def _best_rotation(X: np.ndarray, x: np.ndarray, m: np.ndarray) -> np.ndarray:
-    """(3, 3) the rotation that best maps the points X onto x about their mass centres (Kabsch,
-    mass-weighted); the identity where they do not fix one (fewer than three points off a line)."""
+    """(3, 3) the rotation that best maps the points X onto x about their mass centres (the polar
+    decomposition of interpolation.fit, mass-weighted); the identity where they do not fix one
+    (fewer than three points off a line)."""
     if m.sum() <= 0:
         return np.eye(3)
     w = m / m.sum()
-    P, Q = X - w @ X, x - w @ x
-    H = (P * w[:, None]).T @ Q
-    U, S, Vt = np.linalg.svd(H)
-    if S[1] <= 1e-9 * max(S[0], 1e-300):
+    arms = X - w @ X
+    sv = np.linalg.svd(arms * np.sqrt(w)[:, None], compute_uv=False)
+    if sv[1] <= 1e-9 * max(sv[0], 1e-300):
         return np.eye(3)
-    d = np.sign(np.linalg.det(Vt.T @ U.T)) or 1.0
-    return Vt.T @ np.diag([1.0, 1.0, d]) @ U.T
+    return fit(x, w, arms, np.zeros(3))[1]
 
 
 def _rigid_name(phi: np.ndarray, x: np.ndarray) -> str:

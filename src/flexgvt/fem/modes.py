@@ -15,6 +15,7 @@ from ..modal import ModalSet, as_dofs
 from .checks import check_matrix
 from .eigen import (_NO_MASS, DEFAULT_SHIFT, DENSE_LIMIT, complex_modes, modal_frequencies_hz,  # noqa: F401
                     real_modes, rigid_count)
+from .labels import OVERDAMPED
 from .linsolve import serial_blas
 from .reduction import guyan_modes, omitted_dofs
 from .static import State
@@ -181,7 +182,8 @@ MECHANISM_RATIO = 1e-6  # a mode this far below the highest one found is a zero-
 
 def mode_cautions(modes: Modes, n_rigid: int) -> Modes:
     """The modes with their cautions (a FlexGVTWarning for each) and honest labels:
-    - real roots of the damped problem (labelled 'overdamped k' by label_modes) are named;
+    - real roots of the damped problem (damping ratio 1; labelled 'overdamped k' by label_modes) are
+      named;
     - an unstable state: a negative eigenvalue (negative frequency) or a root with negative damping
       is labelled 'unstable k (CLASS)', never as an elastic mode;
     - mechanisms: more zero-frequency modes (below MECHANISM_RATIO of the highest one found) than
@@ -201,8 +203,8 @@ def mode_cautions(modes: Modes, n_rigid: int) -> Modes:
                      f"eigenvalue or negative damping ({shown}; labelled 'unstable'). The tangent stiffness is not "
                      "positive definite there: the structure has buckled or is loaded past a limit point, so these "
                      "are not elastic modes. Check the loads and supports, or solve at a lower load factor")
-    slow = [m for m, lab in enumerate(labels) if lab.startswith("overdamped")]
-    if slow:
+    slow = np.flatnonzero((np.asarray(modes.damping_ratio) >= OVERDAMPED) & (f != 0.0))
+    if len(slow):
         shown = ", ".join(f"{f[m]:.4g}" for m in slow[:4])
         notes.append(f"configuration '{name}': {len(slow)} root(s) of the damped problem are real (overdamped: they "
                      f"decay without vibrating; |s| / 2 pi = {shown}{' ...' if len(slow) > 4 else ''} Hz), labelled "

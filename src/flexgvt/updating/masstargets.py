@@ -26,8 +26,11 @@ class MassResiduals:
         self.par = par
         self.work = work
         self.system = System(work, Configuration("mass properties"))
-        has_cg = target is not None and target.cg is not None
-        self._cg_scales = mass_spread(self.properties(), target.cg_scale) if has_cg else None
+        if target is not None and target.cg is not None:
+            mp = self.properties()
+            self._cg_scales = mass_spread(mp.mass, mp.inertia, target.cg_scale)
+        else:
+            self._cg_scales = None
 
     def properties(self):
         """Mass properties of the working model as it is set (undeformed)."""
@@ -135,11 +138,13 @@ class MassResiduals:
 
 
 
-def mass_spread(mp, floor: float) -> np.ndarray:
-    """(3,) [m] the rms distance of the mass from its cg along x, y, z, sqrt(int (a - a_cg)^2 dm / m)
-    = sqrt((I_bb + I_cc - I_aa) / 2m) from the inertia about the cg, each at least ``floor``."""
-    d = np.diag(np.asarray(mp.inertia, float))
-    second = (d.sum() - 2 * d) / (2 * mp.mass) if mp.mass > 0 else np.zeros(3)
+def mass_spread(mass: float, inertia, floor: float = 0.0) -> np.ndarray:
+    """(3,) [m] the rms distance of the mass [kg] from its cg along x, y, z, sqrt(int (a - a_cg)^2 dm
+    / m) = sqrt((I_bb + I_cc - I_aa) / 2m) from Ixx, Iyy, Izz about the cg (inertia: those three, or
+    the 3 x 3 tensor) [kg m^2], each at least ``floor``."""
+    d = np.asarray(inertia, float)
+    d = np.diag(d) if d.ndim == 2 else d
+    second = (d.sum() - 2 * d) / (2 * mass) if mass > 0 else np.zeros(3)
     return np.maximum(np.sqrt(np.clip(second, 0.0, None)), floor)
 
 

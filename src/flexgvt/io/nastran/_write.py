@@ -20,7 +20,7 @@ from ...model import Configuration, Model
 from ._common import Units, get_units
 from ._parse import QuietLog
 from ._read import BdfDeck
-from ._write_beams import update_beams, write_beams
+from ._write_beams import check_one_mass_formulation, update_beams, write_beams
 from ._write_cases import write_configurations
 from ._write_common import Numbering
 from ._write_masses import update_masses, write_masses
@@ -102,6 +102,7 @@ def _write_compact(model: Model, path: Path, configurations: Iterable[Configurat
     for nid, x in zip(node_ids.tolist(), model.xyz / u.length):
         bdf.add_grid(int(nid), [float(v) for v in x])
     xyz = dict(zip(node_ids.tolist(), model.xyz))
+    check_one_mass_formulation(model)  # one PARAM,COUPMASS for beams, rods and shells
     eid_used = write_beams(bdf, model, u, xyz, notes)
     eid_used |= {int(e) for g in model.shells for e in g.ids}
     ids = Numbering(eid=max(eid_used | {0}) + 1, pid=len(model.beams) + 1)

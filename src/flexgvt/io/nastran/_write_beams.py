@@ -189,7 +189,6 @@ def check_one_mass_formulation(model: Model) -> None:
 def write_beams(bdf, model: Model, u: Units, xyz: dict[int, np.ndarray], notes: list[str]) -> set[int]:
     """Beam and rod groups of a compact deck (one property per group); returns the element ids used."""
     mats: list[Material] = []
-    check_one_mass_formulation(model)
     lumped = {g.mass == "lumped" for g in model.beams}
     if lumped == {False}:
         bdf.add_param("COUPMASS", [1])

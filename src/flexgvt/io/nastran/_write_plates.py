@@ -12,7 +12,7 @@ from ...model import Material, Model
 from ...model.shells import AnisotropicMaterial, ShellGroup, ShellProperty
 from ._common import Units
 from ._read import BdfDeck
-from ._write_beams import _material_values, check_one_mass_formulation
+from ._write_beams import _material_values
 from ._write_common import Numbering, same
 
 
@@ -86,10 +86,10 @@ def _axis_system(bdf, axis: np.ndarray, ids: Numbering, systems: dict) -> int:
 def write_plates(bdf, model: Model, u: Units, ids: Numbering) -> None:
     """Shell groups of a compact deck: one property (PSHELL/PCOMP/PCOMPG) per distinct property,
     CQUAD4/CTRIA3 with the model's element ids, THETA or an MCID system, ZOFFS, corner thicknesses
-    (TFLAG 0); PARAM,COUPMASS for consistent shell mass (it must agree with the beams')."""
+    (TFLAG 0); PARAM,COUPMASS for consistent shell mass (the caller has checked that beams, rods and
+    shells agree: check_one_mass_formulation)."""
     if not model.shells:
         return
-    check_one_mass_formulation(model)
     shell_mass = {g.mass for g in model.shells}
     if shell_mass == {"consistent"} and "COUPMASS" not in bdf.params:
         bdf.add_param("COUPMASS", [1])
