@@ -34,7 +34,11 @@ class Instability:
     eigenvalue: the lowest at the state that was found unstable [rad^2/s^2]; shape (n_nodes, 6):
     the buckling shape at the stable side of the bracket (largest translation 1); where: the
     elements it moves most; recovered: the path went on to a stable equilibrium (the solver left
-    the unstable fundamental path for a stable, post-buckled one by itself)."""
+    the unstable fundamental path for a stable, post-buckled one by itself). found_by: 'tangent' (a
+    negative tangent eigenvalue along the path) or 'path' (a knee of a path that stays stable,
+    fem.knee: load_factor is where its pre- and post-buckled load-work lines meet, shape the departure
+    from the pre-buckled path, eigenvalue 0); softening: there, the post-buckled compliance over the
+    pre-buckled one (the work of the loads per load factor; 1 for 'tangent')."""
 
     load_factor: float
     kind: str
@@ -43,10 +47,14 @@ class Instability:
     where: str
     bracket: tuple[float, float]
     recovered: bool = False
+    found_by: str = "tangent"
+    softening: float = 1.0
 
     def describe(self) -> str:
+        seen = (f"; seen as a knee of the load path: no equilibrium along it is unstable, and its compliance "
+                f"grows {self.softening:.3g} times there" if self.found_by == "path" else "")
         return (f"{self.kind} at load factor {self.load_factor:.4g} (between {self.bracket[0]:.4g} and "
-                f"{self.bracket[1]:.4g}), moving most {self.where}")
+                f"{self.bracket[1]:.4g}), moving most {self.where}{seen}")
 
 
 def _matrices(system, x, R, lam):
@@ -124,10 +132,29 @@ def _where(system, shape: np.ndarray) -> str:
     return parts[0] if parts else f"nodes {', '.join(str(int(i)) for i in system.cm.node_ids[top[:5]])}"
 
 
-def locate(system, trail: list, resolve: Callable[[float, int], tuple], refinements: int = 12) -> Instability | None:
+def where_local(system, shape: np.ndarray) -> str:
+    """The family and elements the shape deforms most: the rms spread of each element's corner
+    translations about their mean, at least half the largest (a wrinkle, not the global motion the
+    shape carries with it, as a departure from a pre-buckled path does)."""
+    u = shape.reshape(-1, 6)[:, :3]
+    spreads = [(family, np.sqrt(((u[family.nodes] - u[family.nodes].mean(axis=1, keepdims=True)) ** 2)
+                                .sum(axis=2).mean(axis=1)))
+               for family in system.families if family.structural and np.asarray(family.nodes).shape[1] >= 2
+               and len(family.nodes)]
+    largest = max((float(s.max()) for _, s in spreads), default=0.0)
+    if largest <= 0.0:
+        return _where(system, shape)
+    parts = [family.describe(np.unique(family.nodes[s >= 0.5 * largest])) for family, s in spreads
+             if np.any(s >= 0.5 * largest)]
+    parts = [p for p in parts if p]
+    return "; ".join(parts) if parts else _where(system, shape)
+
+
+def locate(system, trail: list, resolve: Callable[[float, np.ndarray, np.ndarray], tuple],
+           refinements: int = 12) -> Instability | None:
     """The first loss of stability along a load path. trail: the converged equilibria (load factor,
-    x, R) in load order; resolve(lam, k): the equilibrium (x, R) at load factor
-    lam from trail[k] (a stable one below lam). Bisects the trail for the first unstable
+    x, R) in load order; resolve(lam, x, R): the equilibrium (x, R) at load factor lam by Newton
+    from the state (x, R) (here trail's stable one below lam). Bisects the trail for the first unstable
     equilibrium, then refines the crossing by a linear buckling analysis between the bracketing
     equilibria, solving the equilibrium at each estimate to narrow the bracket; where the estimates
     keep landing on one side (the tangent is not linear in the load across a wide bracket: lateral
@@ -178,7 +205,7 @@ def locate(system, trail: list, resolve: Callable[[float, int], tuple], refineme
         if (b[0] - a[0]) < 1e-3 * max(b[0], 1e-12):
             break
         try:
-            x, R = resolve(critical, lo)
+            x, R = resolve(critical, trail[lo][1], trail[lo][2])
         except SolverError:  # no equilibrium found there: keep the estimate of the bracket
             break
         c = (critical, x, R)
@@ -203,7 +230,7 @@ def locate(system, trail: list, resolve: Callable[[float, int], tuple], refineme
     value = lowest_eigenvalue(system, trail[hi][1], trail[hi][2], trail[hi][0])[0]
     # Load control went on past it to unstable equilibria: a bifurcation (at a limit point the
     # load cannot grow, and the ramp stops with a ConvergenceError instead).
-    return Instability(float(critical), "bifurcation", float(value), _unit(shape), _where(system, shape),
+    return Instability(float(critical), "bifurcation", float(value), _unit(shape), where_local(system, shape),
                        (float(a[0]), float(b[0])), recovered)
 
 
@@ -215,12 +242,16 @@ def _linearised(system, a: tuple, b: tuple) -> tuple[float | None, np.ndarray | 
     Ka, _ = _matrices(system, a[1], a[2], a[0])
     Kb, _ = _matrices(system, b[1], b[2], b[0])
     D = (Ka - Kb).tocsr()
-    try:
-        lu = spla.splu(Ka.tocsc())
-    except RuntimeError:  # exactly singular at a: no linear estimate from there
-        return None, None
+    factor = system.inertia_cache.factor(Ka.tocsc())  # PARDISO or CHOLMOD on the stability checks' pattern
+    if factor is not None:
+        solve = factor.solve_A
+    else:
+        try:
+            solve = spla.splu(Ka.tocsc()).solve
+        except RuntimeError:  # exactly singular at a: no linear estimate from there
+            return None, None
     n = Ka.shape[0]
-    op = spla.LinearOperator((n, n), matvec=lambda v: lu.solve(D @ v), dtype=float)
+    op = spla.LinearOperator((n, n), matvec=lambda v: solve(D @ v), dtype=float)
     k = min(3, n - 2)
     nu, vecs = spla.eigs(op, k=k, which="LR", v0=np.random.default_rng(0).standard_normal(n), tol=1e-10)
     j = int(np.argmax(nu.real))

@@ -24,6 +24,7 @@ from .eigen import real_modes
 from .arclength import trace
 from .rotations import logm_so3, scaled_increment
 from .linsolve import HAVE_FAST, CholmodCache, serial_blas, superlu
+from .knee import knee
 from .stability import BUCKLING_MODES, Instability, locate, negative_eigenvalues
 from .system import Evaluation, System
 
@@ -400,21 +401,26 @@ def _stability(state: State, trail: _Trail, settings: StaticSettings, load_facto
         return state
     run = trail.run
 
-    def resolve(lam: float, k: int):
-        got = _newton(run, *run.system.impose(trail[k][1], trail[k][2], lam), lam, 0, predicted=False)
+    def resolve(lam: float, x: np.ndarray, R: np.ndarray):
+        got = _newton(run, *run.system.impose(x, R, lam), lam, 0, predicted=False)
         if got is None:
             raise ConvergenceError(f"configuration '{state.configuration.name}': locating the loss of stability, "
                                    f"Newton did not converge at load factor {lam:.4g}", state=state)
         return got[0], got[1]
 
     event = locate(run.system, trail, resolve)
+    if event is None and not state.configuration.imperfection:
+        # A configuration given an imperfection follows its post-buckled path by design: its knee is expected.
+        event = knee(run.system, trail, resolve)
     if event is None:
         return state
     name = state.configuration.name
-    if event.recovered and settings.buckling != "continue":  # left the unstable path by itself: stable
+    # A knee of a stable path is followed as it is: the loads' own imperfection chose its branch.
+    if event.recovered and (settings.buckling != "continue" or event.found_by == "path"):
+        how = ("the loads' own imperfection (or the load step) chose it" if event.found_by == "path" else
+               "reached without a chosen imperfection: which branch round-off picked is not controlled")
         note = (f"configuration '{name}': the load path passed a {event.describe()}; the final equilibrium is on "
-                "a stable (post-buckled) branch, reached without a chosen imperfection: which branch round-off "
-                "picked is not controlled (StaticSettings(buckling='stop') stops before it)")
+                f"a stable (post-buckled) branch, {how} (StaticSettings(buckling='stop') stops before it)")
         if settings.buckling == "stop":
             event = dataclasses.replace(event, recovered=False)
         else:
