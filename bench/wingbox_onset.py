@@ -2,7 +2,7 @@
 load paths on fg.cases.wingbox at several mesh sizes, two ways.
 
 - solve_static(..., buckling="continue") as fg.updating.verify solves the reference: what the
-  verification reports (flexgvt.updating.verify.Onset; None when the ramp found no unstable increment).
+  verification reports (flexgvt.updating.verify.Onset; None when the path met no buckling).
 - A finer ramp (``scan``): converged increments every ``--step`` g (load_factors), the tangent's
   inertia at each and the tip's deflection per g: where it leaves the fundamental path (its
   deflection per g grows by 0.2 % over the value at ``--start`` g); where an increment is unstable,
@@ -10,7 +10,7 @@ load paths on fg.cases.wingbox at several mesh sizes, two ways.
   bays its shape deforms (Onset). ``--step 0.1 --start 0.4`` at 0.1 m: 0.5 g stable, 0.6 g unstable,
   0.594 g. (A ramp can leave the fundamental path near the
   bifurcation for a stable post-buckled branch inside one increment, with no converged increment
-  unstable: then solve_static's check sees no instability, and verify reports none.)
+  unstable: solve_static then finds the onset from the knee of the path, fem.knee, since 27 Nov.)
 
 Beside them the flat-panel closed form: the skin between two ribs (a = rib pitch along the load) and
 the two spars (b = chord), simply supported, sigma_cr = k pi^2 D / (b^2 t), k = (b/a + a/b)^2 (one

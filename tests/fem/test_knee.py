@@ -89,3 +89,15 @@ def test_the_knee_candidate_is_a_jump_of_the_compliance_not_its_trend():
     steady = 1.03 ** np.arange(10)
     assert _candidate(_path(lam, steady)) is None
     assert _candidate(_path(lam, 1.0 / steady)) is None
+    # The as-built X-HALE on two cords: its first increment 6 % stiffer than the rest, no buckling.
+    hung = np.array([4.471, 4.738, 4.782, 4.741, 4.729, 4.709, 4.673, 4.602, 4.460, 4.40]) / 4.471
+    assert _candidate(_path(lam, hung)) is None
+
+
+def test_an_aircraft_hung_on_cords_has_no_knee():
+    """The as-built X-HALE-like aircraft on its two lab cords (seed 2): the path's compliance rises 6 %
+    from the first increment to the second as the cords' pendulum stiffness grows with their
+    tension, then falls smoothly; nothing buckles (it was once reported as a knee at 0.05)."""
+    case = fg.cases.xhale(as_built=True, seed=2)
+    state = fg.solve_static(case.model, case.configurations["inboard"])
+    assert state.instability is None

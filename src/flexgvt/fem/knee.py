@@ -59,6 +59,10 @@ def knee(system, trail: list, resolve: Callable[[float, np.ndarray, np.ndarray],
     if j is None:
         return None
     before, a, b = path[j - 1], path[j], path[j + 1]
+    if len(system.cord_nodes):
+        taut = [system.evaluate(p.x, p.R, p.lam, tangent=False).cord_tension > 0.0 for p in (a, b)]
+        if np.any(taut[0] != taut[1]):
+            return None  # a cord turned slack (or taut) in the increment: a change of supports, not a buckle
     if negative_eigenvalues(system, a.x, a.R, a.lam) > 0:
         # The knee's start is itself unstable (an increment landed on the pre-buckled path past its
         # bifurcation, between the increments the stability check sampled): the tangent says where.
@@ -114,17 +118,17 @@ def knee(system, trail: list, resolve: Callable[[float, np.ndarray, np.ndarray],
 
 def _candidate(path: list[_Point]) -> int | None:
     """Index j of the first point after which the compliance of the increment (j, j+1) exceeds the
-    trend of the two increments before it by KNEE (one before it for the second increment)."""
+    trend of the two increments before it by KNEE. Two, not one: the first increment's own
+    compliance can differ from the next one's without any buckling (an asymmetric aircraft on two
+    cords: 6 % lower, the cords' pendulum stiffness growing from nothing with their tension)."""
     lam = np.array([p.lam for p in path])
     work = np.array([p.work for p in path])
     c = np.diff(work) / np.diff(lam)
     mid = 0.5 * (lam[1:] + lam[:-1])
-    for k in range(1, len(c)):
-        if not c[k - 1] > 0.0:
+    for k in range(2, len(c)):
+        if not (c[k - 1] > 0.0 and c[k - 2] > 0.0):
             continue
-        trend = c[k - 1]
-        if k >= 2 and c[k - 2] > 0.0:
-            trend += max(0.0, (c[k - 1] - c[k - 2]) / (mid[k - 1] - mid[k - 2])) * (mid[k] - mid[k - 1])
+        trend = c[k - 1] + max(0.0, (c[k - 1] - c[k - 2]) / (mid[k - 1] - mid[k - 2])) * (mid[k] - mid[k - 1])
         if c[k] > trend + KNEE * c[k - 1]:
             return k
     return None
