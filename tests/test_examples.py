@@ -72,9 +72,12 @@ def swept_wing_small(tmp_path_factory):
 
 def test_swept_wing(swept_wing_small):
     """Both stages run from the case (small settings); each lowers its stage's error (stage 1 on all
-    five modes, stage 2 on the four its root spring moves: the model's OOP 3, mixed with the second
-    torsion, hardly follows it); stage 2 changes only the root spring; the tables carry the original
-    work's columns."""
+    five modes, stage 2 on the four its root spring moves: the model's third bending hardly follows
+    it); stage 2 changes only the root spring; the tables carry the original work's columns. OOP 3
+    pairs with the model's third bending; stage 1 brings every mode but IP 1 within 2 % (IP 1 is
+    held by M_z's lower bound); stage 2 brings IP 1 within 1 % and stiffens M_x, splitting the
+    difference between OOP 1 (the GVT's +5.2 % from the shaker table) and OOP 2 (+1.8 %), which the
+    root spring moves alike."""
     out, saved = swept_wing_small
     assert set(saved) == {"stage0", "stages", "summary"} and set(saved["stages"]) == {"shaker_table", "wind_tunnel"}
     assert saved["stage0"]["E_spar_ply"] == 45e9 and saved["stage0"]["rho_printed"] == 890.0
@@ -89,9 +92,14 @@ def test_swept_wing(swept_wing_small):
     assert len(s1) == 15 and all(r["lower"] <= r["final"] / r["initial"] + 1e-9 <= r["upper"] + 1e-9 for r in s1)
     assert {r["name"]: r["original_final"] for r in s1}["E_skin"] == 5.84e9  # Table 5.7 beside flexgvt's
     assert [r["name"] for r in out["stages"]["wind_tunnel"]["variables"]] == ["K_x", "K_y", "K_z", "M_x", "M_y", "M_z"]
-    # Stage 2 reaches the wind-tunnel OOP 1 and IP 1 within 1 %, as the original work did.
+    st = out["stages"]["shaker_table"]["frequencies"]
+    assert all(r["model_label"].startswith(lab) for r, lab in zip(st, ("1 OOP", "RB", "1 T", "2 OOP", "3 OOP")))
+    assert max(abs(r["updated_error_percent"]) for r in st if r["label"] != "IP 1") < 2.0
+    assert {r["name"]: r["at_bound"] for r in s1}["M_z"]
     wt = out["stages"]["wind_tunnel"]["frequencies"]
-    assert abs(wt[0]["updated_error_percent"]) < 1.0 and abs(wt[1]["updated_error_percent"]) < 1.0
+    assert abs(wt[1]["updated_error_percent"]) < 1.0
+    assert wt[0]["updated_error_percent"] < 0 < wt[3]["updated_error_percent"]
+    assert {r["name"]: r["change_percent"] for r in out["stages"]["wind_tunnel"]["variables"]}["M_x"] > 10
 
 
 # run.py --small's settings, set on a copy of the project file (each line must be there exactly once).
@@ -133,8 +141,8 @@ def test_swept_wing_project(tmp_path, swept_wing_small):
     assert [r["name"] for r in s2["variables"] if r["fixed"]] == ["K_x", "K_y", "K_z", "M_y"]
     assert [(r["name"], r["final"]) for r in res["updating"]["variables"]] == [
         (r["name"], r["final"]) for r in s2["variables"]]  # `updating`: the final stage's
-    # The same numbers as the Python example (run.py --small): the stage-0 inputs move one variable by
-    # a rounding unit (G12's mean 2.01e9 - 1.2e-6 Pa set to 2.01e9), so to well inside the optimiser's steps.
+    # The same numbers as the Python example (run.py --small), to well inside the optimiser's steps
+    # (measured: the variables to 1.6e-8, the frequencies to 2.1e-9).
     example = swept_wing_small[1]["stages"]
     for mine, theirs in ((s1, example["shaker_table"]), (s2, example["wind_tunnel"])):
         assert [r["final"] for r in mine["variables"]] == pytest.approx([r["final"] for r in theirs["variables"]],

@@ -53,9 +53,13 @@ CHOSEN = {
     "cs_span": (0.10, 0.95),  # fractions of the wing panel the four surfaces share
     "cs_wall": 0.0008,  # m, thin-walled PA-12 wedge
     "servo_mass": 0.040,  # kg, one servo per control surface, at the rear spar beside its surface's mid-span
-    "hinge_stiffness": 5.0,  # N m/rad, servo and linkage about the hinge
+    # N m/rad, servo and linkage about the hinge: stiff enough that no control-surface mode falls in
+    # the GVT's band (the first is near 100 Hz; the original work's GVT, an accelerometer on each
+    # surface, lists none to 53.5 Hz, Table 5.2); 5 N m/rad put four at 39-54 Hz (docs/swept_wing.md)
+    "hinge_stiffness": 20.0,
     "hinge_rigid": (1e6, 1e4),  # N/m, N m/rad: the hinge's other components
     "clamp_offset": (0.0, 0.0, -0.04),  # m, clamp-adapter centre from the spar root
+    "root_axes": "streamwise",  # root spring axes: x aft, y outboard; "spar": x normal to the spar, y along it
     "bolt_pitch": 0.0625,  # m, the two spar bolts: the spar root node and the next
     "accelerometer_mass": 0.003, "triaxial_mass": 0.006,  # kg with their wax and cable share
     "tip_shaker_mass": 0.25,  # kg, configuration 2's tip shaker (moving and fixed parts), at the tip
@@ -220,7 +224,11 @@ def _build(values: dict, p: dict, n_wing: int, n_body: int, n_fin: int, root_tab
     area = SPAR_WIDTH * SPAR_THICKNESS
     spar_section = GeneralSection(A=area, Iy=lb.EI_flat / lb.E, Iz=lb.EI_edge / lb.E, J=lb.GJ / lb.G,
                                   Ip=area * (SPAR_WIDTH**2 + SPAR_THICKNESS**2) / 12)
-    carbon = Material("carbon spar (laminate, CLT)", E=lb.E, G=lb.G, rho=values["rho_spar"])
+    # The all-0/90 woven stack's CLT E and G are the ply's E1 and G12 to rounding: take those themselves,
+    # so a project file that sets Table 5.7's values builds the same model bit for bit.
+    E, G = (ply if math.isclose(clt, ply, rel_tol=1e-12) else clt
+            for clt, ply in ((lb.E, values["E_spar_ply"]), (lb.G, values["G12_spar"])))
+    carbon = Material("carbon spar (laminate, CLT)", E=E, G=G, rho=values["rho_spar"])
     kw = dict(rotary_inertia=False)
     model.add_beams(body_pairs, carbon, spar_section, orientation=(0, 0, 1), name="spar_body", **kw)
     model.add_beams(wing_pairs, carbon, spar_section, orientation=orient, name="spar_wing", **kw)
@@ -281,7 +289,11 @@ def _build(values: dict, p: dict, n_wing: int, n_body: int, n_fin: int, root_tab
     model.add_rigid_link(clamp, bolts + [n for b in bolts for n in links.pop(b, [])])
     for node, dependents in links.items():
         model.add_rigid_link(node, dependents)
-    model.add_spring(clamp, None, stiffness=ROOT_SPRING, name="root_spring", tables=root_tables)
+    if p["root_axes"] not in ("streamwise", "spar"):
+        raise ModelError(f"swept_wing: root_axes {p['root_axes']!r} must be 'streamwise' or 'spar'")
+    root_frame = None if p["root_axes"] == "streamwise" else \
+        np.c_[[math.cos(SWEEP), -math.sin(SWEEP), 0.0], direction, [0.0, 0.0, 1.0]]
+    model.add_spring(clamp, None, stiffness=ROOT_SPRING, frame=root_frame, name="root_spring", tables=root_tables)
     xyz = dict(zip(model.node_ids.tolist(), model.xyz))
     c = p["chord"]
 
@@ -364,7 +376,7 @@ def swept_wing(n_wing: int = 20, n_body: int = 4, n_fin: int = 4, as_designed: b
     the two spar bolts. Chosen where nothing was published (module CHOSEN, docs/swept_wing.md): half
     span 1.5 m (half the 3 m vehicle span) with a 0.25 m centre-body part, chord 0.30 m, spar at
     30 % and rear spar at 70 % chord, layup, wall and film thicknesses, fin, four control surfaces
-    on 5 N m/rad hinge springs, accelerometer (3 g, triaxials 6 g) and tip-shaker (0.25 kg)
+    on 20 N m/rad hinge springs, accelerometer (3 g, triaxials 6 g) and tip-shaker (0.25 kg)
     masses. Nothing is calibrated to the GVT tables.
 
     Beams along the spar, sections normal to it: spar_body / spar_wing (the carbon spar: a woven
