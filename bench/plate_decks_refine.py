@@ -18,10 +18,11 @@ Peer (--peer-python, a venv with openseespy): OpenSees' ShellMITC4 (Dvorkin-Bath
 (MITC-type shear, enhanced membrane) and ShellDKGQ (Kirchhoff DKQ bending) on the same meshes and
 sections; their stiffness matrices (OpenSees' GimmeMCK + printA) are reduced and solved here with
 flexgvt's consistent mass (OpenSees' shell mass is lumped), so only the stiffness formulation
-differs. Measured output in bench/plate_decks_refine_opensees.json (rewritten with --json).
+differs. CalculiX (--ccx, HA145 with the deck's supports): S4 and S8R, full model, out-of-plane
+modes. Measured output in bench/plate_decks_refine_peers.json (rewritten with --json).
 
     PYTHONPATH=src python bench/plate_decks_refine.py [--levels 1 2 4 8]
-        [--peer-python /work/venv-peer/bin/python --peer-levels 1 2 4 --json bench/plate_decks_refine_opensees.json]
+        [--peer-python /work/venv-peer/bin/python --peer-levels 1 2 4 --ccx --json bench/plate_decks_refine_peers.json]
 """
 
 from __future__ import annotations
@@ -275,6 +276,46 @@ def peer_worker(src: str, out: str) -> None:
     ops.wipe()
 
 
+def ccx_frequencies(p: Plate, mesh: Mesh, element: str, n_modes: int) -> tuple[np.ndarray, str]:
+    """CalculiX S4 (expanded to C3D8I) or S8R (C3D20R; mid-side grids added) on the mesh, each element
+    at its mean thickness, the deck's point supports (a knot at each held grid), no a-set (CalculiX
+    has none; at the decks' meshes the reduction moves nothing): the first n_modes out-of-plane modes
+    (most of the kinetic energy in z; the in-plane ones come among them without R3 held)."""
+    from ccx_driver import run_ccx, version
+
+    if p.bar is not None:
+        raise SystemExit("the CalculiX peer builds HA145 only (the crop's CBAR is not carried over)")
+    t, _ = thickness(mesh.corners, "mean t")
+    X, conn = mesh.X, mesh.conn
+    lines = ["*NODE"] + [f"{k + 1}, {x[0]:.10g}, {x[1]:.10g}, {x[2]:.10g}" for k, x in enumerate(X)]
+    nodes = [list(c + 1) for c in conn]
+    if element == "S8R":
+        mid: dict[tuple[int, int], int] = {}
+        for c in conn:
+            for a, b in zip(c, np.roll(c, -1)):
+                if (min(a, b), max(a, b)) not in mid:
+                    mid[min(a, b), max(a, b)] = len(X) + len(mid) + 1
+                    x = (X[a] + X[b]) / 2
+                    lines.append(f"{len(X) + len(mid)}, {x[0]:.10g}, {x[1]:.10g}, {x[2]:.10g}")
+        nodes = [list(c + 1) + [mid[min(a, b), max(a, b)] for a, b in zip(c, np.roll(c, -1))] for c in conn]
+    groups: dict[float, list[int]] = {}
+    for k, tk in enumerate(np.round(t, 12)):
+        groups.setdefault(float(tk), []).append(k + 1)
+    for g, els in enumerate(groups.values()):
+        lines.append(f"*ELEMENT, TYPE={element}, ELSET=T{g}")
+        lines += [", ".join(str(v) for v in [e] + nodes[e - 1]) for e in els]
+    lines += ["*MATERIAL, NAME=M", "*ELASTIC", f"{p.E:.10g}, {p.nu:.10g}", "*DENSITY", f"{p.rho:.10g}"]
+    for g, tk in enumerate(groups):
+        lines += [f"*SHELL SECTION, ELSET=T{g}, MATERIAL=M", f"{tk:.10g}"]
+    lines.append("*BOUNDARY")
+    lines += [f"{mesh.ids.index(g) + 1}, {min(d) + 1}, {max(d) + 1}" for g, d in p.held.items()]
+    lines += ["*STEP", "*FREQUENCY", str(2 * n_modes), "*NODE FILE", "U", "*END STEP"]
+    run = run_ccx("\n".join(lines) + "\n", f"plate{element}", threads=1, nice=10)
+    shapes = np.array([run.shapes[k] for k in sorted(run.shapes)])         # (grids, modes, 3)
+    oop = (shapes[:, :, 2] ** 2).sum(axis=0) / (shapes**2).sum(axis=(0, 2)) > 0.5
+    return run.frequencies_hz[oop][:n_modes], version()
+
+
 def percent(f, ref) -> str:
     return " ".join(f"{100 * (x / r - 1):+6.2f}" for x, r in zip(f, ref))
 
@@ -286,6 +327,7 @@ def main() -> None:
     ap.add_argument("--variants", nargs="+", default=["deck", "line"], choices=["deck", "line"])
     ap.add_argument("--peer-python")
     ap.add_argument("--peer-levels", type=int, nargs="+", default=[1, 2, 4])
+    ap.add_argument("--ccx", action="store_true", help="CalculiX S4 and S8R on HA145 (deck supports) too")
     ap.add_argument("--json", type=Path)
     ap.add_argument("--peer-worker", nargs=2)
     args = ap.parse_args()
@@ -339,6 +381,11 @@ def main() -> None:
                         K, _ = peer_stiffness(args.peer_python, p, mesh, element, "mean t")
                         show(f"OpenSees {element}, mean t, a-set", n, len(mesh.ids), t0,
                              frequencies(p, mesh, K, M, True, n_modes))
+                if args.ccx and n in args.peer_levels and variant == "deck" and p.bar is None:
+                    for element in ("S4", "S8R"):
+                        t0 = time.perf_counter()
+                        f, record["ccx"] = ccx_frequencies(p, mesh, element, n_modes)
+                        show(f"CalculiX {element}, mean t, full", n, len(mesh.ids), t0, f)
     if args.json:
         record["command"] = "python bench/plate_decks_refine.py " + " ".join(sys.argv[1:])
         if args.peer_python:
