@@ -134,3 +134,57 @@ def test_plate_deck_written_into_itself_reads_back_the_same(tmp_path, name):
         back = fg.io.read_bdf(fg.io.write_bdf(deck.model, out, template=deck), units=COUNTS[name][0])
     assert sorted(shell_data(back.model)) == sorted(shell_data(deck.model))
     assert back.options == deck.options and back.model.n_nodes == deck.model.n_nodes
+
+
+def _ha145_split_2x2(path: Path) -> Path:
+    """HA145E with every CQUAD4 split into 2 x 2 (grids and corner thicknesses bilinear in the parent),
+    SPC 6 on the new grids, supports (grids 9, 25) and ASET1 on the deck's grids unchanged: the n = 2
+    row of bench/plate_decks_refine.py, as a deck."""
+    from pyNastran.bdf.bdf import read_bdf as pyn_read
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        b = pyn_read(DATA / "ha145/ha145e.bdf", debug=None)
+    key = {tuple(np.round(n.xyz * 1e6).astype(int)): g for g, n in b.nodes.items()}
+    eid, new = 100, []
+    for e in [b.elements.pop(k) for k in sorted(b.elements)]:
+        P = np.array([b.nodes[g].xyz for g in e.node_ids])
+        t = np.array([0.041 if x is None else x for x in (e.T1, e.T2, e.T3, e.T4)])
+        grid = {}
+        for i in range(3):
+            for j in range(3):
+                a, c = i / 2, j / 2
+                w = np.array([(1 - a) * (1 - c), a * (1 - c), a * c, (1 - a) * c])
+                k = tuple(np.round(w @ P * 1e6).astype(int))
+                if k not in key:
+                    key[k] = 1000 + len(new)
+                    new.append(key[k])
+                    b.add_grid(key[k], w @ P)
+                grid[i, j] = key[k], w @ t
+        for i in range(2):
+            for j in range(2):
+                g, tc = zip(*(grid[c] for c in ((i, j), (i + 1, j), (i + 1, j + 1), (i, j + 1))))
+                b.add_cquad4(eid, e.pid, list(g), T1=tc[0], T2=tc[1], T3=tc[2], T4=tc[3])
+                eid += 1
+    b.add_spc1(1, "6", new)
+    b.write_bdf(str(path))
+    return path
+
+
+def test_ha145_refined_2x2_drops_below_nastran_its_supports_are_points(tmp_path):
+    """Refining HA145E does not converge to Nastran's coarse-mesh cycles: the plate hangs on two
+    grids (9, 25) whose held rotations carry the root bending, and a plate's rotational stiffness at a
+    point vanishes as the mesh refines (mode 1: +0.14 % at the deck's mesh, -4.04 % split 2 x 2,
+    -8.4 % 4 x 4, -13.2 % 8 x 8; OpenSees' ShellMITC4/ASDShellQ4 give the same, docs/shells.md). The
+    2 x 2 deck read with no option and solved by solve_deck gives the bench's figures (its kernels,
+    the same Guyan reduction) and keeps Nastran's mass."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        deck = fg.io.read_bdf(_ha145_split_2x2(tmp_path / "ha145e_2x2.bdf"), units="in-lbf-s")
+    assert deck.model.n_shells == 112 and deck.model.n_nodes == 135
+    assert deck.options["ASET"] == {n: "3" for n in range(1, 41) if n not in (9, 17, 25)}
+    ref = F06["ha145/ha145e.bdf"]
+    assert fg.mass_properties(deck.model).mass == pytest.approx(ref["mass"] * deck.wtmass * deck.units.mass,
+                                                                rel=1e-6)
+    f = next(iter(solve_deck(deck, n_modes=3).values())).modes.frequencies_hz
+    assert 100 * (f / np.array(ref["cycles_hz"][:3]) - 1) == pytest.approx([-4.04, -3.08, -1.35], abs=0.01)
