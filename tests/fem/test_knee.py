@@ -101,3 +101,25 @@ def test_an_aircraft_hung_on_cords_has_no_knee():
     case = fg.cases.xhale(as_built=True, seed=2)
     state = fg.solve_static(case.model, case.configurations["inboard"])
     assert state.instability is None
+
+
+def test_the_default_imperfection_follows_the_buckled_skin_not_a_thin_neighbour():
+    """'continue' sizes its imperfection as a tenth of the thickness most of the moved shells have: a
+    5 mm plate whose last row of quads is 2 mm (a rib's edge along a skin) moved everywhere gets 0.5 mm,
+    not 0.2 mm (the thinnest, as before: the 0.1 m wingbox's 8 mm skin got the ribs' 0.2 mm)."""
+    from flexgvt.fem.stability import Instability
+    from flexgvt.fem.static import _default_imperfection
+    from flexgvt.model import Material
+    model, config, _ = _plate(8, 1.0)
+    thin = fg.Model("plate with a thin edge row")
+    thin.add_nodes(model.xyz, ids=model.node_ids)
+    ids = model.node_ids.reshape(9, 9)
+    q = np.array([[ids[j, i], ids[j, i + 1], ids[j + 1, i + 1], ids[j + 1, i]] for j in range(8) for i in range(8)])
+    al = Material("al", 70e9, 2700.0, nu=0.3)
+    thin.add_shells(q[:56], material=al, thickness=0.005, name="skin")
+    thin.add_shells(q[56:], material=al, thickness=0.002, name="rib_edge")
+    state = fg.solve_static(thin, config, settings=StaticSettings(buckling="ignore"))
+    shape = np.zeros((81, 6))
+    shape[:, 2] = 1.0
+    event = Instability(1.0, "bifurcation", 0.0, shape, "", (1.0, 1.0))
+    assert _default_imperfection(state.system, event) == pytest.approx(0.0005)

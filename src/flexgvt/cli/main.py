@@ -130,7 +130,7 @@ def solve(case: str = typer.Argument(..., help="built-in case (cantilever_strip,
                                        "(locate it), stop (error with the last stable state), continue (onto the "
                                        "post-buckled path with a small imperfection in the buckling shape), ignore"),
           imperfection: float = typer.Option(0.0, help="--buckling continue: the imperfection's largest offset [m] "
-                                             "(0: a tenth of the shell thickness at the buckle's crest)")):
+                                             "(0: a tenth of the thickness of most buckled shells)")):
     """Static shape and pre-stressed modes of each configuration of a built-in case or a Nastran deck."""
     try:
         from ..fem import StaticSettings

@@ -118,7 +118,7 @@ class StaticSettings:
     "continue" (solve again with a small geometric imperfection in the buckling shape, which takes
     the structure onto its post-buckled path; the returned state's configuration carries it as
     Configuration.imperfection); imperfection: its largest offset [m] (0: a tenth of the
-    shell's thickness at the buckle's crest, or 1e-4 of the structure's size).
+    thickness of most buckled shells, or 1e-4 of the structure's size).
     """
 
     increments: int = 20
@@ -459,15 +459,15 @@ def _stability(state: State, trail: _Trail, settings: StaticSettings, load_facto
 
 
 def _default_imperfection(system: System, event: Instability) -> float:
-    """A tenth of the shell thickness at the buckling shape's crest (the node it moves most; the
-    thinnest shell there), else 1e-4 of the structure's size [m]. The crest, not every node the shape
-    moves by half as much: the 0.1 m wingbox's skin wrinkle moves the ribs' edges too, and their 2 mm
-    set 0.2 mm where the buckled skin's 8 mm asks 0.8 mm."""
-    crest = np.array([int(np.argmax(np.linalg.norm(event.shape[:, :3], axis=1)))])
-    thick = [t for family in system.families for t in (getattr(family, "thickness_at", lambda nodes: None)(crest),)
+    """A tenth of the thickness most of the shells the buckling shape moves have (the nodes it moves
+    by at least half its largest translation), else 1e-4 of the structure's size [m]. Most, not the
+    thinnest: the 0.1 m wingbox's skin wrinkle moves the ribs' edges too, and their 2 mm set 0.2 mm
+    where the buckled 8 mm skin asks 0.8 mm."""
+    moving = np.flatnonzero(np.linalg.norm(event.shape[:, :3], axis=1) >= 0.5)
+    found = [t for family in system.families for t in (getattr(family, "thickness_at", lambda nodes: None)(moving),)
              if t is not None]
-    if thick:
-        return 0.1 * min(thick)
+    if found:
+        return 0.1 * max(found, key=lambda t: (t[1], -t[0]))[0]
     return 1e-4 * float(np.linalg.norm(np.ptp(system.cm.xyz, axis=0)))
 
 

@@ -112,10 +112,15 @@ class ShellFamily:
         return np.maximum(energy, 0.0)[:, None] * section_fractions(np.asarray(shapes)[:, used], x[used], mass,
                                                                     reference=X[used])
 
-    def thickness_at(self, nodes: np.ndarray) -> float | None:
-        """The thinnest shell touching ``nodes`` (storage indices) [m], None when none does."""
+    def thickness_at(self, nodes: np.ndarray) -> tuple[float, int] | None:
+        """The thickness most of the shells touching ``nodes`` (storage indices) have [m] (the thinner
+        on a tie) and how many have it; None when none does."""
         on = np.isin(self.arrays.nodes, nodes).any(axis=1)
-        return float(self.arrays.thickness[on].min()) if np.any(on) else None
+        if not np.any(on):
+            return None
+        values, counts = np.unique(self.arrays.thickness[on], return_counts=True)
+        k = int(np.argmax(counts))  # np.unique sorts: the first of the most common is the thinnest
+        return float(values[k]), int(counts[k])
 
     def check_values(self, where: str, node_ids: np.ndarray) -> None:
         a = self.arrays
