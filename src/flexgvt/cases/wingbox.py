@@ -37,11 +37,12 @@ E, NU, RHO = 69e9, 0.33, 2851.0  # [Pa], [-], [kg/m^3]
 SKIN_NSM = 7.85  # [kg/m^2] per skin: the skins' density times 1.344 (the original work's carried mass)
 
 # The unseen combined case: out-of-plane and in-plane inertial loads with a nose-up tip torque,
-# sized on the 0.25 m mesh so that the tip deflects about 3.6 % of the span (0.573 m) and less
-# than at 2.5 g; converged (CalculiX S8R 0.1 m, flexgvt 0.05 m) it is 0.6825 m = 4.3 %: the
-# post-buckled skins are softer on finer meshes (docs/shells.md, "The wingbox case").
-COMBINED_GRAVITY = (0.49, 0.0, 0.77)  # [g] along x (in-plane) and z (out-of-plane, up)
-COMBINED_TIP_TORQUE = 5600.0  # [N m] about +y at the tip rib, as a couple on the spars' tip nodes
+# sized on the converged mesh (flexgvt 0.05 m) so that the tip deflects about 3.6 % of the span
+# (0.575 m), less than at 2.5 g. The post-buckled skins are softer on finer meshes: 3.5 % at the
+# default 0.1 m, about 3 % at 0.25 m. (Until 27 Nov it was sized on 0.25 m: 0.49 / 0.77 g and
+# 5.6 kN m, 4.3 % converged; docs/shells.md, "The wingbox case".)
+COMBINED_GRAVITY = (0.43, 0.0, 0.68)  # [g] along x (in-plane) and z (out-of-plane, up)
+COMBINED_TIP_TORQUE = 4900.0  # [N m] about +y at the tip rib, as a couple on the spars' tip nodes
 
 
 def _divisions(length: float, size: float, least: int) -> int:
@@ -55,8 +56,8 @@ def wingbox(element_size: float = 0.1, rib_pitch: float = 0.5, carried_mass: boo
     ``element_size`` [m] (at least 4 across the chord and 2 through the depth; the span spacing
     divides the rib pitch). Configurations: unloaded, minus_1g (self-weight, the box hanging as a
     wing at rest), plus_2_5g (a 2.5 g pull-up: inertial loads upward at 2.5 g) and combined (the
-    unseen case: 0.77 g up and 0.49 g aft with a 5.6 kN m nose-up tip torque; tip deflection 3.6 %
-    of the span on the 0.25 m mesh, 4.3 % converged). mass: 'lumped' or 'consistent' shell mass.
+    unseen case: 0.68 g up and 0.43 g aft with a 4.9 kN m nose-up tip torque; tip deflection 3.6 %
+    of the span converged, 3.5 % on the default mesh). mass: 'lumped' or 'consistent' shell mass.
     skin_bays: split each skin into one group per rib bay, skin_top_bay01 ... skin_bottom_bayNN
     numbered from the root (the pattern 'skin_*' still takes every skin; 'skin_bottom_bay01' one
     bay), for local variables."""
