@@ -17,7 +17,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..errors import ModelError
-from .settings import renamed
+from .settings import OptimiserSettings, renamed
 from ..fem import mass_properties, solve_modes, solve_static
 from .runner import update
 from .targets import MassTarget, Measured, Objective
@@ -358,7 +358,8 @@ def verify(case: str = "cantilever", seed: int = 1, n_modes: int = 8, method: st
     Every model (initial, multi, single) is also judged in every configuration
     (Verification.configurations)."""
     t0 = time.perf_counter()
-    if protocol is None:
+    OptimiserSettings(method=method, tolerance=OptimiserSettings.tolerance if tolerance is None else tolerance)
+    if protocol is None:  # (the settings checked first: the reference's solves take a while)
         if case == "wingbox_local" and not (0 < local and abs(local - 1.0) < local_bounds):
             raise ModelError(f"verify: the local factor {local:g} must be positive and within the local bounds "
                              f"1 +- {local_bounds:g}; widen local_bounds or choose a smaller difference")
