@@ -60,8 +60,8 @@ def test_three_seeds_on_the_coarse_post_buckled_wingbox():
     step) is below 1e-3 of the scaled variables, which with Gauss-Newton's quadratic convergence leaves
     errors near 1e-5 % (measured: every variable within 1.2e-5 %, 1e-6 gave 7e-6 % in one more
     iteration), far inside the 0.5 % asserted; from the initial 2-5 % a wrong model or Jacobian stays
-    percents off. About 50 CPU s in all on one core (6 s the reference, 15 s a seed; docs/updating.md,
-    "Coarse meshes")."""
+    percents off. 60 CPU s in all on one core at load 2-3 (6 s the reference, 16-17 s a seed;
+    docs/updating.md, "Coarse meshes")."""
     runs = up.verify_seeds("wingbox", (1, 2, 3), element_size=0.25, tolerance=1e-3)
     for seed, v in zip((1, 2, 3), runs):
         e = {k: np.asarray(x, float) for k, x in v["variable_errors_percent"].items()}
