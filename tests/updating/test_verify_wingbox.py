@@ -51,16 +51,18 @@ def test_verify_refuses_a_local_factor_outside_its_bounds_and_a_foreign_protocol
 
 def test_three_seeds_on_the_coarse_post_buckled_wingbox():
     """Issue 31's protocol at 0.25 m (two elements per rib bay: the loaded configurations buckle),
-    one reference for the three seeds, each seed in its own worker process (verify_seeds): multi-
-    configuration updating recovers every variable within 0.5 % and predicts the unseen combined case
-    within 0.2 %, in a few Gauss-Newton iterations (noise-free data, exact Jacobian: 3 measured; an
-    inexact Jacobian row made it crawl for 64); the single-configuration result is reported beside
-    it. Stopping tolerance 1e-3: MINPACK stops once its trust region (twice its last step) is below
-    1e-3 of the scaled variables, which with Gauss-Newton's quadratic convergence leaves errors near
-    1e-5 % (measured: every variable within 1.2e-5 %, 1e-6 gave 7e-6 % in one more iteration), far
-    inside the 0.5 % asserted; from the initial 2-5 % a wrong model or Jacobian stays percents off.
-    About 80 CPU s in all, 40 s wall on two free cores (docs/updating.md, "Coarse meshes")."""
-    runs = up.verify_seeds("wingbox", (1, 2, 3), processes=3, element_size=0.25, tolerance=1e-3)
+    one reference for the three seeds, run one after the other in this process (verify_seeds without
+    worker processes: they cost a third more CPU, each importing flexgvt and loading numba's cache):
+    multi-configuration updating recovers every variable within 0.5 % and predicts the unseen
+    combined case within 0.2 %, in a few Gauss-Newton iterations (noise-free data, exact Jacobian: 3
+    measured; an inexact Jacobian row made it crawl for 64); the single-configuration result is
+    reported beside it. Stopping tolerance 1e-3: MINPACK stops once its trust region (twice its last
+    step) is below 1e-3 of the scaled variables, which with Gauss-Newton's quadratic convergence leaves
+    errors near 1e-5 % (measured: every variable within 1.2e-5 %, 1e-6 gave 7e-6 % in one more
+    iteration), far inside the 0.5 % asserted; from the initial 2-5 % a wrong model or Jacobian stays
+    percents off. 60 CPU s in all on one core at load 2-3 (6 s the reference, 16-17 s a seed;
+    docs/updating.md, "Coarse meshes")."""
+    runs = up.verify_seeds("wingbox", (1, 2, 3), element_size=0.25, tolerance=1e-3)
     for seed, v in zip((1, 2, 3), runs):
         e = {k: np.asarray(x, float) for k, x in v["variable_errors_percent"].items()}
         assert v["seed"] == seed and v["variables"] == ["rho", "E", "t_ribs", "t_skins", "t_spars"]

@@ -23,7 +23,11 @@ def register(app: typer.Typer, console: Console) -> None:
                method: str = typer.Option("least_squares", help="least_squares, trf, lm, slsqp, trust-constr or "
                                           "nelder-mead"),
                modes: int = typer.Option(8, help="measured modes per configuration"),
-               element_size: float = typer.Option(0.2, help="the wingbox's mesh size [m]"),
+               element_size: float = typer.Option(0.2, help="the wingbox's mesh size [m] (0.25: the coarsest on which "
+                                                  "the loaded skins buckle, two elements per rib bay)"),
+               tolerance: Optional[float] = typer.Option(None, help="the optimiser's stopping tolerance on cost, "
+                                                         "step and gradient (default 1e-10; the wingbox's test and "
+                                                         "bench stop at 1e-3: docs/updating.md)"),
                out: Optional[Path] = typer.Option(None, help="folder for verification.json, the tables "
                                         "(frequencies.csv, variables.csv, static.csv, onsets.csv) and figures "
                                         "(errors.png, mac.png)"),
@@ -33,7 +37,7 @@ def register(app: typer.Typer, console: Console) -> None:
         from ..updating import verify as run
 
         try:
-            result = run(case, seed=seed, n_modes=modes, method=method, element_size=element_size)
+            result = run(case, seed=seed, n_modes=modes, method=method, element_size=element_size, tolerance=tolerance)
         except FlexGVTError as exc:
             from rich.markup import escape
             console.print(f"[bold red]error:[/] {escape(str(exc))}", soft_wrap=True)

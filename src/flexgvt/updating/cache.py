@@ -13,6 +13,17 @@ class PointCache:
     def __init__(self, size: int = 8):
         self.size = size
         self._points: dict[bytes, Point] = {}
+        self._held: tuple[bytes, Point] | None = None  # a point that is the answer if its solves repeat
+
+    def hold(self, key: bytes, point: Point) -> None:
+        """``point`` is the answer at ``key`` if solving it again returns its very equilibria (the
+        problem checks): held until it is asked for or the cache is cleared."""
+        self._held = (key, point)
+
+    def held(self, key: bytes) -> Point | None:
+        """The point held at ``key`` (released), or None."""
+        held, self._held = self._held, None
+        return held[1] if held is not None and held[0] == key else None
 
     def get(self, key: bytes) -> Point | None:
         return self._points.get(key)
@@ -29,6 +40,7 @@ class PointCache:
 
     def clear(self) -> None:
         self._points.clear()
+        self._held = None
 
     def __len__(self) -> int:
         return len(self._points)

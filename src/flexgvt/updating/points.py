@@ -80,14 +80,17 @@ class ConfigurationPoint:
         renamed("ConfigurationPoint.from_summary()", "ConfigurationPoint.from_dict()")
         return cls.from_dict(d)
 
-    def modes(self) -> Modes:
-        """The analysed modes as fem Modes (full shapes about the state)."""
+    def modes(self, label: bool = True) -> Modes:
+        """The analysed modes as fem Modes (full shapes about the state), labelled unless label=False."""
         system = self.state.system
         T = system.transformation(self.state.positions, self.state.rotations) if system.has_links else None
         shapes = system.expand(self.phi, T).T.reshape(len(self.eigenvalues), system.n_nodes, 6)
+        modes = Modes(self.frequencies_hz, np.zeros(len(self.eigenvalues)), self.frequencies_hz.copy(), shapes,
+                      system.cm.node_ids, eigenvalues=self.eigenvalues, state=self.state)
+        if not label:
+            return modes
         from ..fem.labels import label_modes
-        return label_modes(Modes(self.frequencies_hz, np.zeros(len(self.eigenvalues)), self.frequencies_hz.copy(),
-                                 shapes, system.cm.node_ids, eigenvalues=self.eigenvalues, state=self.state))
+        return label_modes(modes)
 
 
 @dataclass

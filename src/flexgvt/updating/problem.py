@@ -89,7 +89,6 @@ class UpdatingProblem:
         self.workers: list | None = None  # Dask actors evaluating the configurations (updating.parallel)
         self.n_solves = 0
         self.n_gradients = 0
-        self._solved: tuple[bytes, dict] = (b"", {})  # (x, {configuration: (start, state)}) of _solves_again_to
         for m in measured:
             for (node, comp) in m.static:
                 self.work.index_of([node], f"static deflection of configuration '{m.configuration}'")
@@ -133,10 +132,11 @@ class UpdatingProblem:
         cached points are dropped, as their pairing may differ (kept when ``reference`` is the very
         one set last and no point has moved the pairing since: they were paired against it, so the
         answer evaluated again reuses its point). keep: the point ``reference`` was made from
-        (reference_of(keep)), left cached with its Jacobian where solving it again from its own
-        equilibria returns them bit for bit (_solves_again_to): evaluated again it would then pair
-        against its own shapes as it paired, and give the same numbers (the wingbox's start was
-        solved twice, with its Jacobian: 3 CPU s of a 0.25 m update)."""
+        (reference_of(keep)): evaluated again, each configuration is solved from its own equilibrium,
+        and where every one comes back bit for bit (Newton accepts it as it stands) the rest of the
+        evaluation (tangent, modes, pairing against its own shapes, Jacobian) would repeat it
+        exactly, so ``keep`` is the answer (PointCache.hold; a linear configuration's start and
+        answer are not computed twice)."""
         if keep is not None:  # the same solve completed with its Jacobian, if it is cached
             cached = self.cache.get(keep.x.tobytes())
             if cached is not None and cached.jacobian is not None and cached.configurations is keep.configurations:
@@ -148,30 +148,8 @@ class UpdatingProblem:
         self._reference, self._moves_at_set = reference, self.pairing.moves
         if keep is not None and not self.workers and keep.configurations and all(
                 c.state is not None and reference.get("states", {}).get(n) is c.state
-                for n, c in keep.configurations.items()) and self._solves_again_to(keep):
-            self.cache.add(keep.x.tobytes(), keep)
-
-    def _solves_again_to(self, point: "Point") -> bool:
-        """Each configuration of ``point`` solved again from its own equilibrium, as evaluate() would
-        warm-start it, returns that very equilibrium, bit for bit (Newton accepts it as it stands):
-        the rest of an evaluation (tangent, modes, pairing, Jacobian) is deterministic, so the point
-        would be computed again exactly. A few residual evaluations."""
-        try:
-            configs = self._set_work(point.x)
-        except ModelError:
-            return False
-        solved, same = {}, True
-        for name, c in point.configurations.items():
-            try:
-                again = solve_static(self.work, configs[name], settings=self.static_settings, start=c.state)
-            except (ConvergenceError, SingularModelError):
-                return False
-            solved[name] = (c.state, again)
-            same &= bool(np.array_equal(again.positions, c.state.positions)
-                         and np.array_equal(again.rotations, c.state.rotations))
-        if not same:  # the evaluation that follows takes these solves instead of repeating them
-            self._solved = (point.x.tobytes(), solved)
-        return same
+                for n, c in keep.configurations.items()):
+            self.cache.hold(keep.x.tobytes(), keep)
 
     @property
     def x0(self) -> np.ndarray:
@@ -186,25 +164,46 @@ class UpdatingProblem:
         hit = self.cache.get(key)
         if hit is not None and (hit.jacobian is not None or not gradient):
             return hit
-        t0 = time.perf_counter()
         if hit is not None and not self.workers:  # the states are at hand: only the Jacobian is missing
-            self._set_work(x)
-            point = self._assemble(x, hit.configurations, True)
-            point.seconds = hit.seconds + time.perf_counter() - t0
+            point = self.with_jacobian(hit)
             self.cache.replace(key, point)
             return point
+        t0 = time.perf_counter()
+        held = self.cache.held(key)
         try:
             configs = self._set_work(x)
         except ModelError as exc:  # e.g. a negative modulus from an unbounded step
             raise DesignPointFailure(f"design point outside the physical range: {exc}") from exc
         if self.workers:
             points = self._remote(x, gradient)
-        else:
-            points = {cfg.name: self._solve(configs[cfg.name]) for cfg in self.configurations}
+        elif held is not None:  # every equilibrium first: the held point is the answer only if all repeat
+            states = {cfg.name: self._equilibrium(configs[cfg.name]) for cfg in self.configurations}
+            if all(_same(states[n], c.state) for n, c in held.configurations.items()):
+                self.states.update({n: c.state for n, c in held.configurations.items()})
+                point = self.with_jacobian(held) if gradient else held
+                self.cache.add(key, point)
+                return point
+            points = {cfg.name: self._point(cfg.name, states[cfg.name]) for cfg in self.configurations}
+        else:  # each configuration solved and analysed in turn (the other order moves the modes by round-off)
+            points = {cfg.name: self._point(cfg.name, self._equilibrium(configs[cfg.name]))
+                      for cfg in self.configurations}
         point = self._assemble(x, points, gradient)
         point.seconds = time.perf_counter() - t0
         self.cache.add(key, point)
         return point
+
+    def with_jacobian(self, point: Point) -> Point:
+        """``point`` with its Jacobian, computed about its own equilibria (no new solve: the numbers
+        of evaluate(x, gradient=True) at once); evaluated again where workers solved it (no states here)."""
+        if point.jacobian is not None:
+            return point
+        if self.workers or any(c.state is None for c in point.configurations.values()):
+            return self.evaluate(point.x, gradient=True)
+        t0 = time.perf_counter()
+        self._set_work(point.x)
+        out = self._assemble(point.x, point.configurations, True)
+        out.seconds = point.seconds + time.perf_counter() - t0
+        return out
 
     def _set_work(self, x: np.ndarray) -> dict[str, Configuration]:
         """Set the working model to x (left alone when it is there already: an unchanged revision
@@ -225,19 +224,16 @@ class UpdatingProblem:
             out[name] = point
         return out
 
-    def _solve(self, config: Configuration) -> ConfigurationPoint:
-        name = config.name
-        start = self.states.get(name)
-        key, solved = self._solved
-        done = solved.get(name) if self._work_at is not None and self._work_at[0].tobytes() == key else None
+    def _equilibrium(self, config: Configuration):
+        """The configuration's equilibrium on the working model, warm-started from its last one."""
         try:
-            if done is not None and done[0] is start:  # this very solve, from this very start: made already
-                state = done[1]
-                del solved[name]
-            else:
-                state = solve_static(self.work, config, settings=self.static_settings, start=start)
+            return solve_static(self.work, config, settings=self.static_settings, start=self.states.get(config.name))
         except (ConvergenceError, SingularModelError) as exc:
-            raise DesignPointFailure(f"configuration '{name}' did not converge at this design point: {exc}") from exc
+            raise DesignPointFailure(f"configuration '{config.name}' did not converge at this design point: "
+                                     f"{exc}") from exc
+
+    def _point(self, name: str, state) -> ConfigurationPoint:
+        """The configuration's modes at its equilibrium ``state``, paired with the measured ones."""
         self.n_solves += 1
         system = state.system
         positions, R = state.positions, state.rotations
@@ -311,6 +307,11 @@ class UpdatingProblem:
             point.constraint_jacobian = np.vstack(crows) if crows else np.zeros((0, nv))
             self.n_gradients += 1
         return point
+
+
+def _same(a, b) -> bool:
+    """Two states at the very same equilibrium, bit for bit."""
+    return b is not None and np.array_equal(a.positions, b.positions) and np.array_equal(a.rotations, b.rotations)
 
 
 __all__ = ["Block", "ConfigurationPoint", "DesignPointFailure", "Point", "UpdatingProblem", "Variable"]

@@ -17,7 +17,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..errors import ModelError
-from .settings import renamed
+from .settings import OptimiserSettings, renamed
 from ..fem import mass_properties, solve_modes, solve_static
 from .runner import update
 from .targets import MassTarget, Measured, Objective
@@ -265,26 +265,32 @@ def _wingbox_setup(element_size: float = 0.2, local: float | None = None, bay: s
 
 
 def _wingbox_paths(element_size: float, local: float | None, bay: str, rib_pitch: float):
-    """_wingbox_setup's and the reference's buckling onsets {loaded configuration: Onset or None}."""
+    """_wingbox_setup's, the reference's equilibria {loaded configuration: State} and its buckling
+    onsets {loaded configuration: Onset or None}."""
     case, sensors, variables = _wingbox_model(element_size, local, bay, rib_pitch)
     model = case.model
-    train, onsets = [], {}
+    train, states, onsets = [], {}, {}
     for name in ("unloaded", "minus_1g", "plus_2_5g", "combined"):
         cfg = case.configurations[name]
         if cfg.gravity:
             state = solve_static(model, cfg, settings=StaticSettings(buckling="continue"))
             cfg, onsets[name] = state.configuration, Onset.of(state, rib_pitch)
+            states[name] = state
         train.append(cfg)
     unseen = train.pop()
-    return case, sensors, variables, train, unseen, int(case.references["tip_spar_nodes"][0]), onsets
+    return case, sensors, variables, train, unseen, int(case.references["tip_spar_nodes"][0]), states, onsets
 
 
-def _surrogate(model, configs, sensors, n_modes, tip, onsets: dict | None = None):
+def _surrogate(model, configs, sensors, n_modes, tip, onsets: dict | None = None, states: dict | None = None):
     """The reference's Measured in each configuration; onsets: a dict to which each loaded configuration's
-    Onset (None: no loss of stability found) is added, unless it holds that configuration already."""
+    Onset (None: no loss of stability found) is added, unless it holds that configuration already;
+    states: equilibria {configuration name: State} of ``model`` in those very configurations (a
+    post-buckled path's, solved from zero load with its imperfection), used instead of solving again."""
     data = []
     for cfg in configs:
-        state = solve_static(model, cfg)
+        state = (states or {}).get(cfg.name)
+        if state is None or state.configuration is not cfg or state.model is not model:
+            state = solve_static(model, cfg)
         if onsets is not None and (cfg.gravity or cfg.forces) and cfg.name not in onsets:
             onsets[cfg.name] = Onset.of(state)
         modes = solve_modes(state, n_modes)
@@ -325,10 +331,10 @@ def verification_protocol(case: str = "cantilever", n_modes: int = 8, element_si
     if case not in CASES:
         raise ModelError(f"verify: unknown case '{case}'; choose one of {CASES}")
     local = local if case == "wingbox_local" else None
-    ref, sensors, variables, train, unseen, tip, onsets = ((*_cantilever_setup(), {}) if case == "cantilever"
-                                                           else _wingbox_paths(element_size, local, LOCAL_BAY,
-                                                                               rib_pitch))
-    data = _surrogate(ref.model, [*train, unseen], sensors, n_modes, tip, onsets)
+    ref, sensors, variables, train, unseen, tip, states, onsets = (
+        (*_cantilever_setup(), {}, {}) if case == "cantilever" else _wingbox_paths(element_size, local, LOCAL_BAY,
+                                                                                   rib_pitch))
+    data = _surrogate(ref.model, [*train, unseen], sensors, n_modes, tip, onsets, states)
     mp = mass_properties(ref.model)
     target = MassTarget(mass=mp.mass, cg=tuple(mp.cg), inertia=tuple(np.diag(mp.inertia)))
     onsets = {cfg.name: onsets[cfg.name] for cfg in [*train, unseen] if cfg.name in onsets}  # in load-case order
@@ -352,7 +358,8 @@ def verify(case: str = "cantilever", seed: int = 1, n_modes: int = 8, method: st
     Every model (initial, multi, single) is also judged in every configuration
     (Verification.configurations)."""
     t0 = time.perf_counter()
-    if protocol is None:
+    OptimiserSettings(method=method, tolerance=OptimiserSettings.tolerance if tolerance is None else tolerance)
+    if protocol is None:  # (the settings checked first: the reference's solves take a while)
         if case == "wingbox_local" and not (0 < local and abs(local - 1.0) < local_bounds):
             raise ModelError(f"verify: the local factor {local:g} must be positive and within the local bounds "
                              f"1 +- {local_bounds:g}; widen local_bounds or choose a smaller difference")
@@ -392,8 +399,10 @@ def verify(case: str = "cantilever", seed: int = 1, n_modes: int = 8, method: st
     reference = protocol.unseen_data
     models = {"initial": initial, "multi": multi.model, "single": single.model}
     # The multi-configuration update's first point is the initial model solved from zero load in
-    # every training configuration: its own prediction there, where its path met no instability.
-    solved = {"initial": multi.initial.configurations}
+    # every training configuration, its final point the updated model continued there from it
+    # along the design points (and the single-configuration update's likewise in the unloaded one):
+    # their own predictions there, where the first point's path met no instability.
+    solved = {"initial": multi.initial.configurations, "multi": _continued(multi), "single": _continued(single)}
     configurations = {}
     for cfg, meas in zip([*train, unseen], [*data, reference]):
         seen_by = [] if cfg is unseen else ["multi", "single"] if cfg is train[0] else ["multi"]
@@ -469,22 +478,33 @@ def _static_row(key: tuple, reference: float, static: dict) -> dict:
     return row
 
 
+def _continued(result) -> dict:
+    """{configuration: the final ConfigurationPoint of an UpdateResult} where the update's first point
+    (solved from zero load) met no instability on its path there: the final equilibrium is the
+    first one continued along the design points, on the same branch."""
+    first = result.initial.configurations
+    return {name: p for name, p in result.final.configurations.items()
+            if name in first and first[name].state is not None and first[name].state.instability is None}
+
+
 def _predicted(model, cfg, meas: Measured, sensors, n_modes: int, point=None) -> tuple[np.ndarray, dict]:
     """The frequencies [Hz] of ``model`` in ``cfg`` paired (MAC at the sensors) with the measured modes,
     NaN where a measured mode finds no partner, and its static readings {(node, component): value} at
     the measured ones (Measured.static) of the same equilibrium. A model whose load path loses stability where the
     reference's did not is followed onto its own post-buckled path (the reference's rule): the
     primary path's equilibrium past a bifurcation is unstable and its frequencies predict nothing.
-    point: an updating ConfigurationPoint of this model in ``cfg`` solved from zero load (an
-    update's first point), whose modes are taken where its path found no instability (the same
-    solve, so the same equilibrium; its lowest n_modes + 4 modes)."""
+    point: an updating ConfigurationPoint of this model in ``cfg`` (an update's first point, solved from
+    zero load, or its final one, continued from that), whose modes are taken where its path found no
+    instability and the equilibrium is stable (the lowest eigenvalue positive; the same equilibrium;
+    its lowest n_modes + 4 modes)."""
     from ..correlation import pair
     state = None if point is None else point.state
-    if state is not None and state.instability is None and len(point.eigenvalues) >= n_modes + 4:
-        modes = _first(point.modes(), n_modes + 4)
+    if (state is not None and state.instability is None and len(point.eigenvalues) >= n_modes + 4
+            and np.min(point.eigenvalues) > 0):
+        modes = _first(point.modes(label=False), n_modes + 4)
     else:
         state = solve_static(model, cfg, settings=StaticSettings(buckling="continue"))
-        modes = solve_modes(state, n_modes + 4)
+        modes = solve_modes(state, n_modes + 4, label=False)  # the pairing reads shapes and frequencies only
     pairing = pair(_as_modal_set(meas), modes, sensors=sensors)
     f = np.full(len(meas.frequencies_hz), np.nan)
     f[pairing.measured] = modes.frequencies_hz[pairing.analytical]
