@@ -76,7 +76,7 @@ def test_three_seeds_on_the_coarse_post_buckled_wingbox():
             assert len(row["single_error_percent"]) == len(row["reference_hz"]) == 8
         # The unseen case's static tip, predicted: the reference's, every model's and their errors.
         (tip,) = v["prediction"]["static"]
-        assert tip["component"] == 3 and 0.55 < tip["reference"] < 0.65  # 0.5785 m at 0.25 m
+        assert tip["component"] == 3 and 0.48 < tip["reference"] < 0.54  # 0.5108 m at 0.25 m
         assert abs(tip["multi_error_percent"]) < 0.2 and abs(tip["initial_error_percent"]) > 0.5
         assert tip["single"] == pytest.approx(tip["reference"] * (1 + tip["single_error_percent"] / 100), rel=1e-12)
         # The reference's onsets in the JSON layout; the post-buckled reference has LOCAL modes.
