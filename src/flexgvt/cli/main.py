@@ -112,7 +112,8 @@ def _modes_table(title: str, results: dict) -> None:
 
 
 @app.command()
-def solve(case: str = typer.Argument(..., help="built-in case (cantilever_strip, strip_366, hale_wing) or a .bdf deck"),
+def solve(case: str = typer.Argument(..., help="built-in case (cantilever_strip, strip_366, hale_wing, xhale, "
+                                     "wingbox, swept_wing) or a .bdf deck"),
           config: Optional[list[str]] = typer.Option(None, "--config", "-c", help="configuration name(s); default all"),
           modes: Optional[int] = typer.Option(None, help="number of modes (default: a deck's EIGRL/EIGR ND, window "
                                               "and normalisation, as Nastran; else 10)"),

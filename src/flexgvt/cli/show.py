@@ -154,6 +154,7 @@ def register(parent: typer.Typer, console: Console) -> None:
     @app.command("model")
     def show_model(target: str = typer.Argument(..., help="a Nastran deck (.bdf, .dat, .nas, .blk), a project "
                                                 "(.toml) or a built-in case (cantilever_strip, strip_366, hale_wing, "
+                                                "wingbox, swept_wing, "
                                                 "xhale)"),
                    units: str = typer.Option("SI", help="a deck's units: SI (m-kg-s), mm-N-t-s (mm-t-s), in-lbf-s, "
                                              "ft-lbf-s; shown converted to SI"),

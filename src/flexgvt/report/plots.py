@@ -20,20 +20,55 @@ def _figure(*args, **kwargs):
     return Figure(*args, **kwargs)
 
 
+def _stations(state):
+    """For a model with shells: (y of each span station, the node rows at each) from the undeformed
+    positions, else None. A built-up
+    box has a whole section of nodes at every y: drawn node by node in storage order it is a zigzag
+    (the CLI's figures of the wingbox were), so its sections are drawn by their centroids."""
+    system = state.system
+    if system is None or not any(f.name.startswith("shell") and len(f.nodes) for f in system.families):
+        return None
+    y0 = system.cm.xyz[:, 1]
+    order = np.argsort(y0, kind="stable")
+    # A gap of 1e-3 of the span starts a new station: an imperfection's offsets (0.8 mm on the
+    # wingbox's skins, with a spanwise part) must not split a section.
+    breaks = np.flatnonzero(np.diff(y0[order]) > 1e-3 * max(float(np.ptp(y0)), 1e-300)) + 1
+    rows = np.split(order, breaks)
+    return np.array([y0[r].mean() for r in rows]), rows
+
+
 def static_shape(states, title: str = "Static shape"):
-    """Side (span-z) and plan (span-chord) views of one or more states against the undeformed geometry."""
+    """Side (span-z) and plan (span-chord) views of one or more states against the undeformed geometry
+    (a shell model: each span station's centroid, with the band its nodes span in z)."""
     states = list(states)
     fig = _figure(figsize=(9, 5.5))
     side, plan = fig.subplots(2, 1, sharex=True)
     xyz0 = states[0].system.cm.xyz
-    order = np.argsort(xyz0[:, 1])
-    side.plot(xyz0[order, 1], xyz0[order, 2], "k--", lw=1, label="undeformed")
-    plan.plot(xyz0[order, 1], xyz0[order, 0], "k--", lw=1)
+    stations = _stations(states[0])
+    if stations is None:
+        order = np.argsort(xyz0[:, 1])
+
+        def lines(p):
+            return p[order], None
+    else:
+        _, rows = stations
+
+        def lines(p):
+            mean = np.array([p[r].mean(axis=0) for r in rows])
+            band = np.array([(p[r, 2].min(), p[r, 2].max(), p[r, 0].min(), p[r, 0].max()) for r in rows])
+            return mean, band
+    p0, band0 = lines(xyz0)
+    centroids = " (section centroids)" if band0 is not None else ""
+    side.plot(p0[:, 1], p0[:, 2], "k--", lw=1, label=f"undeformed{centroids}")
+    plan.plot(p0[:, 1], p0[:, 0], "k--", lw=1)
     for st in states:
-        p = st.positions[order]
+        p, band = lines(st.positions)
         lab = f"{st.configuration.name} (load factor {st.load_factor:g})"
-        side.plot(p[:, 1], p[:, 2], lw=2, label=lab)
-        plan.plot(p[:, 1], p[:, 0], lw=2)
+        line, = side.plot(p[:, 1], p[:, 2], lw=2, label=lab)
+        plan.plot(p[:, 1], p[:, 0], lw=2, color=line.get_color())
+        if band is not None:  # the band the section's nodes span: depth (side), chord (plan)
+            side.fill_between(p[:, 1], band[:, 0], band[:, 1], color=line.get_color(), alpha=0.15, lw=0)
+            plan.fill_between(p[:, 1], band[:, 2], band[:, 3], color=line.get_color(), alpha=0.15, lw=0)
     side.set_ylabel("z [m]")
     plan.set_ylabel("x [m]")
     plan.set_xlabel("y (span) [m]")
@@ -41,26 +76,48 @@ def static_shape(states, title: str = "Static shape"):
     side.legend(fontsize=8)
     for ax in (side, plan):
         ax.grid(alpha=0.3)
+        ax.ticklabel_format(axis="y", useOffset=False)
     fig.tight_layout()
     return fig
 
 
+def _section_motion(shape: np.ndarray, xyz: np.ndarray, rows) -> np.ndarray:
+    """(stations, 3): each station's mean x and z translation and its rotation about y, the least-
+    squares rigid rotation of its nodes' translations about their centroid [rad per unit shape]."""
+    out = np.zeros((len(rows), 3))
+    for k, r in enumerate(rows):
+        u = shape[r, :3]
+        d = xyz[r] - xyz[r].mean(axis=0)
+        arm = d[:, 0] ** 2 + d[:, 2] ** 2
+        spin = np.sum(d[:, 2] * u[:, 0] - d[:, 0] * u[:, 2])
+        twist = float(spin / arm.sum()) if arm.sum() > 0 else float(shape[r, 4].mean())
+        out[k] = u[:, 0].mean(), u[:, 2].mean(), twist
+    return out
+
+
 def mode_shapes(modes, n: int = 6, title: str = "Mode shapes"):
-    """Translations (x, z) and twist of the first n modes along the span."""
+    """Translations (x, z) and twist of the first n modes along the span (a shell model: of each span
+    station's section, its mean translation and rigid rotation)."""
     state = modes.state
-    y = state.positions[:, 1]
-    order = np.argsort(y)
+    stations = _stations(state)
     n = min(n, modes.n_modes)
     fig = _figure(figsize=(11, 2.2 * ((n + 1) // 2)))
     axes = fig.subplots((n + 1) // 2, 2, squeeze=False).ravel()
     for k in range(n):
         ax = axes[k]
-        s = modes.shapes[k][order]
-        scale = max(np.abs(s[:, :3]).max(), 1e-300)
-        ax.plot(y[order], s[:, 2] / scale, label="z")
-        ax.plot(y[order], s[:, 0] / scale, label="x (chord)")
-        twist = s[:, 4] / max(np.abs(s[:, 3:]).max(), 1e-300)
-        ax.plot(y[order], twist, ":", label="twist (scaled)")
+        if stations is None:
+            y = state.positions[:, 1]
+            order = np.argsort(y)
+            s = modes.shapes[k][order]
+            y, x_, z_, twist = y[order], s[:, 0], s[:, 2], s[:, 4]
+        else:
+            y, rows = stations
+            m = _section_motion(modes.shapes[k], state.positions, rows)
+            x_, z_, twist = m[:, 0], m[:, 1], m[:, 2]
+        scale = max(np.abs(np.r_[x_, z_]).max(), 1e-300)
+        ax.plot(y, z_ / scale, label="z")
+        ax.plot(y, x_ / scale, label="x (chord)")
+        ax.plot(y, twist / max(np.abs(twist).max(), 1e-300), ":", label="twist (scaled)")
         lab = modes.labels[k] if modes.labels else ""
         ax.set_title(f"mode {k + 1}: {modes.frequencies_hz[k]:.3f} Hz {lab}", fontsize=9)
         ax.grid(alpha=0.3)
