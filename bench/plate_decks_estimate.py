@@ -110,6 +110,22 @@ def ha145(name):
         print(f"{name} ({label}, consistent mass, Guyan to ASET), modes 1-8 against Nastran [%]: {percent(f, ref)}")
 
 
+def crop_bar(E: float, rho: float) -> tuple[np.ndarray, np.ndarray]:
+    """The crop wing's CBAR 1010 (grid 10102 to the clamped grid 20000; PBAR A 100, I 1000, J 500,
+    L 30, G = E / 2.6, local x = -X basic): the 6 x 6 stiffness and coupled mass blocks of its free
+    end in basic axes (the clamped end's do not enter). rho: mass density times WTMASS."""
+    G, A, Ib, J, L = E / 2.6, 100.0, 1000.0, 500.0, 30.0
+    mu = rho * A
+    kl, ml = np.zeros((6, 6)), np.zeros((6, 6))
+    kl[0, 0], kl[3, 3], ml[0, 0] = E * A / L, G * J / L, mu * L / 3
+    for w, th, s in ((1, 5, 1), (2, 4, -1)):
+        kl[w, w], kl[th, th], kl[w, th] = 12 * E * Ib / L**3, 4 * E * Ib / L, s * 6 * E * Ib / L**2
+        ml[w, w], ml[th, th], ml[w, th] = 156 * mu * L / 420, 4 * mu * L**3 / 420, s * 22 * mu * L**2 / 420
+        kl[th, w], ml[th, w] = kl[w, th], ml[w, th]
+    T = np.kron(np.eye(2), np.diag([-1.0, -1.0, 1.0]))
+    return T @ kl @ T.T, T @ ml @ T.T
+
+
 def crop():
     b, nids, ix, X = load("crop/crop.bdf")
     wt, mat = 0.00259, b.materials[1100]
@@ -119,19 +135,10 @@ def crop():
     C, mass = section_arrays([pshell(1.5, m, m)], np.zeros(len(quads), int))
     sm = shell_matrices(X[conn], C, mass, lumped=False)
     K, M = assemble(conn, sm.K, len(nids)).toarray(), assemble(conn, sm.M, len(nids)).toarray()
-    # CBAR 10102 -> 20000 (clamped), local x = -X basic: the free end's 6 x 6 blocks, coupled mass
-    E, G, A, Ib, J, L = mat.e, mat.e / 2.6, 100.0, 1000.0, 500.0, 30.0
-    mu = mat.rho * wt * A
-    kl, ml = np.zeros((6, 6)), np.zeros((6, 6))
-    kl[0, 0], kl[3, 3], ml[0, 0] = E * A / L, G * J / L, mu * L / 3
-    for w, th, s in ((1, 5, 1), (2, 4, -1)):
-        kl[w, w], kl[th, th], kl[w, th] = 12 * E * Ib / L**3, 4 * E * Ib / L, s * 6 * E * Ib / L**2
-        ml[w, w], ml[th, th], ml[w, th] = 156 * mu * L / 420, 4 * mu * L**3 / 420, s * 22 * mu * L**2 / 420
-        kl[th, w], ml[th, w] = kl[w, th], ml[w, th]
-    T = np.kron(np.eye(2), np.diag([-1.0, -1.0, 1.0]))
+    kb, mb = crop_bar(mat.e, mat.rho * wt)
     i = ix[10102]
-    K[6 * i:6 * i + 6, 6 * i:6 * i + 6] += T @ kl @ T.T
-    M[6 * i:6 * i + 6, 6 * i:6 * i + 6] += T @ ml @ T.T
+    K[6 * i:6 * i + 6, 6 * i:6 * i + 6] += kb
+    M[6 * i:6 * i + 6, 6 * i:6 * i + 6] += mb
     fixed = {6 * ix[n] + d for n in nids if n != 20000 for d in (0, 5)} | {6 * ix[20000] + d for d in range(6)}
     free = [d for d in range(6 * len(nids)) if d not in fixed]
     a = [free.index(6 * ix[n] + 2) for n in nids if n != 20000]

@@ -97,18 +97,10 @@ def load(name: str, variant: str = "deck") -> Plate:
         return Plate(**common, held={20000: tuple(range(6))}, held_everywhere=(0, 5),
                      aset=[n for n in ids if n != 20000 and X[ids.index(n), 0] > 30.0 + 1e-6],
                      line=(0, 30.0, 0.0, 100.0, (1, 2, 3, 4)))
-    # crop: CBAR 1010 from 10102 to 20000 (clamped), x = -X basic, PBAR A 100, I 1000, J 500, L 30
-    E, G, A, Ib, J, L = mat.e, mat.e / 2.6, 100.0, 1000.0, 500.0, 30.0
-    mu = mat.rho * wt * A
-    kl, ml = np.zeros((6, 6)), np.zeros((6, 6))
-    kl[0, 0], kl[3, 3], ml[0, 0] = E * A / L, G * J / L, mu * L / 3
-    for w, th, s in ((1, 5, 1), (2, 4, -1)):
-        kl[w, w], kl[th, th], kl[w, th] = 12 * E * Ib / L**3, 4 * E * Ib / L, s * 6 * E * Ib / L**2
-        ml[w, w], ml[th, th], ml[w, th] = 156 * mu * L / 420, 4 * mu * L**3 / 420, s * 22 * mu * L**2 / 420
-        kl[th, w], ml[th, w] = kl[w, th], ml[w, th]
-    T = np.kron(np.eye(2), np.diag([-1.0, -1.0, 1.0]))
-    # only the free end's block matters: grid 20000 is clamped
-    bar = {"grid": 10102, "K": T @ kl @ T.T, "M": T @ ml @ T.T}
+    # crop: CBAR 1010 from 10102 to 20000 (clamped): its free end's blocks, as plate_decks_estimate
+    from plate_decks_estimate import crop_bar
+    kb, mb = crop_bar(mat.e, mat.rho * wt)
+    bar = {"grid": 10102, "K": kb, "M": mb}
     return Plate(**common, held={20000: tuple(range(6))}, held_everywhere=(0, 5),
                  aset=[n for n in ids if n != 20000], bar=bar)
 
