@@ -132,13 +132,20 @@ def _where(system, shape: np.ndarray) -> str:
     return parts[0] if parts else f"nodes {', '.join(str(int(i)) for i in system.cm.node_ids[top[:5]])}"
 
 
+def corner_spread(u: np.ndarray, nodes: np.ndarray) -> np.ndarray:
+    """(n,) how much a shape deforms each element of nodes (n, p) (row indices of u): the rms spread of
+    its corners' translations u (n_nodes, 3) about their mean, rigid translations of the element left
+    out (a wrinkle shows, the global motion a buckling shape carries with it does not)."""
+    corners = u[nodes]
+    return np.sqrt(((corners - corners.mean(axis=1, keepdims=True)) ** 2).sum(axis=2).mean(axis=1))
+
+
 def where_local(system, shape: np.ndarray) -> str:
-    """The family and elements the shape deforms most: the rms spread of each element's corner
-    translations about their mean, at least half the largest (a wrinkle, not the global motion the
-    shape carries with it, as a departure from a pre-buckled path does)."""
+    """The family and elements the shape deforms most (corner_spread at least half the largest): a
+    wrinkle, not the global motion the shape carries with it, as a departure from a pre-buckled path
+    does."""
     u = shape.reshape(-1, 6)[:, :3]
-    spreads = [(family, np.sqrt(((u[family.nodes] - u[family.nodes].mean(axis=1, keepdims=True)) ** 2)
-                                .sum(axis=2).mean(axis=1)))
+    spreads = [(family, corner_spread(u, family.nodes))
                for family in system.families if family.structural and np.asarray(family.nodes).shape[1] >= 2
                and len(family.nodes)]
     largest = max((float(s.max()) for _, s in spreads), default=0.0)

@@ -21,6 +21,7 @@ from .settings import OptimiserSettings, renamed
 from ..fem import mass_properties, solve_modes, solve_static
 from .runner import update
 from .targets import MassTarget, Measured, Objective
+from ..fem.stability import corner_spread
 from ..fem.static import StaticSettings
 from .variables import Parametrisation, beam, shell, shell_property
 
@@ -70,8 +71,7 @@ class Onset:
         motion, names, ys = [], [], []
         for group in (*model.shells, *model.beams):
             rows = np.vectorize(row.__getitem__, otypes=[int])(group.nodes)
-            corners = u[rows]  # (n, p, 3): an element's deformation is its corners' spread about their mean
-            motion.append(np.sqrt(((corners - corners.mean(axis=1, keepdims=True)) ** 2).sum(axis=2).mean(axis=1)))
+            motion.append(corner_spread(u, rows))
             names.append(np.full(len(rows), group.name, dtype=object))
             ys.append(xyz[rows, 1])
         if not motion:  # no elements: the nodes it moves most
