@@ -9,7 +9,8 @@ from pathlib import Path
 
 import pytest
 
-EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+ROOT = Path(__file__).resolve().parents[1]
+EXAMPLES = ROOT / "examples"
 
 
 def _load(path: Path):
@@ -71,17 +72,25 @@ def swept_wing_small(tmp_path_factory):
 
 
 def test_swept_wing(swept_wing_small):
-    """Both stages run from the case (small settings); each lowers its stage's error (stage 1 on all
-    five modes, stage 2 on the four its root spring moves: the model's third bending hardly follows
-    it); stage 2 changes only the root spring; the tables carry the original work's columns. OOP 3
-    pairs with the model's third bending; stage 1 brings every mode but IP 1 within 2 % (IP 1 is
-    held by M_z's lower bound); stage 2 brings IP 1 within 1 % and stiffens M_x, splitting the
-    difference between OOP 1 (the GVT's +5.2 % from the shaker table) and OOP 2 (+1.8 %), which the
-    root spring moves alike."""
+    """Both stages run from the case (small settings), after the root spring's M_z is set on the
+    laboratory GVT's first in-plane mode (Section 5.4.2); each lowers its stage's error (stage 1 on
+    all five modes, stage 2 on the four its root spring moves: the model's third bending hardly
+    follows it); stage 2 changes only the root spring; the tables carry the original work's columns.
+    OOP 3 pairs with the model's third bending; stage 1 brings the first three modes within 0.5 %
+    and all five within 2 % (the issue's figures; at these settings 0.3 %) with every variable inside
+    Table 5.7's bounds; stage 2 brings IP 1 within 1 % and stiffens M_x, splitting the difference
+    between OOP 1 (the GVT's +5.2 % from the shaker table) and OOP 2 (+1.8 %), which the root spring
+    moves alike."""
     out, saved = swept_wing_small
-    assert set(saved) == {"stage0", "stages", "summary"} and set(saved["stages"]) == {"shaker_table", "wind_tunnel"}
+    assert set(saved) == {"stage0", "stages", "summary"}
+    assert list(saved["stages"]) == ["root_spring_adjustment", "shaker_table", "wind_tunnel"]
     assert saved["stage0"]["E_spar_ply"] == 45e9 and saved["stage0"]["rho_printed"] == 890.0
-    for name, stage in out["stages"].items():
+    adjust = out["stages"]["root_spring_adjustment"]
+    (row,), (mz,) = adjust["frequencies"], adjust["variables"]
+    assert row["measured_hz"] == 7.10 and row["initial_hz"] > 8.0 and row["updated_hz"] == pytest.approx(7.10, rel=1e-5)
+    assert mz["name"] == "M_z" and mz["initial"] == 5000.0 and 0.5 < mz["final"] / 5000.0 < 0.75
+    for name in ("shaker_table", "wind_tunnel"):
+        stage = out["stages"][name]
         rows = stage["frequencies"]
         assert [r["label"] for r in rows] == ["OOP 1", "IP 1", "T 1", "OOP 2", "OOP 3"], name
         assert all(r["updated_hz"] is not None for r in rows), name
@@ -90,16 +99,35 @@ def test_swept_wing(swept_wing_small):
         assert rms["updated_error_percent"] < 0.5 * rms["initial_error_percent"], name
     s1 = out["stages"]["shaker_table"]["variables"]
     assert len(s1) == 15 and all(r["lower"] <= r["final"] / r["initial"] + 1e-9 <= r["upper"] + 1e-9 for r in s1)
+    assert {r["name"]: r["initial"] for r in s1}["M_z"] == pytest.approx(mz["final"], rel=1e-12)  # stage 1 starts there
     assert {r["name"]: r["original_final"] for r in s1}["E_skin"] == 5.84e9  # Table 5.7 beside flexgvt's
     assert [r["name"] for r in out["stages"]["wind_tunnel"]["variables"]] == ["K_x", "K_y", "K_z", "M_x", "M_y", "M_z"]
     st = out["stages"]["shaker_table"]["frequencies"]
     assert all(r["model_label"].startswith(lab) for r, lab in zip(st, ("1 OOP", "RB", "1 T", "2 OOP", "3 OOP")))
-    assert max(abs(r["updated_error_percent"]) for r in st if r["label"] != "IP 1") < 2.0
-    assert {r["name"]: r["at_bound"] for r in s1}["M_z"]
+    assert max(abs(r["updated_error_percent"]) for r in st[:3]) < 0.5
+    assert max(abs(r["updated_error_percent"]) for r in st) < 2.0
+    assert not {r["name"]: r["at_bound"] for r in s1}["M_z"]
+    assert saved["summary"]["shaker_table"]["worst_first3_percent"] < 0.5
     wt = out["stages"]["wind_tunnel"]["frequencies"]
     assert abs(wt[1]["updated_error_percent"]) < 1.0
     assert wt[0]["updated_error_percent"] < 0 < wt[3]["updated_error_percent"]
     assert {r["name"]: r["change_percent"] for r in out["stages"]["wind_tunnel"]["variables"]}["M_x"] > 10
+
+
+def test_swept_wing_stage2_reach():
+    """bench/swept_wing_stage2_reach.py --small (the docs' stage-2 study at the test's settings): from
+    stage 1's model, stiffening M_x raises the third bending monotonically towards its rigid-root
+    value, which stays more than 1 % below the tunnel's 35.5 Hz (no root spring reaches it), while the
+    first and second bending pass the GVT; the printed frame's and the film's moduli beside the root
+    spring fit the tunnel's shifts far better than the root spring alone."""
+    out = _load(ROOT / "bench" / "swept_wing_stage2_reach.py").main(["--small"])
+    oop3 = [r["errors_percent"][4] for r in out["scan"]]
+    assert all(b >= a - 1e-9 for a, b in zip(oop3, oop3[1:])) and oop3[-1] < -1.0
+    rigid = out["scan"][-1]["errors_percent"]
+    assert rigid[0] > 0 and rigid[3] > 0  # OOP 1 and OOP 2 above the GVT on a rigid root
+    assert out["best_scan"]["worst_without_ip1_percent"] > 1.0
+    worst = {tuple(v["extra"]): v["worst_percent"] for v in out["variants"]}
+    assert worst[("E_printed", "E_skin")] < 0.5 * worst[()]
 
 
 # run.py --small's settings, set on a copy of the project file (each line must be there exactly once).
@@ -125,13 +153,18 @@ def test_swept_wing_project(tmp_path, swept_wing_small):
     (tmp_path / "project.toml").write_text(text)
     got = CliRunner().invoke(app, ["run", str(tmp_path / "project.toml")], env={"COLUMNS": "120"})
     assert got.exit_code == 0, got.output
-    for title in ("stage 1 of 3 ('component tests'): fixed inputs", "stage 2 of 3 ('shaker table'): shaker_table",
-                  "stage 3 of 3 ('wind tunnel'): design variables"):
+    for title in ("stage 1 of 4 ('component tests'): fixed inputs",
+                  "stage 2 of 4 ('root-spring adjustment'): shaker_table_lab",
+                  "stage 3 of 4 ('shaker table'): shaker_table", "stage 4 of 4 ('wind tunnel'): design variables"):
         assert title in got.output  # each stage's table on the console
     res = json.loads((tmp_path / "results" / "results.json").read_text())
-    s0, s1, s2 = res["stages"]
-    assert [s["name"] for s in res["stages"]] == ["component tests", "shaker table", "wind tunnel"]
+    s0, sa, s1, s2 = res["stages"]
+    assert [s["name"] for s in res["stages"]] == ["component tests", "root-spring adjustment", "shaker table",
+                                                 "wind tunnel"]
     assert {r["name"]: r["value"] for r in s0["fixed_inputs"]}["E12_spar"] == 45e9 and s0["variables"] == []
+    assert sa["configurations"] == ["shaker_table_lab"] and [r["name"] for r in sa["variables"]] == ["M_z"]
+    assert {r["name"]: r["initial"] for r in s1["variables"]}["M_z"] == pytest.approx(sa["variables"][0]["final"],
+                                                                                     rel=1e-12)
     assert s1["configurations"] == ["shaker_table"] and len(s1["variables"]) == 15
     assert [(r["name"], r["lower"], r["upper"]) for r in s2["variables"]] == [
         (n, 0.25, 4.0) for n in ("K_x", "K_y", "K_z", "M_x", "M_y", "M_z")]
@@ -144,18 +177,19 @@ def test_swept_wing_project(tmp_path, swept_wing_small):
     # The same numbers as the Python example (run.py --small), to well inside the optimiser's steps
     # (measured: the variables to 1.6e-8, the frequencies to 2.1e-9).
     example = swept_wing_small[1]["stages"]
-    for mine, theirs in ((s1, example["shaker_table"]), (s2, example["wind_tunnel"])):
+    for mine, theirs in ((sa, example["root_spring_adjustment"]), (s1, example["shaker_table"]),
+                         (s2, example["wind_tunnel"])):
         assert [r["final"] for r in mine["variables"]] == pytest.approx([r["final"] for r in theirs["variables"]],
                                                                         rel=1e-6)
         rows = next(iter(mine["frequencies"].values()))
         for key in ("initial_hz", "updated_hz"):
             assert [r[key] for r in rows] == pytest.approx([r[key] for r in theirs["frequencies"]], rel=1e-8)
     html = (tmp_path / "results" / "report.html").read_text()
-    assert all(f"Stage {k} of 3: {n}" in html for k, n in ((1, "component tests"), (2, "shaker table"),
-                                                          (3, "wind tunnel")))
+    assert all(f"Stage {k} of 4: {n}" in html for k, n in ((1, "component tests"), (2, "root-spring adjustment"),
+                                                          (3, "shaker table"), (4, "wind tunnel")))
     # The summary gives every stage; the final-stage sections say whose they are.
-    assert "stage 2: shaker table</th><td>15 variables on shaker_table: objective" in html
-    assert "Design variables (stage 3: wind tunnel)" in html
+    assert "stage 3: shaker table</th><td>15 variables on shaker_table: objective" in html
+    assert "Design variables (stage 4: wind tunnel)" in html
 
 
 def test_strip_366_gvt(tmp_path):

@@ -165,12 +165,15 @@ def test_design_variables_and_stages(case):
     assert bounds["E_skin"] == (0.5, 5.0) and bounds["M_x"] == (0.75, 2.0) and bounds["rho_fin"] == (0.95, 1.05)
     fg.updating.Parametrisation(case.model, list(case.configurations.values()), v)  # every variable binds
     stages = case.references["stages"]
-    assert [s["name"] for s in stages] == ["component_tests", "shaker_table", "wind_tunnel"]
-    assert len(stages[1]["variables"]) == 15 and stages[2]["variables"] == ["K_x", "K_y", "K_z", "M_x", "M_y", "M_z"]
-    assert stages[1]["bounds"]["E_skin"] == (0.5, 5.0) and stages[2]["bounds"]["M_z"] == (0.25, 4.0)
-    assert stages[1]["measured_hz"] == [2.49, 7.15, 11.78, 14.83, 33.03]
+    assert [s["name"] for s in stages] == ["component_tests", "root_spring_adjustment", "shaker_table", "wind_tunnel"]
+    adjust, stage1, stage2 = stages[1:]
+    # Section 5.4.2: M_z alone on Table 5.2's skin-on shaker-table first in-plane mode
+    assert adjust["variables"] == ["M_z"] and adjust["measured_hz"] == [7.10] and adjust["labels"] == ["IP 1/RB"]
+    assert len(stage1["variables"]) == 15 and stage2["variables"] == ["K_x", "K_y", "K_z", "M_x", "M_y", "M_z"]
+    assert stage1["bounds"]["E_skin"] == (0.5, 5.0) and stage2["bounds"]["M_z"] == (0.25, 4.0)
+    assert stage1["measured_hz"] == [2.49, 7.15, 11.78, 14.83, 33.03]
     # The root-spring IP mode pairs by 'IP 1/RB'; the tables print the published 'IP 1'.
-    assert stages[1]["labels"][1] == "IP 1/RB" and stages[1]["printed_labels"][1] == "IP 1"
+    assert stage1["labels"][1] == "IP 1/RB" and stage1["printed_labels"][1] == "IP 1"
     assert fg.cases.get("swept_wing", n_wing=4).name == "swept_wing"
     with pytest.raises(ModelError, match="unknown properties"):
         swept_wing(properties={"chord_m": 0.3})

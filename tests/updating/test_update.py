@@ -62,6 +62,22 @@ def test_multi_start_picks_the_best_run_and_reports_each():
     assert result.starts[1]["x0"] != result.starts[2]["x0"]
 
 
+def test_of_starts_that_fit_equally_the_one_nearest_the_initial_model_wins():
+    """Two moduli, one measured frequency: every start fits it exactly, each at another point of the
+    curve the frequency allows. The answer is the start's nearest the initial model (x = 1), not the
+    one round-off makes smallest."""
+    case, initial, cfgs, variables, data, target, truth = _strip_problem(n_elements=30, names=("self_weight",),
+                                                                         n_modes=5, attributes=("E",))
+    one = [up.Measured(data[0].configuration, frequencies_hz=data[0].frequencies_hz[:1])]
+    result = up.update(initial, cfgs, one, variables[:2], starts=4, seed=2, unidentifiable="free")
+    fits = [s for s in result.starts if s["objective"] < 1e-10 * result.initial.objective]
+    assert len(fits) >= 2
+    spread = [float(np.linalg.norm(np.subtract(s["x"], 1.0))) for s in fits]
+    assert max(spread) > 1.5 * min(spread)  # the exact fits are different points
+    nearest = fits[int(np.argmin(spread))]
+    np.testing.assert_allclose(result.x, nearest["x"], rtol=1e-12)
+
+
 def test_variables_the_data_cannot_see_are_reported():
     """Unloaded frequencies scale with E/rho of the whole strip: E and rho together are not
     identifiable; a region's thickness is. rho (the later of the two) is held at its initial value,

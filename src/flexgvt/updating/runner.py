@@ -45,7 +45,8 @@ def update(model: Model, configurations: Sequence[Configuration], measured: Sequ
     variables), 'dogbox' or 'trf' (SciPy's bounded trust regions
     from the start), 'slsqp', 'trust-constr' (analytic
     gradients, constraints enforced), 'nelder-mead' (penalties, no gradients); starts: multi-start
-    count (x0 = 1 plus seeded uniform points in the bounds; the best run wins); store: a
+    count (x0 = 1 plus seeded uniform points in the bounds; the best run wins, and of runs equal to
+    the tolerance the one nearest x0); store: a
     flexgvt.updating.ResultsStore (SQLite) for the history and resuming; progress: called with each
     accepted iterate's history row (``callback``: its deprecated name); processes / scheduler:
     evaluate the configurations in that many local worker processes, or on a dask.distributed
@@ -228,6 +229,18 @@ def _merge(problem: UpdatingProblem, model: Model, stages: list, held: dict[str,
                                                                  "updated": first.unpaired.get("initial", {})})
 
 
+def _best_run(runs: list[dict], x0: np.ndarray, slack: float) -> dict:
+    """The run with the least objective; among runs within ``slack`` of it (the tolerance times the
+    initial objective: answers equal to round-off, as when several starts fit the data exactly with
+    more variables than data), the one nearest the initial point, so that what the data do not
+    decide stays nearest where it started and round-off does not choose the answer."""
+    best = min(runs, key=lambda r: r["objective"])
+    if not np.isfinite(best["objective"]):
+        return best
+    tied = [r for r in runs if r["objective"] <= best["objective"] + slack]
+    return min(tied, key=lambda r: (float(np.linalg.norm(np.asarray(r["x"], float) - x0)), r["objective"]))
+
+
 def _run(problem, model, *, method, starts, seed, max_iterations, tolerance, store, progress, client,
          min_paired_fraction, max_relative_std, start=None) -> UpdateResult:
     initial = problem.evaluate(problem.x0, gradient=True)
@@ -292,7 +305,7 @@ def _run(problem, model, *, method, starts, seed, max_iterations, tolerance, sto
             if store is not None:
                 store.finish(run, out["x"], out["objective"], out["method"], str(out["message"]), limits=limits)
             runs[run] = out
-    best = min(runs, key=lambda r: r["objective"])
+    best = _best_run(runs, problem.x0, tolerance * initial.objective)
     if not np.isfinite(best["objective"]):
         raise SolverError("updating: no starting point could be solved; the first failure: "
                           + best["failures"][0][1])
@@ -312,7 +325,8 @@ def _run(problem, model, *, method, starts, seed, max_iterations, tolerance, sto
         identifiability=ident, initial=initial, final=final, method=best["method"], message=best["message"],
         success=best["success"], seconds=0.0, solves=problem.n_solves,
         gradients=problem.n_gradients,
-        starts=[{"run": k, "x0": r["x0"], "objective": r["objective"], "message": r["message"],
+        starts=[{"run": k, "x0": r["x0"], "x": np.asarray(r["x"], float).tolist(), "objective": r["objective"],
+                 "message": r["message"],
                  "evaluations": r["evaluations"], "failures": len(r["failures"]), "resumed": r["resumed"]}
                 for k, r in enumerate(runs)],
         unpaired={"initial": _unpaired(problem, initial), "updated": _unpaired(problem, final)})

@@ -67,7 +67,7 @@ class OptimiserSettings:
                           "dogbox when needed), lm (its alias), dogbox, trf, slsqp, trust-constr or nelder-mead",
                           choices=METHODS)
     starts: int = setting(1, "multi-start count: x0 = 1 plus seeded uniform points inside the bounds; the best "
-                          "run wins", ge=1, le=100)
+                          "run wins (of runs equal to the tolerance, the one nearest x0)", ge=1, le=100)
     seed: int = setting(0, "seed of the multi-start points")
     max_iterations: int = setting(100, "iteration budget of one run (function evaluations for the least-squares "
                                   "methods, iterations for slsqp and trust-constr, (n + 1) times it in "
