@@ -86,6 +86,9 @@ def main(argv=None) -> dict:
                              "default: fg.data.load('xhale_lab_gvt'))")
     parser.add_argument("--variables", choices=("pods", "original"), default="pods",
                         help="the original work's 30 variables, plus (pods, the default) the pods' masses")
+    parser.add_argument("--pendulum-length", type=float, default=None, metavar="M",
+                        help="the lab lines' Kevlar string below the pulley [m] (not published; the case's "
+                             "3 m by default): the pendulum that holds the junctions sideways")
     parser.add_argument("--no-report", action="store_true", help="skip the HTML report")
     args = parser.parse_args(argv)
 
@@ -93,8 +96,10 @@ def main(argv=None) -> dict:
     labels = lab["labels"]
     args.out.mkdir(parents=True, exist_ok=True)
     (args.out / "xhale_lab_gvt.json").write_text(json.dumps(lab, indent=1))
+    options = {} if args.pendulum_length is None else {"pendulum_length": args.pendulum_length}
     text = example_project("xhale", name="X-HALE lab GVT (measured), both layouts at once",
-                           modes={c: ("xhale_lab_gvt.json", f"{c}", labels) for c in ("outboard", "inboard")})
+                           modes={c: ("xhale_lab_gvt.json", f"{c}", labels) for c in ("outboard", "inboard")},
+                           options=options)
     # The free-flying test's bungees twice: massless, and with their own mass distributed (the
     # case's *_heavy configurations: their surge and string modes in the solve).
     heavy = '"bungee_outboard", "bungee_inboard"'

@@ -196,3 +196,31 @@ def test_heavy_bungees_hang_the_aircraft_where_the_massless_ones_do_and_add_thei
     # The prediction's pairing ignores the cords' own modes.
     pair = xhale_match_modes(modes, [0.15, 0.95], ["Plunge", "1 OOP"])
     assert labels[pair[1]] == "1 OOP"
+
+
+def test_the_lab_lines_pendulum_length_sets_their_sideways_stiffness(case, suspended):
+    """pendulum_length [m]: the string below the pulley (3 m by default, not published). The hung
+    aircraft's sideways pendulum mode follows sqrt(g / L) (to the roll coupling of its cg below the
+    lines), from a grounded spring for the 3 m and from the cord itself anchored that high for 6 m;
+    the project template writes the option and anchors its cords with it."""
+    from flexgvt.workflow.template import example_project
+
+    def lateral(modes):
+        return modes.frequencies_hz[[lab.startswith("RB lateral") for lab in modes.labels].index(True)]
+
+    long = xhale(pendulum_length=6.0)
+    cfg = long.configurations["outboard"]
+    assert cfg.springs == () and [c.anchor[2] for c in cfg.suspension] == [6.0, 6.0]
+    modes6 = fg.solve_modes(fg.solve_static(long.model, cfg), 16)
+    for modes, length in ((suspended["outboard"], 3.0), (modes6, 6.0)):
+        assert lateral(modes) == pytest.approx(np.sqrt(STANDARD_GRAVITY / length) / (2 * np.pi), rel=0.03)
+    assert lateral(modes6) / lateral(suspended["outboard"]) == pytest.approx(np.sqrt(0.5), rel=0.02)
+    default = case.configurations["outboard"]
+    again = xhale(pendulum_length=3.0).configurations["outboard"]
+    assert again.suspension == default.suspension and len(again.springs) == len(default.springs) == 2
+    with pytest.raises(fg.errors.ModelError, match="pendulum_length"):
+        xhale(pendulum_length=0.1)
+    text = example_project("xhale", options={"pendulum_length": 6.0})
+    assert "[model.options]\npendulum_length = 6.0\n" in text
+    anchors = [line for line in text.splitlines() if line.startswith("anchor = [0.0000, -2.0000")]
+    assert anchors and all("6.0000]" in line for line in anchors)

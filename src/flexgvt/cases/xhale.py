@@ -199,11 +199,14 @@ def _configurations(model: Model, info: dict, p: dict) -> dict[str, Configuratio
             k, c = SUSPENSION[side]
             node = info["junction"][yy]
             T = 0.5 * weight
-            height = T / k + 0.5  # anchor such that 0.5 m of unstretched cord remains
+            # anchor such that at least 0.5 m of unstretched cord remains; a pendulum longer than
+            # that is the cord itself
+            height = max(T / k + 0.5, p["pendulum_length"])
             cords.append(Cord(node=node, anchor=tuple(xyz[node] + np.array([0.0, 0.0, height])), stiffness=k,
                               damping=c, unstretched_length=height - T / k))
             k_lat = T * (1.0 / p["pendulum_length"] - 1.0 / height)
-            springs.append(Spring.make(node, None, stiffness=[k_lat, k_lat, 0, 0, 0, 0]))
+            if k_lat > 0:
+                springs.append(Spring.make(node, None, stiffness=[k_lat, k_lat, 0, 0, 0, 0]))
         return tuple(cords), tuple(springs)
 
     def bungee(y, mu=0.0, segments=0):
@@ -292,7 +295,7 @@ def _sensors(model: Model, info: dict) -> dict:
     return sensors
 
 
-def xhale(n_per_section: int = 8, as_built: bool = False, seed: int = 0) -> Case:
+def xhale(n_per_section: int = 8, as_built: bool = False, seed: int = 0, pendulum_length: float | None = None) -> Case:
     """X-HALE-like very flexible flying wing on its lab suspension (docs/method.md section 5 case 6). SI units.
 
     Axes: x chordwise aft, y spanwise right, z up, gravity -z. Six 1 m wing sections (beam groups
@@ -312,7 +315,9 @@ def xhale(n_per_section: int = 8, as_built: bool = False, seed: int = 0) -> Case
     Configurations: outboard / inboard (cords at the junctions y = +-2 / +-1 m, 1 g): left
     K = 17.59 N/m, C = 0.94 N s/m, right K = 18.01 N/m, C = 1.35 N s/m, each carrying half the
     weight; the spring-and-pulley line is a cord of rate K plus a grounded spanwise/fore-aft spring
-    that makes the pendulum arm the 3 m of Kevlar string below the pulley. free_free (no
+    that makes the pendulum arm the Kevlar string below the pulley, ``pendulum_length`` [m] (3 m by
+    default; not published: the lab fit and the predictions against it in docs/updating.md); a
+    pendulum longer than the cord's 3.7 m is the cord itself, anchored that high. free_free (no
     suspension, no gravity). bungee_outboard / bungee_inboard: two bungees of 20 m unstretched,
     EA 92.5 N (left) and 100 N (right), k = EA / 20 m, from a crane, 1 g (stretched to 31 m).
     bungee_outboard_heavy / bungee_inboard_heavy: the same bungees with their own mass (assumed
@@ -330,6 +335,11 @@ def xhale(n_per_section: int = 8, as_built: bool = False, seed: int = 0) -> Case
     if int(n_per_section) < 2:
         raise ModelError("xhale: n_per_section must be at least 2")
     p = dict(NOMINAL)
+    if pendulum_length is not None:
+        if not (math.isfinite(float(pendulum_length)) and float(pendulum_length) > 0.5):
+            raise ModelError(f"xhale: pendulum_length={pendulum_length!r} m must be a length above 0.5 m (the cord "
+                             "below the pulley)")
+        p["pendulum_length"] = float(pendulum_length)
     factors, mass_factors = _as_built_factors(seed) if as_built else ({}, {})
     model, info = _build(p, int(n_per_section), factors, mass_factors)
     if as_built:

@@ -9,6 +9,8 @@ from typing import Callable
 
 import numpy as np
 
+from ..errors import ModelError
+
 HEADER = '''\
 # flexgvt project: GVT data of several deformed configurations -> updated model -> free-flying
 # prediction -> report. Run with `flexgvt run project.toml`. Paths are relative to this file.
@@ -155,15 +157,25 @@ def variable_blocks(rows) -> str:
 
 def example_project(case_name: str = "xhale", data: dict[str, str] | None = None, reference: str | None = None,
                     name: str = "X-HALE-like aircraft, lab GVT on two suspension layouts",
-                    modes: dict[str, tuple[str, str, list[str]]] | None = None) -> str:
+                    modes: dict[str, tuple[str, str, list[str]]] | None = None,
+                    options: dict[str, float | int | bool] | None = None) -> str:
     """The commented project text for a built-in case (its configurations 'outboard' and 'inboard'
     with the block-tested suspension, the case's design variables, bungee predictions). data:
     {configuration: UFF FRF file} (default data/<name>.uff); modes: {configuration: (JSON file, key,
-    labels)} of modes already identified, used instead of FRFs."""
+    labels)} of modes already identified, used instead of FRFs; options: the case's keyword
+    arguments (written as [model.options]; the cords' anchors are the case's with them)."""
     from .. import cases
-    case = cases.get(case_name)
+    options = dict(options or {})
+    case = cases.get(case_name, **options)
     g = 9.80665
     text = HEADER.format(name=name, case=case_name, description="updated on both configurations at once")
+    if options:
+        last = ('#                          # unsupported = "warn" reads a deck holding cards flexgvt skips (and lists '
+                'them)\n')
+        if last not in text:
+            raise ModelError("example_project: the template's [model] block changed; cannot write [model.options]")
+        values = "".join(f"{k} = {str(v).lower() if isinstance(v, bool) else repr(v)}\n" for k, v in options.items())
+        text = text.replace(last, last + "[model.options]\n" + values, 1)
     layouts = [c for c in ("outboard", "inboard") if c in case.configurations]
     for c in layouts:
         cfg = case.configurations[c]
