@@ -62,6 +62,21 @@ def test_xhale_lab(tmp_path):
     assert first["bungee_outboard_heavy_hz"] < first["bungee_outboard_hz"]
 
 
+def test_xhale_lab_property_option(tmp_path):
+    """--property NAME=VALUE changes an unpublished dimension of the case in the project the example
+    writes (checked there, before any solve); a malformed one is refused by the parser."""
+    import argparse
+
+    example = _load(EXAMPLES / "xhale_lab" / "run.py")
+    assert example._property("pendulum_length=6") == ("pendulum_length", 6.0)
+    assert example._property("pod_inertia=0.01,0.002,0.006") == ("pod_inertia", [0.01, 0.002, 0.006])
+    for bad in ("pendulum_length", "=6", "pendulum_length=six"):
+        with pytest.raises(argparse.ArgumentTypeError, match="NAME=VALUE"):
+            example._property(bad)
+    with pytest.raises(__import__("flexgvt").errors.ModelError, match="unknown properties"):
+        example.main(["--out", str(tmp_path / "o"), "--no-report", "--property", "chord=0.3"])
+
+
 @pytest.fixture(scope="module")
 def swept_wing_small(tmp_path_factory):
     """examples/swept_wing/run.py --small: (its returned tables, the JSON it wrote)."""

@@ -71,6 +71,19 @@ def with_pod_masses(text: str) -> str:
     return text.replace("\n[optimiser]", "\n" + pods + "[optimiser]", 1)
 
 
+def _property(text: str) -> tuple[str, float | list[float]]:
+    """NAME=VALUE of --property: a number, or numbers separated by commas."""
+    name, sep, value = text.partition("=")
+    try:
+        numbers = [float(v) for v in value.split(",")]
+    except ValueError:
+        numbers = []
+    if not sep or not name.strip() or not numbers:
+        raise argparse.ArgumentTypeError(f"--property {text!r}: give NAME=VALUE, VALUE a number or numbers separated "
+                                         "by commas (e.g. pendulum_length=6)")
+    return name.strip(), numbers[0] if len(numbers) == 1 else numbers
+
+
 def _frequencies(values) -> bool:
     """A non-empty list of finite positive numbers."""
     return isinstance(values, list) and len(values) > 0 and all(
@@ -86,9 +99,10 @@ def main(argv=None) -> dict:
                              "default: fg.data.load('xhale_lab_gvt'))")
     parser.add_argument("--variables", choices=("pods", "original"), default="pods",
                         help="the original work's 30 variables, plus (pods, the default) the pods' masses")
-    parser.add_argument("--pendulum-length", type=float, default=None, metavar="M",
-                        help="the lab lines' Kevlar string below the pulley [m] (not published; the case's "
-                             "3 m by default): the pendulum that holds the junctions sideways")
+    parser.add_argument("--property", action="append", default=[], metavar="NAME=VALUE", type=_property,
+                        help="change a chosen dimension of the case that was not published (repeatable; "
+                             "fg.cases.xhale's properties, e.g. pendulum_length=6 for the lab lines' string below "
+                             "the pulley [m], joiner_half=0.06 [m], pod_offset_z=-0.1 [m]; a list as 0.01,0.002,0.006)")
     parser.add_argument("--no-report", action="store_true", help="skip the HTML report")
     args = parser.parse_args(argv)
 
@@ -96,7 +110,7 @@ def main(argv=None) -> dict:
     labels = lab["labels"]
     args.out.mkdir(parents=True, exist_ok=True)
     (args.out / "xhale_lab_gvt.json").write_text(json.dumps(lab, indent=1))
-    options = {} if args.pendulum_length is None else {"pendulum_length": args.pendulum_length}
+    options = {"properties": dict(args.property)} if args.property else {}
     text = example_project("xhale", name="X-HALE lab GVT (measured), both layouts at once",
                            modes={c: ("xhale_lab_gvt.json", f"{c}", labels) for c in ("outboard", "inboard")},
                            options=options)

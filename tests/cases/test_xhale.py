@@ -199,16 +199,16 @@ def test_heavy_bungees_hang_the_aircraft_where_the_massless_ones_do_and_add_thei
 
 
 def test_the_lab_lines_pendulum_length_sets_their_sideways_stiffness(case, suspended):
-    """pendulum_length [m]: the string below the pulley (3 m by default, not published). The hung
-    aircraft's sideways pendulum mode follows sqrt(g / L) (to the roll coupling of its cg below the
-    lines), from a grounded spring for the 3 m and from the cord itself anchored that high for 6 m;
-    the project template writes the option and anchors its cords with it."""
+    """properties['pendulum_length'] [m]: the string below the pulley (3 m by default, not
+    published). The hung aircraft's sideways pendulum mode follows sqrt(g / L) (to the roll coupling
+    of its cg below the lines), from a grounded spring for the 3 m and from the cord itself anchored
+    that high for 6 m; the project template writes the option and anchors its cords with it."""
     from flexgvt.workflow.template import example_project
 
     def lateral(modes):
         return modes.frequencies_hz[[lab.startswith("RB lateral") for lab in modes.labels].index(True)]
 
-    long = xhale(pendulum_length=6.0)
+    long = xhale(properties={"pendulum_length": 6.0})
     cfg = long.configurations["outboard"]
     assert cfg.springs == () and [c.anchor[2] for c in cfg.suspension] == [6.0, 6.0]
     modes6 = fg.solve_modes(fg.solve_static(long.model, cfg), 16)
@@ -216,11 +216,34 @@ def test_the_lab_lines_pendulum_length_sets_their_sideways_stiffness(case, suspe
         assert lateral(modes) == pytest.approx(np.sqrt(STANDARD_GRAVITY / length) / (2 * np.pi), rel=0.03)
     assert lateral(modes6) / lateral(suspended["outboard"]) == pytest.approx(np.sqrt(0.5), rel=0.02)
     default = case.configurations["outboard"]
-    again = xhale(pendulum_length=3.0).configurations["outboard"]
+    again = xhale(properties={"pendulum_length": 3}).configurations["outboard"]
     assert again.suspension == default.suspension and len(again.springs) == len(default.springs) == 2
-    with pytest.raises(fg.errors.ModelError, match="pendulum_length"):
-        xhale(pendulum_length=0.1)
-    text = example_project("xhale", options={"pendulum_length": 6.0})
-    assert "[model.options]\npendulum_length = 6.0\n" in text
+    text = example_project("xhale", options={"properties": {"pendulum_length": 6.0}})
+    assert "[model.options]\nproperties = {pendulum_length = 6.0}\n" in text
     anchors = [line for line in text.splitlines() if line.startswith("anchor = [0.0000, -2.0000")]
     assert anchors and all("6.0000]" in line for line in anchors)
+
+
+@pytest.mark.parametrize("properties, match", [({"pendulum_length": 0.1}, "pendulum_length"),
+                                               ({"joiner_half": 0.6}, "joiner_half"),
+                                               ({"pod_inertia": (1.0, 2.0)}, "3 finite number"),
+                                               ({"boom_length": float("nan")}, "finite"),
+                                               ({"chord": 0.2}, "unknown properties")])
+def test_chosen_properties_are_checked(properties, match):
+    with pytest.raises(fg.errors.ModelError, match=match):
+        xhale(properties=properties)
+
+
+def test_a_changed_property_changes_the_model():
+    """The joiners' length and the pods' offset below the wing reach the model; the gross mass stays
+    the published 11.35 kg (the pods take what the wing's mass leaves)."""
+    base, other = xhale(n_per_section=4), xhale(n_per_section=4, properties={"joiner_half": 0.06,
+                                                                                "pod_offset_z": -0.1})
+    assert fg.mass_properties(other.model).mass == pytest.approx(fg.mass_properties(base.model).mass, rel=1e-12)
+    assert fg.mass_properties(other.model).cg[2] < fg.mass_properties(base.model).cg[2] - 0.01
+
+    def joiners(model):  # total length of the joiner groups [m]
+        xyz = dict(zip(model.node_ids.tolist(), model.xyz))
+        return sum(np.linalg.norm(xyz[a] - xyz[b]) for g in model.beams if g.name.startswith("joiner")
+                   for a, b in g.nodes)
+    assert joiners(base.model) == pytest.approx(10 * 0.04) and joiners(other.model) == pytest.approx(10 * 0.06)

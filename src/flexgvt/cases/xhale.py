@@ -295,7 +295,32 @@ def _sensors(model: Model, info: dict) -> dict:
     return sensors
 
 
-def xhale(n_per_section: int = 8, as_built: bool = False, seed: int = 0, pendulum_length: float | None = None) -> Case:
+def _properties(overrides: dict | None) -> dict:
+    """NOMINAL with ``overrides`` (same keys, numbers of the same shape) checked."""
+    p = dict(NOMINAL)
+    unknown = sorted(set(overrides or {}) - set(p))
+    if unknown:
+        raise ModelError(f"xhale: unknown properties {unknown}; choose from {sorted(p)}")
+    for key, value in (overrides or {}).items():
+        default = np.atleast_1d(np.asarray(p[key], float))
+        try:
+            given = np.atleast_1d(np.asarray(value, float))
+        except (TypeError, ValueError):
+            given = None
+        if given is None or given.shape != default.shape or not np.all(np.isfinite(given)):
+            raise ModelError(f"xhale: property {key}={value!r} must be {default.size} finite number(s) like the "
+                             f"default {p[key]!r}")
+        p[key] = tuple(given.tolist()) if isinstance(p[key], tuple) else type(p[key])(given[0])
+    if not 0.0 < p["joiner_half"] < 0.5:
+        raise ModelError(f"xhale: joiner_half={p['joiner_half']} m must lie between 0 and 0.5 m (half a joiner's "
+                         "length inside a 1 m section)")
+    if p["pendulum_length"] <= 0.5:
+        raise ModelError(f"xhale: pendulum_length={p['pendulum_length']} m must be a length above 0.5 m (the cord "
+                         "below the pulley)")
+    return p
+
+
+def xhale(n_per_section: int = 8, as_built: bool = False, seed: int = 0, properties: dict | None = None) -> Case:
     """X-HALE-like very flexible flying wing on its lab suspension (docs/method.md section 5 case 6). SI units.
 
     Axes: x chordwise aft, y spanwise right, z up, gravity -z. Six 1 m wing sections (beam groups
@@ -315,9 +340,9 @@ def xhale(n_per_section: int = 8, as_built: bool = False, seed: int = 0, pendulu
     Configurations: outboard / inboard (cords at the junctions y = +-2 / +-1 m, 1 g): left
     K = 17.59 N/m, C = 0.94 N s/m, right K = 18.01 N/m, C = 1.35 N s/m, each carrying half the
     weight; the spring-and-pulley line is a cord of rate K plus a grounded spanwise/fore-aft spring
-    that makes the pendulum arm the Kevlar string below the pulley, ``pendulum_length`` [m] (3 m by
-    default; not published: the lab fit and the predictions against it in docs/updating.md); a
-    pendulum longer than the cord's 3.7 m is the cord itself, anchored that high. free_free (no
+    that makes the pendulum arm the Kevlar string below the pulley (properties['pendulum_length'],
+    3 m; not published: the lab fit and the predictions against it in docs/updating.md); a pendulum
+    longer than the cord's 3.7 m is the cord itself, anchored that high. free_free (no
     suspension, no gravity). bungee_outboard / bungee_inboard: two bungees of 20 m unstretched,
     EA 92.5 N (left) and 100 N (right), k = EA / 20 m, from a crane, 1 g (stretched to 31 m).
     bungee_outboard_heavy / bungee_inboard_heavy: the same bungees with their own mass (assumed
@@ -331,15 +356,13 @@ def xhale(n_per_section: int = 8, as_built: bool = False, seed: int = 0, pendulu
     wing group and of the booms (one factor for all) x U(0.92, 1.08), wing-tail springs x 0.7
     (references['as_built_factors'] are the 30 variables' true values), plus densities and pod
     masses x U(0.98, 1.02), a model-form error the variables cannot recover.
+    properties: values of NOMINAL to change (chosen dimensions the publication does not give, e.g.
+    {"pendulum_length": 6.0, "joiner_half": 0.06, "pod_offset_z": -0.1}; references['properties']
+    lists them all).
     """
     if int(n_per_section) < 2:
         raise ModelError("xhale: n_per_section must be at least 2")
-    p = dict(NOMINAL)
-    if pendulum_length is not None:
-        if not (math.isfinite(float(pendulum_length)) and float(pendulum_length) > 0.5):
-            raise ModelError(f"xhale: pendulum_length={pendulum_length!r} m must be a length above 0.5 m (the cord "
-                             "below the pulley)")
-        p["pendulum_length"] = float(pendulum_length)
+    p = _properties(properties)
     factors, mass_factors = _as_built_factors(seed) if as_built else ({}, {})
     model, info = _build(p, int(n_per_section), factors, mass_factors)
     if as_built:

@@ -50,8 +50,9 @@ class ModelSpec(Strict):
     """The structure: a built-in case (flexgvt.cases) or a Nastran deck (one of the two)."""
 
     case: str | None = None
-    options: dict[str, int | float | bool | str] = Field(
-        default_factory=dict, description="a built-in case's keyword arguments; "
+    options: dict[str, int | float | bool | str | dict[str, float | list[float]]] = Field(
+        default_factory=dict, description="a built-in case's keyword arguments (a table of numbers for one that "
+                                          "takes a dict, e.g. properties = {pendulum_length = 6.0}); "
                                     'with bdf: unsupported = "warn" (read the rest of a deck holding cards flexgvt '
                                     "does not read, and list them)")
     bdf: str | None = None

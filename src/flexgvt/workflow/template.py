@@ -148,6 +148,19 @@ def _toml_list(items) -> str:
     return ", ".join(json.dumps(i) for i in items)
 
 
+def _toml_value(value) -> str:
+    """A TOML value: booleans, numbers, strings, lists and tables (inline)."""
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, dict):
+        return "{" + ", ".join(f"{k} = {_toml_value(v)}" for k, v in value.items()) + "}"
+    if isinstance(value, (list, tuple)):
+        return "[" + ", ".join(_toml_value(v) for v in value) + "]"
+    if isinstance(value, (int, float)):
+        return repr(value)
+    return json.dumps(str(value))
+
+
 def variable_blocks(rows) -> str:
     """[[variables]] tables of a project file, one per (name, kind, targets, attribute, bounds) row."""
     return "".join(f'[[variables]]\nname = "{name}"\nkind = "{kind}"\ntargets = [{_toml_list(targets)}]\n'
@@ -158,7 +171,7 @@ def variable_blocks(rows) -> str:
 def example_project(case_name: str = "xhale", data: dict[str, str] | None = None, reference: str | None = None,
                     name: str = "X-HALE-like aircraft, lab GVT on two suspension layouts",
                     modes: dict[str, tuple[str, str, list[str]]] | None = None,
-                    options: dict[str, float | int | bool] | None = None) -> str:
+                    options: dict | None = None) -> str:
     """The commented project text for a built-in case (its configurations 'outboard' and 'inboard'
     with the block-tested suspension, the case's design variables, bungee predictions). data:
     {configuration: UFF FRF file} (default data/<name>.uff); modes: {configuration: (JSON file, key,
@@ -174,7 +187,7 @@ def example_project(case_name: str = "xhale", data: dict[str, str] | None = None
                 'them)\n')
         if last not in text:
             raise ModelError("example_project: the template's [model] block changed; cannot write [model.options]")
-        values = "".join(f"{k} = {str(v).lower() if isinstance(v, bool) else repr(v)}\n" for k, v in options.items())
+        values = "".join(f"{k} = {_toml_value(v)}\n" for k, v in options.items())
         text = text.replace(last, last + "[model.options]\n" + values, 1)
     layouts = [c for c in ("outboard", "inboard") if c in case.configurations]
     for c in layouts:
