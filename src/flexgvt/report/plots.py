@@ -26,7 +26,7 @@ def _stations(state):
     box has a whole section of nodes at every y: drawn node by node in storage order it is a zigzag
     (the CLI's figures of the wingbox were), so its sections are drawn by their centroids."""
     system = state.system
-    if system is None or not any(f.name.startswith("shell") and len(f.nodes) for f in system.families):
+    if system is None or not any("shells" in f.value_fields and len(f.nodes) for f in system.families):
         return None
     y0 = system.cm.xyz[:, 1]
     order = np.argsort(y0, kind="stable")

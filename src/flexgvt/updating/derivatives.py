@@ -450,7 +450,7 @@ def _directions_cheaper(system, n: int) -> bool:
     systems with shells, whose corotational kernel is the cost of both (the 0.25 m wingbox's
     Jacobian, 5 variables: 3.0 -> 1.5 CPU s, the same to 1.2e-6 of each row's largest entry);
     beams keep the element-level form (36 cheap beam-kernel calls)."""
-    shells = [f.nodes.shape[1] for f in system.families if f.name.startswith("shell") and len(f.nodes)]
+    shells = [f.nodes.shape[1] for f in system.families if "shells" in f.value_fields and len(f.nodes)]
     return bool(shells) and n < 6 * max(shells) - 3
 
 
