@@ -228,6 +228,7 @@ def test_the_lab_lines_pendulum_length_sets_their_sideways_stiffness(case, suspe
                                                ({"joiner_half": 0.6}, "joiner_half"),
                                                ({"pod_inertia": (1.0, 2.0)}, "3 finite number"),
                                                ({"boom_length": float("nan")}, "finite"),
+                                               ({"bungee_segments": 10.5}, "like the default 10"),
                                                ({"chord": 0.2}, "unknown properties")])
 def test_chosen_properties_are_checked(properties, match):
     with pytest.raises(fg.errors.ModelError, match=match):

@@ -307,7 +307,8 @@ def _properties(overrides: dict | None) -> dict:
             given = np.atleast_1d(np.asarray(value, float))
         except (TypeError, ValueError):
             given = None
-        if given is None or given.shape != default.shape or not np.all(np.isfinite(given)):
+        if given is None or given.shape != default.shape or not np.all(np.isfinite(given)) or (
+                isinstance(p[key], int) and not float(given[0]).is_integer()):
             raise ModelError(f"xhale: property {key}={value!r} must be {default.size} finite number(s) like the "
                              f"default {p[key]!r}")
         p[key] = tuple(given.tolist()) if isinstance(p[key], tuple) else type(p[key])(given[0])
