@@ -84,6 +84,35 @@ def test_three_seeds_on_the_coarse_post_buckled_wingbox():
         assert 0.90 < v["onsets"]["plus_2_5g"]["g"] < 0.94
 
 
+def test_the_local_reference_gives_its_loaded_cases_the_uniform_box_imperfection():
+    """The local study's reference (its root bay's bottom skin 20 % thinner) finds no loss of
+    stability at -1 g at 0.25 m: its thin bay wrinkles smoothly. The models the updating tries, with
+    the bay as thick as the other skins, do buckle there; without an imperfection the equilibrium
+    they reach is the unstable flat path (a warm start from it stays there, and the multi-
+    configuration update of seed 3 ended on the bounds, objective 0.0019 where the truth's is
+    0). So -1 g carries the uniform box's buckling imperfection, and with it the uniform box's
+    equilibrium is stable."""
+    from dataclasses import replace
+
+    from flexgvt.fem.stability import negative_eigenvalues
+    from flexgvt.updating.verify import LOCAL_FACTOR, shell_property, verification_protocol
+
+    protocol = verification_protocol("wingbox_local", 8, 0.25, LOCAL_FACTOR)
+    minus = next(c for c in protocol.train if c.name == "minus_1g")
+    assert protocol.onsets["minus_1g"] is None and len(minus.imperfection) > 100
+    uniform = protocol.reference.model.copy("uniform")
+    k = [g.name for g in uniform.shells].index(LOCAL_BAY)
+    prop = uniform.shells[k].property
+    uniform.set_shell_group(k, property=shell_property(prop, {"thickness": prop.thickness / LOCAL_FACTOR}))
+
+    def unstable(cfg):
+        state = fg.solve_static(uniform, cfg)
+        return negative_eigenvalues(state.system, state.positions, state.rotations, 1.0)
+
+    assert unstable(minus) == 0
+    assert unstable(replace(minus, imperfection={})) >= 1
+
+
 def test_verify_seeds_in_a_worker_process_gives_the_serial_answer():
     """The worker route (a spawned, single-threaded process; the protocol sent to it) on the strip's
     protocol, one seed, against the same seed in this process. Tolerances from the measured

@@ -274,11 +274,33 @@ def _wingbox_paths(element_size: float, local: float | None, bay: str, rib_pitch
         cfg = case.configurations[name]
         if cfg.gravity:
             state = solve_static(model, cfg, settings=StaticSettings(buckling="continue"))
+            if local is not None and state.instability is None and name != "combined":
+                state = _with_uniform_imperfection(model, state, bay, local)
             cfg, onsets[name] = state.configuration, Onset.of(state, rib_pitch)
             states[name] = state
         train.append(cfg)
     unseen = train.pop()
     return case, sensors, variables, train, unseen, int(case.references["tip_spar_nodes"][0]), states, onsets
+
+
+def _with_uniform_imperfection(model, state, bay: str, local: float):
+    """The local reference's loaded configuration when its own path found no loss of stability (its
+    thin bay wrinkles smoothly under the skins' own weight): the models the updating tries, whose bay
+    is as thick as the other skins, do lose stability there, and without an imperfection their
+    equilibria past the bifurcation depend on where each solve starts (a warm start from an unstable
+    flat-path state stays on it). So the configuration takes the imperfection that follows the
+    uniform box onto its post-buckled path, and the reference is solved again with it: the
+    reference and every trial model then follow the same imperfect paths. Unchanged when the
+    uniform box does not buckle either."""
+    uniform = model.copy("uniform skins")
+    k = [g.name for g in uniform.shells].index(bay)
+    prop = uniform.shells[k].property
+    uniform.set_shell_group(k, property=shell_property(prop, {"thickness": prop.thickness / local}))
+    probe = solve_static(uniform, state.configuration, settings=StaticSettings(buckling="continue"))
+    if probe.instability is None or not probe.configuration.imperfection:
+        return state
+    cfg = dataclasses.replace(state.configuration, imperfection=dict(probe.configuration.imperfection))
+    return solve_static(model, cfg, settings=StaticSettings(buckling="continue"))
 
 
 def _surrogate(model, configs, sensors, n_modes, tip, onsets: dict | None = None, states: dict | None = None):
