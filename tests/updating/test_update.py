@@ -221,3 +221,30 @@ def test_frequency_only_data_on_a_structure_hung_by_a_heavy_cord():
     assert np.all(point.paired >= 0)
     assert all(point.labels[j].endswith(" OOP") for j in point.paired)
     np.testing.assert_allclose(result.x, 1 / 0.97, rtol=1e-3)
+
+
+def test_an_unstable_equilibrium_at_the_design_points_is_reported():
+    """A strip compressed past its Euler load (8.6 N; 20 N here) with nothing to choose the branch:
+    the solve returns the straight, unstable equilibrium (a negative eigenvalue). The update says
+    so once, naming the configuration and the remedy (its imperfection), in its warnings; the
+    unloaded configuration beside it is not named."""
+    import dataclasses
+    import warnings
+
+    from flexgvt.model import NodalLoad
+
+    case = fg.cases.cantilever_strip(n_elements=30)
+    unloaded = case.configurations["unloaded"]
+    compressed = dataclasses.replace(unloaded, name="compressed", forces=(NodalLoad(31, (0.0, -20.0, 0.0)),))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", fg.errors.FlexGVTWarning)
+        state = fg.solve_static(case.model, compressed)
+        modes = fg.solve_modes(state, 6, label=False)
+    assert modes.frequencies_hz[0] < 0  # unstable
+    data = [up.Measured("unloaded", frequencies_hz=1.02 * fg.solve_modes(fg.solve_static(case.model, unloaded), 4,
+                                                                      label=False).frequencies_hz),
+            up.Measured("compressed", frequencies_hz=modes.frequencies_hz[1:4])]
+    with pytest.warns(fg.errors.FlexGVTWarning, match="'compressed': the equilibrium was unstable"):
+        result = up.update(case.model, [unloaded, compressed], data, [up.beam("E", "*", "E")], max_iterations=5)
+    unstable = [w for w in result.warnings if "equilibrium was unstable" in w]
+    assert len(unstable) == 1 and "Configuration.imperfection" in unstable[0] and "'unloaded'" not in unstable[0]

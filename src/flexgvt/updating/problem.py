@@ -88,6 +88,8 @@ class UpdatingProblem:
         self._moves_at_set = 0  # ... and the pairing's moves then
         self.workers: list | None = None  # Dask actors evaluating the configurations (updating.parallel)
         self.n_solves = 0
+        # {configuration: design points evaluated here whose equilibrium was unstable}
+        self.unstable: dict[str, int] = {}
         self.n_gradients = 0
         for m in measured:
             for (node, comp) in m.static:
@@ -253,6 +255,8 @@ class UpdatingProblem:
                                      f"({exc})") from exc
         T = system.transformation(positions, R) if system.has_links else None
         f = modal_frequencies_hz(lam, K, M, system, positions, T)  # rigid-body modes at 0 Hz, as solve_modes
+        if np.any(f < 0):  # a negative eigenvalue of the tangent: the equilibrium is unstable
+            self.unstable[name] = self.unstable.get(name, 0) + 1
         self.states[name] = state
         sensors = meas.sensors
         shapes_s = seen = None

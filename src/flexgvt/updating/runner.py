@@ -117,6 +117,7 @@ def update(model: Model, configurations: Sequence[Configuration], measured: Sequ
         warnings.warn(notes[-1], FlexGVTWarning, stacklevel=2)
     result.warnings = notes
     _warn_unpaired(result)
+    _warn_unstable(result, [p for p, _ in stages])
     result.seconds = time.perf_counter() - t0
     return result
 
@@ -147,6 +148,26 @@ def _check_pairing(problem: UpdatingProblem, initial, min_paired_fraction: float
             "min_paired_fraction: update(..., min_paired_fraction=0), or in a project file "
             "[optimiser] min_paired_fraction = 0"
             .format(min_paired_fraction, "\n".join(bad)))
+
+
+def _warn_unstable(result: UpdateResult, problems: list[UpdatingProblem]) -> None:
+    """One FlexGVTWarning per configuration whose equilibrium was unstable at some design points
+    evaluated in this process: its loads pass a bifurcation with nothing to choose the branch, and a
+    solve warm-started from an unstable state can stay on it, so its residuals follow the solves'
+    history; the same lines go to result.warnings."""
+    counts: dict[str, int] = {}
+    for problem in problems:
+        for name, n in problem.unstable.items():
+            counts[name] = counts.get(name, 0) + n
+    for name, n in counts.items():
+        text = (f"updating: configuration '{name}': the equilibrium was unstable (a negative eigenvalue of its "
+                f"tangent) at {n} of the design points evaluated: its loads pass a bifurcation with nothing to "
+                "choose the branch, and the residuals there depend on where each solve started. Give the "
+                "configuration the imperfection a test article has (Configuration.imperfection; the one "
+                "solve_static(..., settings=StaticSettings(buckling='continue')) finds is in its state's "
+                "configuration), or lower its loads below the bifurcation")
+        result.warnings.append(text)
+        warnings.warn(text, FlexGVTWarning, stacklevel=3)
 
 
 def _warn_unpaired(result: UpdateResult) -> None:
