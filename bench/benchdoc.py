@@ -1,7 +1,9 @@
-"""Shared by the bench scripts: machine description and rewriting one section of docs/benchmarks.md."""
+"""Shared by the bench scripts: machine description, rewriting one section of docs/benchmarks.md, and
+loading an example script as a module."""
 
 from __future__ import annotations
 
+import importlib.util
 import os
 import platform
 import re
@@ -50,3 +52,11 @@ def write_section(title: str, text: str, path: Path = DOC) -> None:
     else:
         new = old.rstrip() + "\n\n" + text.rstrip() + "\n"
     path.write_text(new.rstrip() + "\n")
+
+
+def load_example(relative: str, name: str):
+    """examples/<relative> (a script with main(argv)) as a module named ``name``, for its functions."""
+    spec = importlib.util.spec_from_file_location(name, ROOT / "examples" / relative)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module

@@ -19,8 +19,8 @@ The tables go to docs/swept_wing.md ("Stage 2: why not 1 %").
 from __future__ import annotations
 
 import argparse
-import importlib.util
 import json
+import sys
 import time
 import warnings
 from pathlib import Path
@@ -29,20 +29,13 @@ import numpy as np
 
 import flexgvt as fg
 from flexgvt.correlation import pair_by_frequency
-from flexgvt.errors import FlexGVTWarning
 from flexgvt.cases.swept_wing import swept_wing
+from flexgvt.errors import FlexGVTWarning
 
+sys.path.insert(0, str(Path(__file__).resolve().parent))  # bench/ beside this script, also when a test loads it
+from benchdoc import load_example  # noqa: E402
 
-def _example():
-    """examples/swept_wing/run.py as a module (its stage functions)."""
-    path = Path(__file__).resolve().parents[1] / "examples" / "swept_wing" / "run.py"
-    spec = importlib.util.spec_from_file_location("swept_wing_example_run", path)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
-
-
-example = _example()
+example = load_example("swept_wing/run.py", "swept_wing_example_run")  # its stage functions
 
 LABELS = ("OOP 1", "IP 1", "T 1", "OOP 2", "OOP 3")
 

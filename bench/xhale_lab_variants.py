@@ -16,9 +16,9 @@ from __future__ import annotations
 
 import argparse
 import contextlib
-import importlib.util
 import io
 import json
+import sys
 import tempfile
 import time
 import warnings
@@ -26,17 +26,12 @@ from pathlib import Path
 
 from flexgvt.errors import FlexGVTWarning
 
+sys.path.insert(0, str(Path(__file__).resolve().parent))  # bench/ beside this script
+from benchdoc import load_example  # noqa: E402
+
 VARIANTS = [{}, {"pendulum_length": 2.0}, {"pendulum_length": 4.0}, {"pendulum_length": 6.0},
             {"pendulum_length": 10.0}, {"joiner_half": 0.025}, {"joiner_half": 0.08}, {"joiner_half": 0.12},
             {"pod_offset_z": -0.02}, {"pod_offset_z": -0.1}]
-
-
-def _example():
-    path = Path(__file__).resolve().parents[1] / "examples" / "xhale_lab" / "run.py"
-    spec = importlib.util.spec_from_file_location("xhale_lab_example_run", path)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
 
 
 def main(argv=None) -> dict:
@@ -45,7 +40,7 @@ def main(argv=None) -> dict:
     parser.add_argument("--quick", action="store_true", help="the case's values and one pendulum length")
     args = parser.parse_args(argv)
     warnings.simplefilter("ignore", FlexGVTWarning)
-    example = _example()
+    example = load_example("xhale_lab/run.py", "xhale_lab_example_run")
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
         for k, variant in enumerate(VARIANTS[:2] if args.quick else VARIANTS):

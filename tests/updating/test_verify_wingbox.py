@@ -95,15 +95,13 @@ def test_the_local_reference_gives_its_loaded_cases_the_uniform_box_imperfection
     from dataclasses import replace
 
     from flexgvt.fem.stability import negative_eigenvalues
-    from flexgvt.updating.verify import LOCAL_FACTOR, shell_property, verification_protocol
+    from flexgvt.updating.verify import LOCAL_FACTOR, _bay_like_other_skins, verification_protocol
 
     protocol = verification_protocol("wingbox_local", 8, 0.25, LOCAL_FACTOR)
     minus = next(c for c in protocol.train if c.name == "minus_1g")
     assert protocol.onsets["minus_1g"] is None and len(minus.imperfection) > 100
     uniform = protocol.reference.model.copy("uniform")
-    k = [g.name for g in uniform.shells].index(LOCAL_BAY)
-    prop = uniform.shells[k].property
-    uniform.set_shell_group(k, property=shell_property(prop, {"thickness": prop.thickness / LOCAL_FACTOR}))
+    _bay_like_other_skins(uniform, LOCAL_BAY, LOCAL_FACTOR)
 
     def unstable(cfg):
         state = fg.solve_static(uniform, cfg)

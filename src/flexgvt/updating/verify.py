@@ -283,6 +283,13 @@ def _wingbox_paths(element_size: float, local: float | None, bay: str, rib_pitch
     return case, sensors, variables, train, unseen, int(case.references["tip_spar_nodes"][0]), states, onsets
 
 
+def _bay_like_other_skins(model, bay: str, local: float) -> None:
+    """Set ``model``'s skin bay ``bay``, ``local`` times the other skins' thickness, back to theirs."""
+    k = [g.name for g in model.shells].index(bay)
+    prop = model.shells[k].property
+    model.set_shell_group(k, property=shell_property(prop, {"thickness": prop.thickness / local}))
+
+
 def _with_uniform_imperfection(model, state, bay: str, local: float):
     """The local reference's loaded configuration when its own path found no loss of stability (its
     thin bay wrinkles smoothly under the skins' own weight): the models the updating tries, whose bay
@@ -293,9 +300,7 @@ def _with_uniform_imperfection(model, state, bay: str, local: float):
     reference and every trial model then follow the same imperfect paths. Unchanged when the
     uniform box does not buckle either."""
     uniform = model.copy("uniform skins")
-    k = [g.name for g in uniform.shells].index(bay)
-    prop = uniform.shells[k].property
-    uniform.set_shell_group(k, property=shell_property(prop, {"thickness": prop.thickness / local}))
+    _bay_like_other_skins(uniform, bay, local)
     probe = solve_static(uniform, state.configuration, settings=StaticSettings(buckling="continue"))
     if probe.instability is None or not probe.configuration.imperfection:
         return state
@@ -405,10 +410,8 @@ def verify(case: str = "cantilever", seed: int = 1, n_modes: int = 8, method: st
         x_m[-1] = x_m[3] / local
     initial = ref.model.copy("initial (mistuned)")
     Parametrisation(ref.model, train, variables).apply(initial, x_m)
-    if local is not None and not bay_variable:  # the bay back to the other skins' thickness
-        k = [g.name for g in initial.shells].index(LOCAL_BAY)
-        prop = initial.shells[k].property
-        initial.set_shell_group(k, property=shell_property(prop, {"thickness": prop.thickness / local}))
+    if local is not None and not bay_variable:
+        _bay_like_other_skins(initial, LOCAL_BAY, local)
     objective = Objective(frequency=1.0, mac=0.1, static=0.1, mass_limits=0.10)
     options = {} if tolerance is None else {"tolerance": tolerance}
     multi = update(initial, train, data, variables, mass_target=target, objective=objective, method=method,
